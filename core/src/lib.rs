@@ -14,10 +14,14 @@
 #![forbid(unsafe_code)]
 #![deny(missing_debug_implementations)]
 
+pub mod controller;
+pub mod delta;
+pub mod encoder;
 pub mod flags;
 pub mod math;
 pub mod quat;
 pub mod rot3;
+pub mod telemetry;
 pub mod vec3;
 
 pub use flags::Flags;

@@ -1,0 +1,1 @@
+//! Telemetry record decimation and drop counting for the firmware's defmt log. STUB.
