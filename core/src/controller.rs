@@ -36,6 +36,21 @@ pub struct TickOutput {
     pub tau_n_nm: f32,
 }
 
+/// Everything the controller needs to know about the device and the scene. STUB: fields pending.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ControllerConfig {
+    /// Control rate, Hz.
+    pub rate_hz: f32,
+}
+
+/// A rejected parameter set. STUB: variants pending.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ParamError {
+    /// A value is outside its valid range.
+    OutOfRange,
+}
+
 /// The controller with its state. Generic over the math backend.
 #[derive(Debug)]
 pub struct Controller<M: Math> {
@@ -43,6 +58,10 @@ pub struct Controller<M: Math> {
 }
 
 impl<M: Math> Controller<M> {
+    /// Build a controller; an invalid configuration is rejected, never clamped.
+    pub fn new(_config: ControllerConfig) -> Result<Self, ParamError> {
+        Ok(Controller { _m: PhantomData })
+    }
     /// One control tick. Never panics; any fault gives zero duties and `enable = false`.
     pub fn tick(&mut self, _input: &TickInput) -> TickOutput {
         TickOutput::default()
