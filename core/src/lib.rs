@@ -15,6 +15,7 @@
 #![deny(missing_debug_implementations)]
 
 pub mod controller;
+pub mod decompose;
 pub mod delta;
 pub mod encoder;
 pub mod flags;
