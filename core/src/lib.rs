@@ -14,6 +14,9 @@
 #![forbid(unsafe_code)]
 #![deny(missing_debug_implementations)]
 
+#[cfg(test)]
+extern crate std;
+
 pub mod controller;
 pub mod decompose;
 pub mod delta;
@@ -21,7 +24,9 @@ pub mod encoder;
 pub mod flags;
 pub mod math;
 pub mod quat;
+pub mod rolling;
 pub mod rot3;
+pub mod surface;
 pub mod telemetry;
 pub mod vec3;
 
