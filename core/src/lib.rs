@@ -17,6 +17,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod contact_state;
 pub mod controller;
 pub mod decompose;
 pub mod delta;
@@ -26,6 +27,7 @@ pub mod math;
 pub mod quat;
 pub mod rolling;
 pub mod rot3;
+pub mod spin;
 pub mod surface;
 pub mod telemetry;
 pub mod vec3;
