@@ -9,10 +9,13 @@
 //! | --- | --- | --- |
 //! | any contact | broken | f_N ≤ ε_f and (a_N > ε_a or gap > ε_gap) — the paper's "f_N = 0, a_N > 0"; the gap test is ours, so a probe lifted off at constant speed also breaks contact |
 //! | broken | rolling | f_N > ε_f (contact made; the paper gives no rule for it) |
-//! | rolling | sliding | |a_N| ≤ tol_a, \|f_T\| > μ_s·f_N·(1 + h), \|a_T\| > ε_a, and the haptic rule: f_T·d_roll ≥ 0 (the user's tangential force agrees with the rolling displacement d_roll) or no rolling this step |
+//! | rolling | sliding | |a_N| ≤ tol_a, \|f_T\| > μ_s·f_N·(1 + h), relative tangential motion (\|a_T\| > ε_a or \|v_T\| > v_stick), and the haptic rule: f_T·d_roll ≥ 0 (the user's tangential force agrees with the rolling displacement d_roll) or no rolling this step |
 //! | rolling | sliding | the twist threshold: Δθ > Δθ_max = f_N·μ_s/(k_τ·r), with Δθ the tilt rate δξ/T (see below) |
 //! | sliding | rolling | |a_N| ≤ tol_a, \|f_T\| ≤ μ_k·f_N, \|v_T\| ≤ v_stick |
 //! | otherwise | unchanged | rolling kept inside the cone; sliding kept while moving or pushed |
+//!
+//! The paper asks for a_T ≠ 0 to leave rolling; a probe dragged at constant speed has a_T = 0 yet
+//! is plainly slipping, so we accept either a non-zero a_T or a slip velocity v_T above v_stick.
 //!
 //! All vectors are in the object frame with their normal component removed (tangential). f_T is
 //! the tangential force the **user applies to the fingertip** (minus the force rendered), so the
@@ -51,10 +54,11 @@ impl ContactState {
 }
 
 /// Why the state is what it is after a step.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Reason {
     /// No transition.
+    #[default]
     Kept,
     /// Broken → rolling: the probe pressed on the surface.
     MadeContact,
@@ -82,7 +86,8 @@ pub struct StateInputs {
     pub tangential_force_n: Vec3,
     /// a_T: relative tangential acceleration, m/s².
     pub tangential_accel: Vec3,
-    /// v_T: relative tangential velocity of the probe, m/s.
+    /// v_T: relative tangential velocity, m/s: in rolling, of the probe against the fingertip centre
+    /// implied by rolling (slip); in sliding, of the probe against the object.
     pub tangential_velocity: Vec3,
     /// d_roll: the contact point's rolling displacement this step, m.
     pub roll_disp_m: Vec3,
@@ -143,7 +148,8 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             let rolling_now = i.roll_disp_m.norm_squared() > p.roll_eps_m * p.roll_eps_m;
             let agrees = !rolling_now || i.tangential_force_n.dot(i.roll_disp_m) >= 0.0;
             let accelerating = i.tangential_accel.norm_squared() > p.accel_eps * p.accel_eps;
-            if normal_steady && ft2 > cone * cone && accelerating && agrees {
+            let slipping = i.tangential_velocity.norm_squared() > p.stick_speed * p.stick_speed;
+            if normal_steady && ft2 > cone * cone && (accelerating || slipping) && agrees {
                 return (ContactState::Sliding, Reason::ConeExceeded);
             }
             // Δθ > f_N·μ_s/(k_τ·r)  ⇔  Δθ·k_τ·r > f_N·μ_s (no division).

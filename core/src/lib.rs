@@ -17,6 +17,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod contact;
 pub mod contact_state;
 pub mod controller;
 pub mod decompose;
@@ -24,6 +25,7 @@ pub mod delta;
 pub mod encoder;
 pub mod flags;
 pub mod math;
+pub mod params;
 pub mod quat;
 pub mod rolling;
 pub mod rot3;
