@@ -1,1 +1,6 @@
-fn main() { println!("host-sim: under construction"); }
+#[allow(dead_code)]
+mod reference;
+
+fn main() {
+    println!("host-sim: under construction");
+}
