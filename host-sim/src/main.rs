@@ -1,6 +1,4 @@
 #[allow(dead_code)]
 mod reference;
 
-fn main() {
-    println!("host-sim: under construction");
-}
+fn main() { println!("host-sim: under construction"); }
