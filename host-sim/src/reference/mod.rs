@@ -35,6 +35,12 @@ pub enum ReferenceMethod {
     /// (angles in rad, plane coordinates in m), as Matlab's `ode45` with scalar tolerances. Other
     /// integrator settings as [`MontanaOptions::uniform`].
     Rk45 { rtol: f64, atol: f64 },
+    /// Montana's equations integrated the way `ode45(f, 0:dt:T, y0)` would: a single adaptive integration
+    /// over the whole span, the sample's input looked up by time inside `f`, outputs at the sample times by
+    /// the continuous extension, Matlab's controller settings and `MaxStep = T/10`
+    /// ([`MontanaOptions::matlab_like_single_call`]). Charts are not re-centred during the call, so long
+    /// paths that reach a chart pole fail.
+    MatlabOde45 { rtol: f64, atol: f64 },
 }
 
 /// The fixed body the sphere rolls on.
@@ -119,8 +125,16 @@ pub fn reference_paths_on(
     if !(positive(dt) && positive(radius) && ground_ok && samples_ok) {
         return Err(ReferenceError::InvalidInput);
     }
-    let (paths, stats) = match method {
-        ReferenceMethod::ClosedForm => {
+    let span = dt * samples.len().saturating_sub(1) as f64;
+    let integration = match method {
+        ReferenceMethod::ClosedForm => None,
+        ReferenceMethod::Rk45 { rtol, atol } => Some(MontanaOptions::uniform(rtol, atol)),
+        ReferenceMethod::MatlabOde45 { rtol, atol } => Some(
+            MontanaOptions::matlab_like_single_call(rtol, atol, span.max(dt)),
+        ),
+    };
+    let (paths, stats) = match integration {
+        None => {
             let p = match ground {
                 Ground::Plane => closed_form::sphere_on_plane(samples, radius),
                 Ground::Sphere { radius: big } => {
@@ -129,21 +143,14 @@ pub fn reference_paths_on(
             };
             (p, ReferenceStats::default())
         }
-        ReferenceMethod::Rk45 { rtol, atol } => {
+        Some(opts) => {
             let object = match ground {
                 Ground::Plane => Surface::Plane,
                 Ground::Sphere { radius: big } => {
                     Surface::sphere_centred(big, &Vector3::z_axis(), &Vector3::x())
                 }
             };
-            let run = montana_paths::integrate(
-                radius,
-                object,
-                [0.0, 0.0],
-                samples,
-                dt,
-                &MontanaOptions::uniform(rtol, atol),
-            )?;
+            let run = montana_paths::integrate(radius, object, [0.0, 0.0], samples, dt, &opts)?;
             let s = run.stats;
             let stats = ReferenceStats {
                 steps: s.rk.accepted,

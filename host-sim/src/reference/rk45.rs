@@ -148,8 +148,19 @@ fn combine<const N: usize>(y: &[f64; N], h: f64, terms: &[(f64, &[f64; N])]) -> 
     out
 }
 
+/// One Dormand–Prince step: the 5th-order solution, the error estimate and the seven stages
+/// (`k[6] = f(t+h, y_new)`, the FSAL stage).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Step<const N: usize> {
+    /// 5th-order solution at `t + h`.
+    pub y_new: [f64; N],
+    /// Error estimate `h·Σ e_j k_j` (difference to the embedded 4th-order solution).
+    pub err: [f64; N],
+    /// Stages `k_1 … k_7`.
+    pub k: [[f64; N]; 7],
+}
+
 /// One Dormand–Prince step of size `h` from `(t, y)` with first stage `k1 = f(t, y)`.
-/// Returns the 5th-order solution, the error estimate vector and `f(t+h, y_new)` (the FSAL stage).
 /// Costs 6 evaluations of `f`.
 pub fn dopri5_step<const N: usize, F>(
     f: &mut F,
@@ -157,7 +168,7 @@ pub fn dopri5_step<const N: usize, F>(
     y: &[f64; N],
     h: f64,
     k1: &[f64; N],
-) -> ([f64; N], [f64; N], [f64; N])
+) -> Step<N>
 where
     F: FnMut(f64, &[f64; N]) -> [f64; N],
 {
@@ -198,7 +209,39 @@ where
             (E7, &k7),
         ],
     );
-    (y_new, err, k7)
+    Step {
+        y_new,
+        err,
+        k: [*k1, k2, k3, k4, k5, k6, k7],
+    }
+}
+
+// Continuous extension of Matlab's `ntrp45` (Shampine 1986): y(t + s·h) = y + h·Σ_j k_j·(BI_j · [s, s², s³, s⁴]).
+// Each row sums to the 5th-order weight b_j, so s = 1 reproduces y_new; 4th-order accurate in between.
+const BI: [[f64; 4]; 7] = [
+    [1.0, -183.0 / 64.0, 37.0 / 12.0, -145.0 / 128.0],
+    [0.0, 0.0, 0.0, 0.0],
+    [0.0, 1500.0 / 371.0, -1000.0 / 159.0, 1000.0 / 371.0],
+    [0.0, -125.0 / 32.0, 125.0 / 12.0, -375.0 / 64.0],
+    [0.0, 9477.0 / 3392.0, -729.0 / 106.0, 25515.0 / 6784.0],
+    [0.0, -11.0 / 7.0, 11.0 / 3.0, -55.0 / 28.0],
+    [0.0, 3.0 / 2.0, -4.0, 5.0 / 2.0],
+];
+
+/// The solution at `t + s·h` (`0 ≤ s ≤ 1`) inside a step taken from `(t, y)` with size `h`, by the
+/// continuous extension Matlab's `ode45` uses for output between steps (4th order).
+pub fn interpolate<const N: usize>(y: &[f64; N], h: f64, step: &Step<N>, s: f64) -> [f64; N] {
+    let powers = [s, s * s, s * s * s, s * s * s * s];
+    let mut out = *y;
+    for (i, o) in out.iter_mut().enumerate() {
+        let mut acc = 0.0;
+        for (row, k) in BI.iter().zip(&step.k) {
+            let w: f64 = row.iter().zip(&powers).map(|(b, p)| b * p).sum();
+            acc += w * k[i];
+        }
+        *o += h * acc;
+    }
+    out
 }
 
 /// Integrates `[t0, t1]` with `n` equal Dormand–Prince steps (5th-order solution, no error control).
@@ -221,7 +264,7 @@ where
     for i in 0..n {
         let t = t0 + f64::from(i) * h;
         let k1 = f(t, &y);
-        y = dopri5_step(&mut f, t, &y, h, &k1).0;
+        y = dopri5_step(&mut f, t, &y, h, &k1).y_new;
     }
     y
 }
@@ -326,13 +369,65 @@ impl<const N: usize> Rk45<N> {
     /// On error `y` holds the last accepted state.
     pub fn integrate<F>(
         &mut self,
-        mut f: F,
+        f: F,
         t0: f64,
         t1: f64,
         y: &mut [f64; N],
     ) -> Result<(), Rk45Error>
     where
         F: FnMut(f64, &[f64; N]) -> [f64; N],
+    {
+        self.integrate_observed(f, t0, t1, y, |_, _, _, _, _| {})
+    }
+
+    /// As [`Rk45::integrate`], and also returns the solution at each of `times` (ascending, within
+    /// `[t0, t1]`; others are skipped) in `out`, like Matlab's `ode45` given a `tspan` of more than two
+    /// points: a time that coincides with a step end gets that step's solution, any other time the
+    /// continuous extension ([`interpolate`]) of the step containing it.
+    pub fn integrate_dense<F>(
+        &mut self,
+        f: F,
+        t0: f64,
+        t1: f64,
+        y: &mut [f64; N],
+        times: &[f64],
+        out: &mut Vec<[f64; N]>,
+    ) -> Result<(), Rk45Error>
+    where
+        F: FnMut(f64, &[f64; N]) -> [f64; N],
+    {
+        let mut pending = times
+            .iter()
+            .copied()
+            .filter(|&t| t >= t0 && t <= t1)
+            .peekable();
+        while pending.next_if(|&t| t == t0).is_some() {
+            out.push(*y);
+        }
+        self.integrate_observed(f, t0, t1, y, |t, t_new, h, y_old, step| {
+            while let Some(tau) = pending.next_if(|&tau| tau <= t_new) {
+                if tau == t_new {
+                    out.push(step.y_new);
+                } else {
+                    out.push(interpolate(y_old, h, step, (tau - t) / h));
+                }
+            }
+        })
+    }
+
+    /// The adaptive loop; `observe(t, t_new, h, y_old, step)` is called after every accepted step from `t`
+    /// to `t_new` (`= t + h`, exactly `t1` for the last step).
+    fn integrate_observed<F, O>(
+        &mut self,
+        mut f: F,
+        t0: f64,
+        t1: f64,
+        y: &mut [f64; N],
+        mut observe: O,
+    ) -> Result<(), Rk45Error>
+    where
+        F: FnMut(f64, &[f64; N]) -> [f64; N],
+        O: FnMut(f64, f64, f64, &[f64; N], &Step<N>),
     {
         if !(t0.is_finite() && t1.is_finite()) || t1 < t0 {
             return Err(Rk45Error::InvalidInterval);
@@ -368,7 +463,8 @@ impl<const N: usize> Rk45<N> {
             if attempts > self.opts.max_attempts {
                 return Err(Rk45Error::TooManySteps { t });
             }
-            let (y_new, err_vec, k7) = dopri5_step(&mut f, t, y, h, &k1);
+            let step = dopri5_step(&mut f, t, y, h, &k1);
+            let (y_new, err_vec, k7) = (step.y_new, step.err, step.k[6]);
             self.stats.f_evals += 6;
             let err = (0..N)
                 .map(|i| (err_vec[i] / self.scale(i, y[i], y_new[i])).abs())
@@ -379,6 +475,7 @@ impl<const N: usize> Rk45<N> {
             let finite = err.is_finite() && k7.iter().chain(y_new.iter()).all(|v| v.is_finite());
             if finite && err <= 1.0 {
                 self.stats.accepted += 1;
+                observe(t, if last { t1 } else { t + h }, h, y, &step);
                 *y = y_new;
                 k1 = k7;
                 let mut fac = if err == 0.0 {
@@ -522,11 +619,59 @@ mod tests {
         let mut f = oscillator;
         let y = [1.0, 0.0];
         let k1 = f(0.0, &y);
-        let e1 = dopri5_step(&mut f, 0.0, &y, 0.2, &k1).1;
-        let e2 = dopri5_step(&mut f, 0.0, &y, 0.1, &k1).1;
+        let e1 = dopri5_step(&mut f, 0.0, &y, 0.2, &k1).err;
+        let e2 = dopri5_step(&mut f, 0.0, &y, 0.1, &k1).err;
         let (e1, e2) = (e1[0].abs().max(e1[1].abs()), e2[0].abs().max(e2[1].abs()));
         let order = (e1 / e2).log2();
         assert!((order - 5.0).abs() < 0.5, "estimate order {order}");
+    }
+
+    #[test]
+    fn continuous_extension_is_consistent_and_fourth_order() {
+        // s = 0 gives y, s = 1 gives the 5th-order solution (each BI row sums to b_j; the sums are formed
+        // differently, so a few ulp of the O(1) values: asserted 1e-15).
+        // In between the extension is 4th order: its local error at s = 1/2 is O(h^5), so halving h divides
+        // it by ~32 (measured log2 ratio 4.98; asserted within ±0.5 of 5).
+        let mut f = oscillator;
+        let y = [1.0, 0.0];
+        let k1 = f(0.0, &y);
+        let step = dopri5_step(&mut f, 0.0, &y, 0.3, &k1);
+        assert_eq!(interpolate(&y, 0.3, &step, 0.0), y);
+        let end = interpolate(&y, 0.3, &step, 1.0);
+        assert!((end[0] - step.y_new[0]).abs() < 1e-15 && (end[1] - step.y_new[1]).abs() < 1e-15);
+        let mut mid_err = |h: f64| {
+            let step = dopri5_step(&mut f, 0.0, &y, h, &k1);
+            osc_error(&interpolate(&y, h, &step, 0.5), h / 2.0)
+        };
+        let (e1, e2) = (mid_err(0.4), mid_err(0.2));
+        let order = (e1 / e2).log2();
+        eprintln!("interpolant local error order {order} ({e1:e}, {e2:e})");
+        assert!((order - 5.0).abs() < 0.5, "{order}");
+    }
+
+    #[test]
+    fn dense_output_at_requested_times() {
+        // Matlab-style tspan: outputs at 0, 0.1, …, 5 from one call. The interpolant is 4th order while the
+        // steps are 5th order, so between steps the error may exceed the step-end error; at
+        // rtol = atol = 1e-8 it must still be ~tol (asserted 1e-7 absolute on values ≤ 1).
+        let times: Vec<f64> = (0..=50).map(|i| f64::from(i) * 0.1).collect();
+        let mut rk = Rk45::new(Options::<1>::uniform(1e-8, 1e-8)).unwrap();
+        let mut y = [1.0];
+        let mut out = Vec::new();
+        // Out-of-range times are skipped.
+        let mut requested = vec![-1.0];
+        requested.extend(&times);
+        requested.push(7.0);
+        rk.integrate_dense(decay, 0.0, 5.0, &mut y, &requested, &mut out)
+            .unwrap();
+        assert_eq!(out.len(), times.len());
+        assert_eq!(out[0], [1.0]);
+        assert_eq!(out.last().copied(), Some(y));
+        for (t, v) in times.iter().zip(&out) {
+            assert!((v[0] - (-2.0 * t).exp()).abs() < 1e-7, "t {t}");
+        }
+        // Far fewer steps than outputs: the outputs do not restart the integration.
+        assert!(rk.stats().accepted < 50, "{:?}", rk.stats());
     }
 
     #[test]

@@ -2,6 +2,7 @@
 //! on the same motion sampled at other rates. Each test prints its figures; reproduce them with
 //! `cargo test -p host-sim reference::tests -- --nocapture`.
 
+use super::montana_paths::{self, MontanaOptions};
 use super::scene::{paper_scene, paper_scene_at_rate};
 use super::*;
 
@@ -88,6 +89,63 @@ fn rk45_matlab_default_tolerance_on_paper_scene() {
     let (dp, ds) = compare("paper scene, rtol 1e-3 atol 1e-6", &r, &exact);
     assert!(dp < 1e-9 && ds < 1e-9);
     assert!(r.stats.steps <= r.stats.intervals + 10, "{:?}", r.stats);
+}
+
+#[test]
+fn matlab_ode45_emulations_on_paper_scene() {
+    // How the paper's ODE45 figure depends on how ode45 is called, at Matlab's default tolerances.
+    let exact = paths(ReferenceMethod::ClosedForm, 100.0);
+    let s = paper_scene();
+
+    // (a) `ode45(f, 0:dt:1, y0)`: one call, outputs interpolated at the samples. Error bound argued in
+    // `montana_paths::tests::single_call_emulation` (2e-4 m; measured 5.5e-5 m plane, 3.1e-5 m sphere).
+    let one = paths(
+        ReferenceMethod::MatlabOde45 {
+            rtol: 1e-3,
+            atol: 1e-6,
+        },
+        100.0,
+    );
+    let (dp, ds) = compare(
+        "paper scene, ode45-like single call, rtol 1e-3 atol 1e-6",
+        &one,
+        &exact,
+    );
+    assert!(dp < 2e-4 && ds < 2e-4);
+    assert_eq!(one.stats.intervals, 1);
+    assert_eq!(one.plane.len(), 101);
+
+    // (b) `ode45(f, [t_k, t_k+dt], y_k)` once per sample: MaxStep = dt/10 forces ≥ 10 steps of ≤ 6 mrad
+    // per sample, so the error is at round-off level whatever the tolerance (measured 3.7e-16 m);
+    // asserted 1e-12 m, and ≥ 1000 steps.
+    let run = montana_paths::integrate(
+        s.radius,
+        surface::Surface::Plane,
+        [0.0, 0.0],
+        &s.samples,
+        s.dt,
+        &MontanaOptions::matlab_like_per_interval(1e-3, 1e-6, s.dt),
+    )
+    .unwrap();
+    let rows = |v: &[Vector3<f64>]| v.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>();
+    let per = ReferencePaths {
+        plane: rows(&run.paths.object),
+        sphere: rows(&run.paths.finger),
+        stats: ReferenceStats {
+            steps: run.stats.rk.accepted,
+            rejected: run.stats.rk.rejected,
+            f_evals: run.stats.rk.f_evals,
+            intervals: run.stats.rk.intervals,
+            recharts: run.stats.recharts,
+        },
+    };
+    let (dp, ds) = compare(
+        "paper scene, ode45-like call per sample, rtol 1e-3 atol 1e-6",
+        &per,
+        &exact,
+    );
+    assert!(dp < 1e-12 && ds < 1e-12);
+    assert!(per.stats.steps >= 1000);
 }
 
 #[test]
