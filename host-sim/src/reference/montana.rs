@@ -22,14 +22,15 @@
 //! α̇_o = M_o⁻¹ R_ψ (K_f + K̃_o)⁻¹ [−ω_y, ω_x]ᵀ
 //! ψ̇   = ω_z + T_f M_f α̇_f + T_o M_o α̇_o
 //! ```
-//! (MLS eq. 5.31 with `v_x = v_y = 0`.) Derivation, in the object's contact frame: differentiating
+//! (Montana's contact equations as in MLS §5.2, with the sliding velocities `v_x = v_y = 0`.) Derivation, in the object's contact frame: differentiating
 //! `R z_f = −z_o` gives `R_ψ([ω_y, −ω_x]ᵀ + K_f M_f α̇_f) = −K_o M_o α̇_o`; differentiating the contact point
 //! `p + R c_f = c_o` with zero slip gives `R_ψ M_f α̇_f = M_o α̇_o`; eliminating `α̇_o` yields the first two
 //! lines. Differentiating `R C_f = C_o R_ψ3` and taking the (y, x) element gives the third, because
 //! `y·ẋ = T M α̇` on each surface and `Ṙ_ψ3 R_ψ3ᵀ = [(0, 0, −ψ̇)]×`.
 //!
-//! For a finger sphere of radius `r` on a plane: `u̇_f = −r·ω_y/(r cos v_f)`, `v̇_f = ω_x`, `(ẋ, ẏ) = r R_ψ
-//! [−ω_y, ω_x]ᵀ = r·(ω_O,y, −ω_O,x)`, `ψ̇ = ω_z − tan v_f · ω_y`.
+//! For a finger sphere of radius `r` on a plane (chart of [`Surface::Sphere`]: `u` longitude, `v` latitude):
+//! `u̇_f = −ω_y / cos v_f`, `v̇_f = ω_x`, `(ẋ, ẏ) = r R_ψ [−ω_y, ω_x]ᵀ = r·(ω_O,y, −ω_O,x)`,
+//! `ψ̇ = ω_z − tan v_f · ω_y`.
 
 use nalgebra::{Matrix2, Matrix3, Rotation3, Unit, Vector2, Vector3};
 

@@ -3,7 +3,8 @@
 //! The state is a fixed-size array `[f64; N]`. One [`Rk45`] value integrates a system over a sequence of
 //! intervals `[t_k, t_{k+1}]`, each ending exactly at `t_{k+1}`; the right-hand side is a new closure for every
 //! interval, so an input that is constant within each sampling interval (a zero-order hold) is simply captured
-//! by that interval's closure. No dense output is produced or needed.
+//! by that interval's closure. [`Rk45::integrate_dense`] additionally returns the solution at requested
+//! times inside one integration (Matlab's `tspan` output) through Matlab's continuous extension.
 //!
 //! Method (Dormand & Prince 1980; Hairer, Nørsett, Wanner, *Solving ODEs I*, §II.4–II.5):
 //! - 7 stages with the First-Same-As-Last property: the last stage of an accepted step is `f(t+h, y+h·Σ b_i k_i)`
