@@ -133,15 +133,19 @@ pub fn reference_paths_on(
             MontanaOptions::matlab_like_single_call(rtol, atol, span.max(dt)),
         ),
     };
-    let (paths, stats) = match integration {
+    match integration {
         None => {
-            let p = match ground {
+            let paths = match ground {
                 Ground::Plane => closed_form::sphere_on_plane(samples, radius),
                 Ground::Sphere { radius: big } => {
                     closed_form::sphere_on_sphere(samples, radius, big, &Vector3::z_axis())
                 }
             };
-            (p, ReferenceStats::default())
+            Ok(ReferencePaths {
+                plane: rows(&paths.object),
+                sphere: rows(&paths.finger),
+                stats: ReferenceStats::default(),
+            })
         }
         Some(opts) => {
             let object = match ground {
@@ -151,23 +155,32 @@ pub fn reference_paths_on(
                 }
             };
             let run = montana_paths::integrate(radius, object, [0.0, 0.0], samples, dt, &opts)?;
-            let s = run.stats;
-            let stats = ReferenceStats {
+            Ok(ReferencePaths::from_run(&run))
+        }
+    }
+}
+
+impl ReferencePaths {
+    /// The paths and counters of a Montana integration run.
+    pub fn from_run(run: &montana_paths::MontanaRun) -> Self {
+        let s = run.stats;
+        ReferencePaths {
+            plane: rows(&run.paths.object),
+            sphere: rows(&run.paths.finger),
+            stats: ReferenceStats {
                 steps: s.rk.accepted,
                 rejected: s.rk.rejected,
                 f_evals: s.rk.f_evals,
                 intervals: s.rk.intervals,
                 recharts: s.recharts,
-            };
-            (run.paths, stats)
+            },
         }
-    };
-    let rows = |v: &[Vector3<f64>]| v.iter().map(|p| [p.x, p.y, p.z]).collect();
-    Ok(ReferencePaths {
-        plane: rows(&paths.object),
-        sphere: rows(&paths.finger),
-        stats,
-    })
+    }
+}
+
+/// Points as `[x, y, z]` rows.
+fn rows(v: &[Vector3<f64>]) -> Vec<[f64; 3]> {
+    v.iter().map(|p| [p.x, p.y, p.z]).collect()
 }
 
 /// Largest absolute difference per axis between two equally long paths (m); the paper reports its

@@ -8,11 +8,11 @@
 //! output at the sample times. The orientation itself is never integrated: it is encoded by the contact
 //! coordinates `(α_f, α_o, ψ)`.
 //!
-//! Chart singularities (restarting schedule): the sphere charts are singular at their poles. Before the
-//! first interval both
+//! Chart singularities: the sphere charts are singular at their poles. Before the first interval both
 //! sphere charts are centred on the contact with the contact moving along the chart's equator
-//! ([`Contact::rechart`]). At a sample time, or between equal sub-intervals of a sampling interval, the
-//! charts are re-centred again whenever the contact's latitude exceeds [`MontanaOptions::rechart_latitude`].
+//! ([`Contact::rechart`]). With [`Schedule::RestartEachSample`], at a sample time or between equal
+//! sub-intervals of a sampling interval, the charts are re-centred again whenever the contact's latitude
+//! exceeds [`MontanaOptions::rechart_latitude`].
 //! A sampling interval whose rotation exceeds [`MontanaOptions::max_travel`] is split into equal
 //! sub-intervals (same constant input, so the split does not change the solution); the contact travels at
 //! most `|ω|·dt` on either sphere per interval, so the latitude stays below `rechart_latitude + max_travel`.
@@ -77,9 +77,7 @@ impl MontanaOptions {
             schedule: Schedule::RestartEachSample,
         }
     }
-}
 
-impl MontanaOptions {
     /// Closer to calling Matlab's `ode45(f, [t_k, t_k + dt], y_k)` once per sampling interval with scalar
     /// `RelTol = rtol`, `AbsTol = atol`: Matlab's error scale `max(atol, rtol·|y|)`, safety 0.8, shrink
     /// factor ≥ 0.1, growth ≤ 5, `MaxStep = dt/10` (its default, a tenth of the span), a fresh starting step

@@ -127,18 +127,7 @@ fn matlab_ode45_emulations_on_paper_scene() {
         &MontanaOptions::matlab_like_per_interval(1e-3, 1e-6, s.dt),
     )
     .unwrap();
-    let rows = |v: &[Vector3<f64>]| v.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>();
-    let per = ReferencePaths {
-        plane: rows(&run.paths.object),
-        sphere: rows(&run.paths.finger),
-        stats: ReferenceStats {
-            steps: run.stats.rk.accepted,
-            rejected: run.stats.rk.rejected,
-            f_evals: run.stats.rk.f_evals,
-            intervals: run.stats.rk.intervals,
-            recharts: run.stats.recharts,
-        },
-    };
+    let per = ReferencePaths::from_run(&run);
     let (dp, ds) = compare(
         "paper scene, ode45-like call per sample, rtol 1e-3 atol 1e-6",
         &per,
