@@ -16,6 +16,7 @@
 
 pub mod controller;
 pub mod delta;
+pub mod device;
 pub mod encoder;
 pub mod flags;
 pub mod math;
