@@ -19,6 +19,7 @@ pub mod delta;
 pub mod encoder;
 pub mod flags;
 pub mod math;
+pub mod output_guard;
 pub mod quat;
 pub mod rot3;
 pub mod telemetry;
