@@ -93,6 +93,11 @@ impl DropCounter {
         }
     }
 
+    /// Drops not yet reported, without resetting (to attach to a record before trying to queue it).
+    pub const fn unreported(&self) -> u32 {
+        self.unreported
+    }
+
     /// Drops since the previous call (then reset to 0), for attaching to the next report.
     #[inline]
     pub fn take_unreported(&mut self) -> u32 {
@@ -320,6 +325,7 @@ mod tests {
             c.note(ok);
         }
         assert_eq!(c.total(), 3);
+        assert_eq!(c.unreported(), 3, "peeking does not reset");
         assert_eq!(c.take_unreported(), 3);
         assert_eq!(c.take_unreported(), 0);
         c.note(false);
