@@ -104,6 +104,21 @@ impl DropCounter {
         core::mem::take(&mut self.unreported)
     }
 
+    /// Offer one record to a bounded queue without waiting.
+    ///
+    /// `try_push` receives the number of drops not yet reported (to store in the record) and
+    /// returns whether the record was queued. On success those drops count as reported; on failure
+    /// this record is one more drop. Returns whether the record was queued.
+    #[inline]
+    pub fn offer(&mut self, try_push: impl FnOnce(u32) -> bool) -> bool {
+        let queued = try_push(self.unreported);
+        if queued {
+            self.unreported = 0;
+        }
+        self.note(queued);
+        queued
+    }
+
     /// Drops since start-up (saturating).
     pub const fn total(&self) -> u32 {
         self.total
@@ -331,6 +346,37 @@ mod tests {
         c.note(false);
         assert_eq!(c.take_unreported(), 1);
         assert_eq!(c.total(), 4);
+    }
+
+    #[test]
+    fn offer_reports_each_drop_exactly_once_in_the_next_queued_record() {
+        // A queue of capacity 2 that a consumer drains only at chosen moments; each queued item
+        // carries the drop count handed to it. Every drop must be reported exactly once.
+        let mut queue: Vec<u32> = Vec::new();
+        let mut reported: Vec<u32> = Vec::new();
+        let mut c = DropCounter::new();
+        let mut offered = 0u32;
+        for round in 0..50u32 {
+            // Offer 1 + round % 5 records, then drain: rounds with 3 or more offers overflow.
+            for _ in 0..(1 + round % 5) {
+                offered += 1;
+                c.offer(|dropped_before| {
+                    if queue.len() < 2 {
+                        queue.push(dropped_before);
+                        true
+                    } else {
+                        false
+                    }
+                });
+            }
+            reported.append(&mut queue);
+        }
+        let queued = reported.len() as u32;
+        assert_eq!(offered - queued, c.total(), "every failed offer is a drop");
+        // Drops after the last queued record are still pending, not lost.
+        let total_reported: u32 = reported.iter().sum();
+        assert_eq!(total_reported + c.unreported(), c.total());
+        assert!(c.total() > 0, "the scenario must overflow");
     }
 
     #[test]

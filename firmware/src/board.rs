@@ -5,6 +5,7 @@
 
 use embassy_stm32::exti::{self, ExtiInput};
 use embassy_stm32::gpio::{Input, Level, Output, OutputType, Pull, Speed};
+use embassy_stm32::interrupt::Priority;
 use embassy_stm32::mode::Async;
 use embassy_stm32::peripherals::{IWDG, TIM1, TIM2, TIM20, TIM3, TIM4, TIM5, TIM6, TIM8};
 use embassy_stm32::time::Hertz;
@@ -21,9 +22,10 @@ bind_interrupts!(struct Irqs {
     EXTI15_10 => exti::InterruptHandler<interrupt::typelevel::EXTI15_10>;
 });
 
-/// 170 MHz from the internal 16 MHz oscillator (no dependence on the board's crystal), range-1
-/// boost mode as required above 150 MHz.
-pub fn clock_config() -> Config {
+/// HAL configuration: 170 MHz from the internal 16 MHz oscillator (no dependence on the board's
+/// crystal) with range-1 boost mode as required above 150 MHz, and the DMA interrupts (unused)
+/// below the control tick's priority.
+pub fn hal_config() -> Config {
     let mut c = Config::default();
     c.rcc.pll = Some(rcc::Pll {
         source: rcc::PllSource::HSI,
@@ -35,6 +37,7 @@ pub fn clock_config() -> Config {
     });
     c.rcc.sys = rcc::Sysclk::PLL1_R;
     c.rcc.boost = true;
+    c.bdma_interrupt_priority = Priority::P4;
     c
 }
 

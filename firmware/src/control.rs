@@ -103,19 +103,22 @@ impl ControlLoop {
 
         // Telemetry: never waits; a full queue drops the record and counts it.
         if self.decimator.tick() {
-            let mut record = TelemetryRecord::new(
+            let record = TelemetryRecord::new(
                 self.tick,
                 &input,
                 &output,
                 (guarded.duties, guarded.enable, guarded.flags),
                 control_cycles,
             );
-            record.dropped_before = self.drops.unreported();
-            let queued = self.records.enqueue(record).is_ok();
-            if queued {
-                self.drops.take_unreported();
-            }
-            self.drops.note(queued);
+            let records = &mut self.records;
+            self.drops.offer(|dropped_before| {
+                records
+                    .enqueue(TelemetryRecord {
+                        dropped_before,
+                        ..record
+                    })
+                    .is_ok()
+            });
         }
 
         // Cost of the whole tick; `late` also catches a tick that ran into the next period.

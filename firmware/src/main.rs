@@ -28,7 +28,7 @@ use {defmt_rtt as _, panic_probe as _};
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
-    let p = embassy_stm32::init(board::clock_config());
+    let p = embassy_stm32::init(board::hal_config());
     info!(
         "softfinger firmware: control {=u32} Hz, PWM {=u32} Hz, telemetry {=u32} Hz",
         config::CONTROL_RATE_HZ,
