@@ -26,6 +26,7 @@ pub mod device;
 pub mod encoder;
 pub mod flags;
 pub mod math;
+pub mod output_guard;
 pub mod params;
 pub mod quat;
 pub mod rolling;

@@ -1,0 +1,53 @@
+//! Compile-time configuration of the firmware: rates, limits and sizes.
+
+use softfinger_core::output_guard::GuardConfig;
+
+/// System clock, Hz: HSI 16 MHz / 4 × 85 / 2.
+pub const SYSCLK_HZ: u32 = 170_000_000;
+
+/// Control loop rate, Hz. 10 kHz by default; anything from 1 kHz up to 20 kHz is accepted.
+pub const CONTROL_RATE_HZ: u32 = 10_000;
+const _: () = assert!(CONTROL_RATE_HZ >= 1_000 && CONTROL_RATE_HZ <= 20_000);
+
+/// CPU cycles available per control tick; a tick taking longer is an overrun.
+pub const TICK_BUDGET_CYCLES: u32 = SYSCLK_HZ / CONTROL_RATE_HZ;
+
+/// Motor PWM frequency, Hz (at least 20 kHz: above hearing). With TIM1 clocked at 170 MHz this
+/// gives 6800 compare steps (12.7 bits).
+pub const PWM_FREQ_HZ: u32 = 25_000;
+const _: () = assert!(PWM_FREQ_HZ >= 20_000);
+
+/// Telemetry records logged per second (decimated from the control rate).
+pub const LOG_RATE_HZ: u32 = softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ;
+
+/// Telemetry queue capacity, records. At 100 Hz this is 320 ms of headroom for a stalled logger.
+pub const TELEMETRY_QUEUE_LEN: usize = 32;
+
+/// Tick-summary queue capacity (one summary per second).
+pub const SUMMARY_QUEUE_LEN: usize = 4;
+
+/// How often the logger task drains the queues, ms.
+pub const LOGGER_POLL_MS: u64 = 5;
+
+/// How often the supervisor task checks the fault latch, ms.
+pub const SUPERVISOR_POLL_MS: u64 = 10;
+
+/// Largest plausible encoder motion in one tick, counts. A 2000-line encoder (8000 counts/turn
+/// with ×4 decoding) at 3000 rpm moves 400 000 counts/s = 40 counts per 10 kHz tick; 500 leaves a
+/// wide margin at 20 kHz too while catching line noise and counter resets.
+pub const MAX_COUNTS_PER_TICK: u16 = 500;
+
+/// Limits enforced after the controller, independently of it.
+pub const GUARD: GuardConfig = GuardConfig {
+    // Never drive a bridge harder than 90 %: leaves bootstrap/current-sense margin.
+    max_duty: 0.9,
+    // 10 consecutive overruns (1 ms at 10 kHz) latch a fault.
+    max_overrun_streak: 10,
+};
+
+/// Independent watchdog timeout, µs. Fed by the control tick only, so it bites when the loop stops
+/// for 5 ms (50 ticks at 10 kHz).
+pub const WATCHDOG_TIMEOUT_US: u32 = 5_000;
+
+/// User-button debounce, ms.
+pub const BUTTON_DEBOUNCE_MS: u64 = 30;
