@@ -407,7 +407,7 @@ mod tests {
         // A zero torque limit gives a zero duty limit, which the guard rejects.
         assert_eq!(
             GuardConfig::with_torque_limit(0.9, 0.0, &m, 5),
-            Err(ParamError::OutOfRange("motor_model_or_torque"))
+            Err(ParamError::OutOfRange("guard_config"))
         );
     }
 
