@@ -1,1 +1,4 @@
+#[allow(dead_code)]
+mod plant;
+
 fn main() { println!("host-sim: under construction"); }
