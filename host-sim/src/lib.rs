@@ -3,5 +3,6 @@
 
 pub mod atomic_file;
 pub mod cli;
+pub mod plant;
 pub mod reference;
 pub mod replay;
