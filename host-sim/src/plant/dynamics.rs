@@ -46,7 +46,7 @@ pub fn arm_accelerations(
     let jt = kin.j.transpose();
     let mass = M3::identity()
         .scale(inertia.axis_kg_m2)
-        .add(jt.mul_mat(kin.j).scale(m));
+        .plus(jt.mul_mat(kin.j).scale(m));
     let rhs = V3::from(q) - jt.mul_vec(kin.bias_acceleration(upper_arm_m, omega)) * m;
     mass.solve_spd(rhs).map(Into::into)
 }

@@ -118,7 +118,7 @@ impl M3 {
     pub fn scale(self, s: f64) -> M3 {
         M3(self.0.map(|r| r * s))
     }
-    pub fn add(self, o: M3) -> M3 {
+    pub fn plus(self, o: M3) -> M3 {
         M3([self.0[0] + o.0[0], self.0[1] + o.0[1], self.0[2] + o.0[2]])
     }
     pub fn determinant(self) -> f64 {
@@ -198,7 +198,7 @@ mod tests {
         assert!((na(inv) - ninv).abs().max() < 1e-14);
         assert!((na(a.mul_mat(inv)) - Matrix3::identity()).abs().max() < 1e-14);
         assert!((na(a.transpose()) - na(a).transpose()).abs().max() == 0.0);
-        let spd = a.transpose().mul_mat(a).add(M3::identity().scale(0.1));
+        let spd = a.transpose().mul_mat(a).plus(M3::identity().scale(0.1));
         let x = spd.solve_spd(b).unwrap();
         let nx = na(spd).cholesky().unwrap().solve(&nb);
         assert!(close(x, nx));

@@ -46,6 +46,12 @@ pub struct OutputLatch {
     pending: DriveCommand,
 }
 
+impl Default for OutputLatch {
+    fn default() -> Self {
+        OutputLatch::new()
+    }
+}
+
 impl OutputLatch {
     pub fn new() -> OutputLatch {
         OutputLatch {
