@@ -24,7 +24,12 @@ impl DeltaGeometry {
         (Vec3::ZERO, Flags::KINEMATICS_SINGULAR)
     }
     /// Jacobian transpose: motor torques (N·m) that render `force_n` (N, base frame) at the effector.
-    pub fn joint_torques<M: Math>(&self, _angles_rad: [f32; 3], _effector_m: Vec3, _force_n: Vec3) -> ([f32; 3], Flags) {
+    pub fn joint_torques<M: Math>(
+        &self,
+        _angles_rad: [f32; 3],
+        _effector_m: Vec3,
+        _force_n: Vec3,
+    ) -> ([f32; 3], Flags) {
         ([0.0; 3], Flags::KINEMATICS_SINGULAR)
     }
 }

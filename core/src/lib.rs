@@ -14,13 +14,19 @@
 #![forbid(unsafe_code)]
 #![deny(missing_debug_implementations)]
 
+#[cfg(test)]
+extern crate std;
+
 pub mod controller;
+pub mod decompose;
 pub mod delta;
 pub mod encoder;
 pub mod flags;
 pub mod math;
 pub mod quat;
+pub mod rolling;
 pub mod rot3;
+pub mod surface;
 pub mod telemetry;
 pub mod vec3;
 

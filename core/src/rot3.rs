@@ -74,9 +74,21 @@ impl Rot3 {
         // ααᵀ(1 - cos γ) + I cos γ + S(α) sin γ, with S(α) the skew (cross-product) matrix.
         Rot3 {
             m: [
-                [a.x * a.x * t + c, a.x * a.y * t - a.z * s, a.x * a.z * t + a.y * s],
-                [a.y * a.x * t + a.z * s, a.y * a.y * t + c, a.y * a.z * t - a.x * s],
-                [a.z * a.x * t - a.y * s, a.z * a.y * t + a.x * s, a.z * a.z * t + c],
+                [
+                    a.x * a.x * t + c,
+                    a.x * a.y * t - a.z * s,
+                    a.x * a.z * t + a.y * s,
+                ],
+                [
+                    a.y * a.x * t + a.z * s,
+                    a.y * a.y * t + c,
+                    a.y * a.z * t - a.x * s,
+                ],
+                [
+                    a.z * a.x * t - a.y * s,
+                    a.z * a.y * t + a.x * s,
+                    a.z * a.z * t + c,
+                ],
             ],
         }
     }
@@ -104,7 +116,8 @@ impl Rot3 {
         let mut r = [[0.0f32; 3]; 3];
         for (i, row) in r.iter_mut().enumerate() {
             for (j, cell) in row.iter_mut().enumerate() {
-                *cell = self.m[i][0] * o.m[0][j] + self.m[i][1] * o.m[1][j] + self.m[i][2] * o.m[2][j];
+                *cell =
+                    self.m[i][0] * o.m[0][j] + self.m[i][1] * o.m[1][j] + self.m[i][2] * o.m[2][j];
             }
         }
         Rot3 { m: r }

@@ -1,1 +1,3 @@
-fn main() { println!("host-sim: under construction"); }
+fn main() {
+    println!("host-sim: under construction");
+}

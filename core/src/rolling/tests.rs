@@ -1,0 +1,210 @@
+//! Rolling against the closed form (nalgebra, f64) for a sphere on a plane.
+
+use super::*;
+use crate::math::{Fast, Libm};
+use crate::surface::{Plane, Sphere};
+use nalgebra::{UnitQuaternion, Vector3};
+use std::{vec, vec::Vec};
+
+const RHO: f64 = 0.01;
+
+/// The closed-form contact paths (f64) for orientation samples `qs`: plane point and fingertip
+/// point (fingertip frame), from FINDINGS.md: w = log(R[k+1]·R[k]ᵀ), plane point += ρ·(w_y, −w_x);
+/// fingertip point = R[k]ᵀ·(0, 0, −ρ).
+fn closed_form(qs: &[UnitQuaternion<f64>]) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
+    let mut plane = vec![Vector3::zeros()];
+    let mut finger = vec![qs[0].inverse() * Vector3::new(0.0, 0.0, -RHO)];
+    for k in 1..qs.len() {
+        let w = (qs[k] * qs[k - 1].inverse()).scaled_axis();
+        let p = plane[k - 1] + Vector3::new(RHO * w.y, -RHO * w.x, 0.0);
+        plane.push(p);
+        finger.push(qs[k].inverse() * Vector3::new(0.0, 0.0, -RHO));
+    }
+    (plane, finger)
+}
+
+/// The paper's section 3.1 scene: body-fixed increments Rz(0.05)·Ry(0.02)·Rx(0.03) per sample,
+/// 100 samples (10 ms, 1 s).
+fn paper_scene() -> Vec<UnitQuaternion<f64>> {
+    let inc = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.05)
+        * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), 0.02)
+        * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.03);
+    let mut qs = vec![UnitQuaternion::identity()];
+    for _ in 0..100 {
+        let q = *qs.last().unwrap() * inc;
+        qs.push(q);
+    }
+    qs
+}
+
+fn to_q(q: &UnitQuaternion<f64>) -> Quat {
+    Quat::new(q.w as f32, q.i as f32, q.j as f32, q.k as f32)
+}
+
+/// Max |Δ| per axis (m) of our f32 paths against the closed form.
+fn run<M: Math>(method: Method, qs: &[UnitQuaternion<f64>]) -> ([f64; 3], [f64; 3]) {
+    let (plane_ref, finger_ref) = closed_form(qs);
+    let mut r = Rolling::new(Plane::default(), RHO as f32, to_q(&qs[0]), method);
+    let (mut ep, mut ef) = ([0.0f64; 3], [0.0f64; 3]);
+    for k in 1..qs.len() {
+        let s = r.step::<M>(to_q(&qs[k]));
+        assert!(!s.flags.contains(Flags::NON_FINITE_INPUT));
+        let p = r.surface.point;
+        let f = r.finger_point;
+        for (i, (a, b)) in [
+            (p.x, plane_ref[k].x),
+            (p.y, plane_ref[k].y),
+            (p.z, plane_ref[k].z),
+        ]
+        .iter()
+        .enumerate()
+        {
+            ep[i] = ep[i].max((*a as f64 - b).abs());
+        }
+        for (i, (a, b)) in [
+            (f.x, finger_ref[k].x),
+            (f.y, finger_ref[k].y),
+            (f.z, finger_ref[k].z),
+        ]
+        .iter()
+        .enumerate()
+        {
+            ef[i] = ef[i].max((*a as f64 - b).abs());
+        }
+    }
+    (ep, ef)
+}
+
+/// The paper's scene with the exact method in f32 stays within 1e-7 m (0.0001 mm) of the closed
+/// form on both surfaces: 100 steps, each adding ≤ ρ·|w|·(f32 relative error ~3e-7) ≈ 2e-9 m, plus
+/// the rounding of the f32 input quaternions (6e-8 rad → 6e-10 m per step). 1e-7 m is 50x that
+/// budget and 10x below the 0.001 mm target of the issue (the paper reports 0.004 mm).
+#[test]
+fn exact_method_reproduces_the_closed_form_on_the_paper_scene() {
+    let qs = paper_scene();
+    for (name, (ep, ef)) in [
+        ("libm", run::<Libm>(Method::Exact, &qs)),
+        ("fast", run::<Fast>(Method::Exact, &qs)),
+    ] {
+        for i in 0..3 {
+            assert!(ep[i] < 1e-7, "{name} plane axis {i}: {:e} m", ep[i]);
+            assert!(ef[i] < 1e-7, "{name} finger axis {i}: {:e} m", ef[i]);
+        }
+    }
+}
+
+/// The first-order Z-Y-X method leaves the exact path by about 0.74 mm on the paper's scene
+/// (FINDINGS.md, measured in f64). We pin that: between 0.5 and 1.0 mm, far above f32 noise.
+#[test]
+fn rpy_method_drifts_from_the_exact_path_as_measured_in_the_findings() {
+    let (ep, _) = run::<Libm>(Method::Rpy, &paper_scene());
+    let worst = ep[0].max(ep[1]);
+    assert!(
+        worst > 0.5e-3 && worst < 1.0e-3,
+        "rpy plane error {worst:e} m"
+    );
+}
+
+/// Paper-verbatim on the same scene: its δψ, δφ are direction angles, so the path is wrong by
+/// much more than the rolling step itself.
+#[test]
+fn paper_verbatim_method_is_far_off_on_the_paper_scene() {
+    let (ep, _) = run::<Libm>(Method::PaperVerbatim, &paper_scene());
+    assert!(ep[0].max(ep[1]) > 2e-3, "paper-verbatim error {:?}", ep);
+}
+
+/// A long run: 10 000 steps at 1 kHz of a smooth motion with rolling and spin (|ω| up to ~3 rad/s),
+/// exact method, f32. FINDINGS.md measured 0.0005 mm for this kind of run; the bound here is
+/// 1e-6 m (0.001 mm): 10⁴ steps × ~1e-10 m rounding per step, with margin for correlated error.
+#[test]
+fn exact_method_stays_on_the_closed_form_over_ten_thousand_steps() {
+    let n = 10_000;
+    let dt = 1e-3;
+    let qs: Vec<UnitQuaternion<f64>> = (0..=n)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let a = 0.6 * (1.3 * t).sin();
+            let b = 0.4 * (0.7 * t).sin();
+            let c = 0.8 * (0.9 * t).sin();
+            UnitQuaternion::from_euler_angles(a, b, c)
+        })
+        .collect();
+    let (ep, ef) = run::<Libm>(Method::Exact, &qs);
+    for i in 0..3 {
+        assert!(ep[i] < 1e-6, "plane axis {i}: {:e}", ep[i]);
+        assert!(ef[i] < 1e-6, "finger axis {i}: {:e}", ef[i]);
+    }
+}
+
+/// Eq. (2)-(3) on the paper's per-step angles: β = atan2(0.02, 0.03), δs = ρ·√(0.02² + 0.03²).
+#[test]
+fn direction_and_length_are_eqs_2_and_3() {
+    let a = Angles {
+        phi: 0.05,
+        theta: 0.02,
+        psi: 0.03,
+    };
+    let (beta, ds) = direction_and_length::<Libm>(a, 1.0 / 0.01);
+    assert!((beta - 0.588_002_6).abs() < 1e-6, "β = {beta}");
+    assert!((ds - 0.01 * 0.036_055_51).abs() < 1e-9, "δs = {ds}");
+    // The displacement the surfaces apply equals δs·(sin β, −cos β).
+    let mut p = Plane::default();
+    p.roll::<Libm>(Vec3::new(a.psi, a.theta, a.phi), 0.01);
+    assert!((p.point.x - ds * libm::sinf(beta)).abs() < 1e-9);
+    assert!((p.point.y + ds * libm::cosf(beta)).abs() < 1e-9);
+}
+
+#[test]
+fn bad_samples_leave_the_state_unchanged_and_are_flagged() {
+    let mut r = Rolling::new(Plane::default(), 0.01, Quat::IDENTITY, Method::Exact);
+    r.step::<Libm>(Quat::from_axis_angle::<Libm>(Vec3::X, 0.1));
+    let before = (r.surface.point, r.finger_point, r.q_prev);
+    for bad in [
+        Quat::new(f32::NAN, 0.0, 0.0, 0.0),
+        Quat::new(0.0, 0.0, 0.0, 0.0),
+        Quat::new(1.0, f32::NEG_INFINITY, 0.0, 0.0),
+    ] {
+        let s = r.step::<Libm>(bad);
+        assert!(!s.flags.is_empty());
+        assert_eq!(s.angles, Angles::ZERO);
+        assert_eq!((r.surface.point, r.finger_point, r.q_prev), before);
+    }
+    let s = r.step::<Libm>(Quat::new(2.0, 0.0, 0.0, 0.0));
+    assert!(s.flags.contains(Flags::NON_UNIT_QUAT));
+}
+
+/// A pure spin is the paper method's singularity: flagged, no motion, but q_prev advances.
+#[test]
+fn singular_steps_are_flagged_and_do_not_move_the_contact() {
+    let mut r = Rolling::new(
+        Plane::default(),
+        0.01,
+        Quat::IDENTITY,
+        Method::PaperVerbatim,
+    );
+    let q = Quat::from_axis_angle::<Libm>(Vec3::Z, 0.1);
+    let s = r.step::<Libm>(q);
+    assert!(s.flags.contains(Flags::SINGULAR));
+    assert_eq!(r.surface.point, Vec3::ZERO);
+    assert_eq!(r.q_prev, q);
+}
+
+/// On a sphere, the exact method keeps the fingertip contact point opposite the object normal.
+#[test]
+fn sphere_scene_keeps_the_contact_geometry_consistent() {
+    let mut r = Rolling::new(Sphere::new(0.1), 0.01, Quat::IDENTITY, Method::Exact);
+    let mut q = Quat::IDENTITY;
+    for k in 0..500 {
+        let (dq, _) = Quat::from_rotation_vector::<Libm>(Vec3::new(
+            0.002,
+            0.001 * (k as f32 * 0.01).cos(),
+            0.003,
+        ));
+        q = dq * q;
+        r.step::<Libm>(q);
+        let n = r.surface.normal();
+        let finger_world = q.rotate(r.finger_point);
+        assert!((finger_world + n * 0.01).norm_squared() < 1e-14);
+        assert!((n.norm_squared() - 1.0).abs() < 1e-5);
+    }
+}
