@@ -9,6 +9,9 @@
 #![no_main]
 
 use cortex_m_rt::entry;
+use softfinger_core::decompose::{decompose, Method};
+use softfinger_core::rolling::Rolling;
+use softfinger_core::surface::{Plane, Sphere};
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Rot3, Vec3};
 use softfinger_mcu_bench::bench::Bencher;
 use softfinger_mcu_bench::counter::Counter;
@@ -93,13 +96,54 @@ fn rotations(b: &mut Bencher) {
     });
 }
 
-/// The contact pipeline and the controller tick.
-///
-/// PENDING until `softfinger_core::contact`, `softfinger_core::decompose` and
-/// `Controller::tick` have real bodies; then enable, one line each:
-/// - `decompose_<method>`: `decompose::<M>(method, dq)` for each decomposition method
-/// - `rolling_update`, `state_machine`
-/// - `contact_step` (orientation sample in; contact point, spin torque, state out)
-///   target ≤ 400 instructions with the best backend that keeps the error ≤ 0.001 mm
-/// - `control_tick` (six encoder counts in, three duties out), target ≤ 2000 instructions
-fn pipeline(_b: &mut Bencher) {}
+/// The paper scene's rotation increment per 10 ms step: δψ = 0.03 rad about x, δθ = 0.02 rad about y,
+/// δφ = 0.05 rad about z (the contact normal), as a rotation vector (x, y, z).
+const SCENE_STEP: Vec3 = Vec3::new(0.03, 0.02, 0.05);
+
+/// The contact pipeline, stage by stage.
+fn pipeline(b: &mut Bencher) {
+    let (dq, _) = Quat::from_rotation_vector::<Libm>(SCENE_STEP);
+    bench!(b, "decompose_paper", for M in [Libm, Micromath, Fast], || {
+        decompose::<M>(Method::PaperVerbatim, bb(dq))
+    });
+    bench!(b, "decompose_rpy", for M in [Libm, Micromath, Fast], || {
+        decompose::<M>(Method::Rpy, bb(dq))
+    });
+    bench!(b, "decompose_exact", for M in [Libm, Micromath, Fast], || {
+        decompose::<M>(Method::Exact, bb(dq))
+    });
+
+    // Rolling update (Algorithm 1): one orientation sample in, the contact points move. The samples
+    // alternate between q0 and q0·dq, so every step rolls by the scene increment, forwards then back
+    // (the alternation costs about two instructions per call).
+    let q0 = Quat::new(0.877_582_56, 0.128_129_8, 0.256_259_6, 0.384_389_4);
+    let samples = [q0 * dq, q0];
+    macro_rules! rolling {
+        ($name:literal, $surface:expr, $method:expr) => {
+            bench!(b, $name, for M in [Libm, Micromath, Fast], {
+                let mut r = Rolling::new($surface, 0.01, q0, $method);
+                let mut k = 0;
+                move || {
+                    let q = samples[k];
+                    k ^= 1;
+                    r.step::<M>(bb(q))
+                }
+            });
+        };
+    }
+    rolling!(
+        "rolling_plane_paper",
+        Plane::default(),
+        Method::PaperVerbatim
+    );
+    rolling!("rolling_plane_rpy", Plane::default(), Method::Rpy);
+    rolling!("rolling_plane_exact", Plane::default(), Method::Exact);
+    rolling!("rolling_sphere_exact", Sphere::new(0.05), Method::Exact);
+
+    // PENDING until they have real bodies on main (then one `bench!` line each):
+    // - `state_machine`: the contact state machine's update
+    // - `contact_step`: orientation sample in; contact point, spin torque and state out. Target
+    //   <= 400 instructions with the best backend that keeps the error <= 0.001 mm (budget.json).
+    // - `control_tick`: `Controller::<M>::tick`, six encoder counts in, three duties out. Target
+    //   <= 2000 instructions (budget.json).
+}
