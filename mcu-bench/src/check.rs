@@ -9,11 +9,17 @@ use cortex_m_semihosting::hprintln;
 pub struct Checker {
     passed: u32,
     failed: u32,
+    group: &'static str,
 }
 
 impl Checker {
     pub fn new() -> Checker {
         Checker::default()
+    }
+
+    /// Name of the current group of checks (e.g. the math backend), printed with each failure.
+    pub fn group(&mut self, group: &'static str) {
+        self.group = group;
     }
 
     /// `cond` must hold.
@@ -22,7 +28,50 @@ impl Checker {
             self.passed += 1;
         } else {
             self.failed += 1;
-            hprintln!("FAIL {}", name);
+            hprintln!("FAIL [{}] {}", self.group, name);
+        }
+    }
+
+    /// `cond` must hold for the input `x`, which is printed on failure.
+    pub fn ok_at(&mut self, name: &str, x: f32, cond: bool) {
+        if cond {
+            self.passed += 1;
+        } else {
+            self.failed += 1;
+            hprintln!("FAIL [{}] {} (at x = {:e})", self.group, name, x);
+        }
+    }
+
+    /// Every element of `got` within `tol` of `expected`, or of `alternative` (for results defined
+    /// only up to an equivalence, e.g. a rotation vector of angle π).
+    pub fn close_all_either(
+        &mut self,
+        name: &str,
+        got: &[f32],
+        expected: &[f32],
+        alternative: &[f32],
+        tol: f32,
+    ) {
+        let within = |e: &[f32]| {
+            got.len() == e.len()
+                && got
+                    .iter()
+                    .zip(e)
+                    .all(|(g, e)| g.is_finite() && (g - e).abs() <= tol)
+        };
+        if within(expected) || within(alternative) {
+            self.passed += 1;
+        } else {
+            self.failed += 1;
+            hprintln!(
+                "FAIL [{}] {}: got {:?}, expected {:?} or {:?} ± {}",
+                self.group,
+                name,
+                got,
+                expected,
+                alternative,
+                tol
+            );
         }
     }
 
@@ -34,7 +83,8 @@ impl Checker {
         } else {
             self.failed += 1;
             hprintln!(
-                "FAIL {}: got {}, expected {} ± {} (off by {})",
+                "FAIL [{}] {}: got {}, expected {} ± {} (off by {})",
+                self.group,
                 name,
                 got,
                 expected,
@@ -56,7 +106,8 @@ impl Checker {
         } else {
             self.failed += 1;
             hprintln!(
-                "FAIL {}: got {:?}, expected {:?} ± {}",
+                "FAIL [{}] {}: got {:?}, expected {:?} ± {}",
+                self.group,
                 name,
                 got,
                 expected,
