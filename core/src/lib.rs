@@ -17,15 +17,19 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod contact;
+pub mod contact_state;
 pub mod controller;
 pub mod decompose;
 pub mod delta;
 pub mod encoder;
 pub mod flags;
 pub mod math;
+pub mod params;
 pub mod quat;
 pub mod rolling;
 pub mod rot3;
+pub mod spin;
 pub mod surface;
 pub mod telemetry;
 pub mod vec3;

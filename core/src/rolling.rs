@@ -116,7 +116,7 @@ impl<S: Surface> Rolling<S> {
                 // The same arc on the fingertip, mapped with the start-of-step orientation.
                 let k_gamma = relative_curvature(self.radius_m, self.surface.curvature());
                 let d_contact = Vec3::new(angles.theta, -angles.psi, 0.0) * (1.0 / k_gamma);
-                let d_object = self.surface.from_contact_frame(d_contact);
+                let d_object = self.surface.contact_to_object(d_contact);
                 let p = self.finger_point + self.q_prev.conjugate().rotate(d_object);
                 let n = p.norm::<M>();
                 if n > 0.5 * self.radius_m && n.is_finite() {

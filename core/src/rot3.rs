@@ -196,7 +196,7 @@ mod tests {
     fn from_quat_is_rodrigues_in_quaternion_form() {
         let axis = Vec3::new(0.2, 0.3, -0.9);
         let axis = axis * (1.0 / axis.norm::<Libm>());
-        for &angle in &[1e-6f32, 0.02, 0.7, 2.0, 3.14] {
+        for &angle in &[1e-6f32, 0.02, 0.7, 2.0, 3.1] {
             let (r1, _) = Rot3::from_axis_angle::<Libm>(axis, angle);
             let r2 = Rot3::from_quat(Quat::from_axis_angle::<Libm>(axis, angle));
             for i in 0..3 {

@@ -16,7 +16,7 @@ pub trait Surface: Copy + core::fmt::Debug {
     /// Express a rotation increment given in the object frame in the contact frame.
     fn to_contact_frame(&self, dq_object: Quat) -> Quat;
     /// Map a contact-frame vector to the object frame.
-    fn from_contact_frame(&self, v_contact: Vec3) -> Vec3;
+    fn contact_to_object(&self, v_contact: Vec3) -> Vec3;
     /// Move the contact point by rolling. `w_contact` is the fingertip's rotation increment
     /// (rad, contact frame: x = δψ, y = δθ, z = δφ) and `fingertip_radius_m` its radius.
     fn roll<M: Math>(&mut self, w_contact: Vec3, fingertip_radius_m: f32);
@@ -50,7 +50,7 @@ impl Surface for Plane {
         dq_object
     }
     #[inline]
-    fn from_contact_frame(&self, v_contact: Vec3) -> Vec3 {
+    fn contact_to_object(&self, v_contact: Vec3) -> Vec3 {
         v_contact
     }
     /// Eqs. (2)-(3) for k_γ = 1/ρ: the contact point moves by ρ·(δθ, −δψ). For the rotation vector
@@ -109,7 +109,7 @@ impl Surface for Sphere {
         self.frame.conjugate() * dq * self.frame
     }
     #[inline]
-    fn from_contact_frame(&self, v: Vec3) -> Vec3 {
+    fn contact_to_object(&self, v: Vec3) -> Vec3 {
         self.frame.rotate(v)
     }
     /// A fingertip of radius r rolling with rotation increment w on a sphere of radius R: the
@@ -137,7 +137,7 @@ impl Surface for Sphere {
     /// `c`. A centre at the object's origin (no direction) leaves the frame unchanged.
     fn place_under<M: Math>(&mut self, c: Vec3) {
         let d2 = c.norm_squared();
-        if !(d2 > 1e-20) || !d2.is_finite() {
+        if d2.is_nan() || d2 <= 1e-20 || !d2.is_finite() {
             return;
         }
         let target = c * (1.0 / M::sqrt(d2));

@@ -1,0 +1,284 @@
+//! The full contact step: one orientation and probe sample in; contact points, force to render,
+//! spin torque and contact state out. Composes [`Rolling`], [`SpinSpring`], the state machine and the
+//! proxy coupling of section 3.2.
+//!
+//! Proxy coupling (section 3.2): in rolling, a spring-damper connects the fingertip centre implied by
+//! rolling (the *anchor*: contact point + ρ·n) and the measured probe (fingertip centre), so rolling
+//! the wrist drags the finger along the surface as a real fingertip would. In sliding the spring is
+//! released: the anchor follows the probe and kinetic friction μ_k·f_N opposes the tangential
+//! velocity. Normally the surface pushes back with a unilateral spring-damper on the penetration.
+//!
+//! All vectors are in the object frame (`O`): for the plane scene z is the normal.
+
+use crate::contact_state::{next_state, ContactState, Reason, StateInputs, StateParams};
+use crate::decompose::Angles;
+use crate::flags::Flags;
+use crate::math::Math;
+use crate::params::{ContactParams, ParamError};
+use crate::quat::Quat;
+use crate::rolling::Rolling;
+use crate::spin::{torsion_limit, SpinSpring};
+use crate::surface::Surface;
+use crate::vec3::Vec3;
+use core::marker::PhantomData;
+
+/// One sample of the fingertip.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ContactInput {
+    /// Fingertip orientation, fingertip frame → object frame (normalised by the step).
+    pub q: Quat,
+    /// Probe = fingertip centre, object frame, m.
+    pub probe_m: Vec3,
+    /// Probe velocity, object frame, m/s.
+    pub probe_vel: Vec3,
+}
+
+/// What one contact step produced.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ContactOutput {
+    /// Force to render on the probe (the user's finger), object frame, N. |F| ≤ max_force_n.
+    pub force_n: Vec3,
+    /// Spin torque about the normal τn = k_z·φ_el, N·m (eq. 1, saturated at the torsional limit).
+    pub tau_n_nm: f32,
+    /// Accumulated spin about the normal since the contact began, rad.
+    pub spin_rad: f32,
+    /// Contact state after the step.
+    pub state: ContactState,
+    /// Why (transition or kept).
+    pub reason: Reason,
+    /// Contact point on the object, object frame, m.
+    pub object_point_m: Vec3,
+    /// Contact point on the fingertip, fingertip frame, m.
+    pub finger_point_m: Vec3,
+    /// Decomposed increment of this step (contact frame), rad.
+    pub angles: Angles,
+    /// Flags raised this step.
+    pub flags: Flags,
+}
+
+/// The contact model with its state. `M`: math backend; `S`: object surface.
+#[derive(Clone, Copy, Debug)]
+pub struct ContactModel<M: Math, S: Surface> {
+    params: ContactParams,
+    state_params: StateParams,
+    /// Rolling kinematics (contact points, previous orientation).
+    pub rolling: Rolling<S>,
+    /// Torsion spring of the soft finger.
+    pub spin: SpinSpring,
+    state: ContactState,
+    dt_s: f32,
+    prev_vel: Vec3,
+    prev_anchor: Vec3,
+    _m: PhantomData<M>,
+}
+
+impl<M: Math, S: Surface> ContactModel<M, S> {
+    /// A model touching nothing yet, at orientation `q0`, stepped every `dt_s` seconds.
+    pub fn new(params: ContactParams, surface: S, q0: Quat, dt_s: f32) -> Result<Self, ParamError> {
+        params.validate()?;
+        crate::params::positive("dt_s", dt_s)?;
+        let (q0, _) = q0.normalized_checked::<M>();
+        Ok(ContactModel {
+            params,
+            state_params: params.state_params(),
+            rolling: Rolling::new(surface, params.fingertip_radius_m, q0, params.method),
+            spin: SpinSpring::default(),
+            state: ContactState::Broken,
+            dt_s,
+            prev_vel: Vec3::ZERO,
+            prev_anchor: Vec3::ZERO,
+            _m: PhantomData,
+        })
+    }
+
+    /// Current contact state.
+    pub fn state(&self) -> ContactState {
+        self.state
+    }
+
+    /// The parameters in force.
+    pub fn params(&self) -> &ContactParams {
+        &self.params
+    }
+
+    /// The fingertip centre implied by rolling: contact point + ρ·n (object frame).
+    #[inline]
+    fn anchor(&self) -> Vec3 {
+        let s = &self.rolling.surface;
+        s.contact_point() + s.normal() * self.params.fingertip_radius_m
+    }
+
+    /// Move the contact under the probe and restart rolling from orientation `q`.
+    fn restart_at(&mut self, probe: Vec3, q: Quat) {
+        self.rolling.surface.place_under::<M>(probe);
+        self.rolling.restart(q);
+        self.prev_anchor = self.anchor();
+    }
+
+    fn output(&self, flags: Flags) -> ContactOutput {
+        ContactOutput {
+            state: self.state,
+            reason: Reason::Kept,
+            object_point_m: self.rolling.surface.contact_point(),
+            finger_point_m: self.rolling.finger_point,
+            spin_rad: self.spin.accumulated_rad,
+            flags,
+            ..ContactOutput::default()
+        }
+    }
+
+    /// One contact step. Never panics; any non-finite input gives zero force with a flag and leaves
+    /// the state unchanged.
+    pub fn contact_step(&mut self, input: &ContactInput) -> ContactOutput {
+        if !input.probe_m.is_finite() || !input.probe_vel.is_finite() || !input.q.is_finite() {
+            return self.output(Flags::NON_FINITE_INPUT);
+        }
+        let p = &self.params;
+        let r = p.fingertip_radius_m;
+        let inv_dt = 1.0 / self.dt_s;
+        let probe = input.probe_m;
+        let vel = input.probe_vel;
+
+        // 1. Rolling kinematics (only while touching; when apart just track the orientation).
+        let roll = if self.state == ContactState::Broken {
+            let (q, f) = input.q.normalized_checked::<M>();
+            if !f.intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS) {
+                self.rolling.q_prev = q;
+                self.rolling.surface.place_under::<M>(probe);
+            }
+            crate::rolling::RollStep {
+                flags: f,
+                ..Default::default()
+            }
+        } else {
+            self.rolling.step::<M>(input.q)
+        };
+        let q_now = self.rolling.q_prev;
+        let mut flags = roll.flags;
+
+        // 2. Normal geometry and kinematics.
+        let n = self.rolling.surface.normal();
+        let pen = self.rolling.surface.penetration::<M>(probe, r);
+        let v_n = vel.dot(n);
+        let v_t = vel - n * v_n;
+        let accel = (vel - self.prev_vel) * inv_dt;
+        self.prev_vel = vel;
+        let a_n = accel.dot(n);
+        let a_t = accel - n * a_n;
+        let f_n = if pen > 0.0 {
+            let f = p.normal_stiffness * pen - p.normal_damping * v_n;
+            if f > 0.0 {
+                f
+            } else {
+                0.0
+            }
+        } else {
+            0.0
+        };
+
+        // 3. The rolling coupling force (tangential), as it would be if rolling is kept.
+        let anchor = self.anchor();
+        let anchor_vel = (anchor - self.prev_anchor) * inv_dt;
+        self.prev_anchor = anchor;
+        let couple = |e: Vec3, v_rel: Vec3| {
+            let f = e * p.tangential_stiffness + v_rel * p.tangential_damping;
+            f - n * f.dot(n)
+        };
+        let f_couple = couple(anchor - probe, anchor_vel - vel);
+        let tilt =
+            M::sqrt(roll.angles.theta * roll.angles.theta + roll.angles.psi * roll.angles.psi);
+        let inputs = StateInputs {
+            normal_force_n: f_n,
+            gap_m: -pen,
+            normal_accel: a_n,
+            tangential_force_n: -f_couple,
+            tangential_accel: a_t,
+            tangential_velocity: if self.state == ContactState::Rolling {
+                v_t - (anchor_vel - n * anchor_vel.dot(n))
+            } else {
+                v_t
+            },
+            roll_disp_m: roll.object_disp_m,
+            tilt_rate: tilt * inv_dt,
+        };
+
+        // 4. State transition and entry actions.
+        let (state, reason) = next_state(self.state, &inputs, &self.state_params);
+        if state != self.state {
+            match state {
+                ContactState::Rolling => self.restart_at(probe, q_now),
+                ContactState::Broken => self.spin.reset(),
+                ContactState::Sliding => {}
+            }
+        }
+        self.state = state;
+
+        // 5. Force and spin torque for the new state.
+        if state == ContactState::Sliding {
+            // Spring released: the contact follows the probe.
+            self.restart_at(probe, q_now);
+        }
+        let p = &self.params;
+        let mut force = match state {
+            ContactState::Broken => Vec3::ZERO,
+            ContactState::Rolling => {
+                let f_t = if reason == Reason::MadeContact || reason == Reason::Stuck {
+                    Vec3::ZERO // anchor just placed under the probe
+                } else {
+                    f_couple
+                };
+                n * f_n + f_t
+            }
+            ContactState::Sliding => {
+                let speed = v_t.norm::<M>();
+                let friction = if speed > 0.0 {
+                    let ramp = if speed < p.slide_smoothing_speed {
+                        speed / p.slide_smoothing_speed
+                    } else {
+                        1.0
+                    };
+                    v_t * (-p.mu_k * f_n * ramp / speed)
+                } else {
+                    Vec3::ZERO
+                };
+                n * f_n + friction
+            }
+        };
+        let tau_n_nm = if state == ContactState::Broken {
+            0.0
+        } else {
+            let tau_max = torsion_limit(p.mu_s, f_n, p.patch_radius_m);
+            let (tau, saturated) = self.spin.update(roll.angles.phi, p.spin_stiffness, tau_max);
+            if saturated && f_n > p.force_eps_n {
+                flags |= Flags::SPIN_SATURATED;
+            }
+            tau
+        };
+
+        // 6. Limits and the last NaN guard.
+        let f2 = force.norm_squared();
+        if !f2.is_finite() || !tau_n_nm.is_finite() {
+            force = Vec3::ZERO;
+            flags |= Flags::NON_FINITE_OUTPUT;
+        } else if f2 > p.max_force_n * p.max_force_n {
+            force = force * (p.max_force_n / M::sqrt(f2));
+            flags |= Flags::OUTPUT_LIMITED;
+        }
+        ContactOutput {
+            force_n: force,
+            tau_n_nm: if tau_n_nm.is_finite() { tau_n_nm } else { 0.0 },
+            spin_rad: self.spin.accumulated_rad,
+            state,
+            reason,
+            object_point_m: self.rolling.surface.contact_point(),
+            finger_point_m: self.rolling.finger_point,
+            angles: roll.angles,
+            flags,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,191 @@
+//! Contact step scenarios with closed-form expectations.
+
+use super::*;
+use crate::math::Libm;
+use crate::surface::Plane;
+
+const DT: f32 = 1e-4; // 10 kHz
+
+fn model() -> ContactModel<Libm, Plane> {
+    ContactModel::new(ContactParams::DEFAULT, Plane::default(), Quat::IDENTITY, DT).unwrap()
+}
+
+fn at(x: f32, y: f32, z: f32) -> ContactInput {
+    ContactInput {
+        q: Quat::IDENTITY,
+        probe_m: Vec3::new(x, y, z),
+        probe_vel: Vec3::ZERO,
+    }
+}
+
+#[test]
+fn free_space_renders_nothing() {
+    let mut m = model();
+    let o = m.contact_step(&at(0.0, 0.0, 0.05));
+    assert_eq!(o.state, ContactState::Broken);
+    assert_eq!(o.force_n, Vec3::ZERO);
+}
+
+/// Pressing 1 mm into a 2000 N/m surface at rest: f_N = 2 N along +z, rolling, no tangential force.
+#[test]
+fn pressing_gives_the_spring_force_and_rolling() {
+    let mut m = model();
+    let o = m.contact_step(&at(0.003, -0.002, 0.009));
+    assert_eq!(
+        (o.state, o.reason),
+        (ContactState::Rolling, Reason::MadeContact)
+    );
+    assert!((o.force_n.z - 2.0).abs() < 1e-4, "{:?}", o.force_n);
+    assert!(o.force_n.x.abs() < 1e-6 && o.force_n.y.abs() < 1e-6);
+    assert!((o.object_point_m - Vec3::new(0.003, -0.002, 0.0)).norm_squared() < 1e-14);
+}
+
+/// Rolling the fingertip about y by 0.1 rad while the probe stays put moves the anchor by
+/// ρ·0.1 = 1 mm along +x, so the coupling spring pulls the probe by K_t·1 mm = 1 N along +x.
+#[test]
+fn rolling_the_wrist_drags_the_probe_through_the_coupling_spring() {
+    let mut m = model();
+    m.contact_step(&at(0.0, 0.0, 0.009));
+    let steps = 100;
+    let mut o = ContactOutput::default();
+    for k in 1..=steps {
+        let q = Quat::from_axis_angle::<Libm>(Vec3::Y, 0.1 * k as f32 / steps as f32);
+        o = m.contact_step(&ContactInput {
+            q,
+            ..at(0.0, 0.0, 0.009)
+        });
+        assert_eq!(o.state, ContactState::Rolling, "step {k}");
+    }
+    assert!(
+        (o.object_point_m.x - 0.001).abs() < 1e-7,
+        "{:?}",
+        o.object_point_m
+    );
+    // spring 1000 N/m × 1 mm = 1 N, plus damping 1 N·s/m × anchor speed (1 mm / 10 ms = 0.1 m/s).
+    assert!((o.force_n.x - 1.1).abs() < 2e-3, "{:?}", o.force_n);
+    assert!(o.flags.is_empty(), "{:?}", o.flags);
+}
+
+/// Dragging the probe sideways faster than the friction cone allows switches to sliding, and the
+/// rendered tangential force is then kinetic friction μ_k·f_N opposing the motion.
+#[test]
+fn pushing_past_the_cone_slides_with_kinetic_friction() {
+    let mut m = model();
+    m.contact_step(&at(0.0, 0.0, 0.009)); // f_N = 2 N, cone 1.6 N (× 1.05 hysteresis)
+    let v = 0.05; // m/s
+    let mut state = ContactState::Rolling;
+    let mut o = ContactOutput::default();
+    // 600 steps = 3 mm: the spring reaches the cone (1.68 N) after ~1.6 mm.
+    for k in 1..600 {
+        let x = v * DT * k as f32;
+        o = m.contact_step(&ContactInput {
+            probe_vel: Vec3::new(v, 0.0, 0.0),
+            ..at(x, 0.0, 0.009)
+        });
+        state = o.state;
+    }
+    assert_eq!(state, ContactState::Sliding);
+    // kinetic friction 0.6·2 N = 1.2 N against +x (speed above the smoothing speed).
+    assert!((o.force_n.x + 1.2).abs() < 1e-3, "{:?}", o.force_n);
+    assert!((o.force_n.z - 2.0).abs() < 1e-3);
+}
+
+/// Twisting about the normal winds the spin spring: τn = k_z·φ until the torsional limit.
+#[test]
+fn twisting_about_the_normal_gives_the_spin_torque_then_saturates() {
+    let mut m = model();
+    m.contact_step(&at(0.0, 0.0, 0.009)); // f_N = 2 N
+    let mut o = ContactOutput::default();
+    for k in 1..=100 {
+        let q = Quat::from_axis_angle::<Libm>(Vec3::Z, 0.2 * k as f32 / 100.0);
+        o = m.contact_step(&ContactInput {
+            q,
+            ..at(0.0, 0.0, 0.009)
+        });
+    }
+    let tau_max = torsion_limit(0.8, 2.0, 0.005); // 4.7e-3 N·m
+    let k_z = 0.01;
+    // 0.2 rad × 0.01 = 2e-3 N·m < τ_max: linear.
+    assert!((o.tau_n_nm - 0.2 * k_z).abs() < 1e-6, "τ = {}", o.tau_n_nm);
+    assert!((o.spin_rad - 0.2).abs() < 1e-5);
+    for k in 1..=200 {
+        let q = Quat::from_axis_angle::<Libm>(Vec3::Z, 0.2 + 0.8 * k as f32 / 200.0);
+        o = m.contact_step(&ContactInput {
+            q,
+            ..at(0.0, 0.0, 0.009)
+        });
+    }
+    assert!(
+        (o.tau_n_nm - tau_max).abs() < 1e-6,
+        "saturated τ = {} vs {tau_max}",
+        o.tau_n_nm
+    );
+    assert!(o.flags.contains(Flags::SPIN_SATURATED));
+}
+
+/// Lifting off breaks the contact and releases everything.
+#[test]
+fn lifting_off_breaks_contact() {
+    let mut m = model();
+    m.contact_step(&at(0.0, 0.0, 0.009));
+    let o = m.contact_step(&at(0.0, 0.0, 0.0105));
+    assert_eq!(
+        (o.state, o.reason),
+        (ContactState::Broken, Reason::Separated)
+    );
+    assert_eq!(o.force_n, Vec3::ZERO);
+    assert_eq!(o.tau_n_nm, 0.0);
+}
+
+/// The force limit holds however deep the probe goes.
+#[test]
+fn force_is_limited() {
+    let mut m = model();
+    let o = m.contact_step(&at(0.0, 0.0, -1.0));
+    assert!((o.force_n.norm_squared().sqrt() - 12.0).abs() < 1e-3);
+    assert!(o.flags.contains(Flags::OUTPUT_LIMITED));
+}
+
+#[test]
+fn non_finite_inputs_give_zero_force_and_a_flag() {
+    let mut m = model();
+    m.contact_step(&at(0.0, 0.0, 0.009));
+    for bad in [
+        at(f32::NAN, 0.0, 0.009),
+        ContactInput {
+            probe_vel: Vec3::new(0.0, f32::INFINITY, 0.0),
+            ..at(0.0, 0.0, 0.009)
+        },
+        ContactInput {
+            q: Quat::new(f32::NAN, 0.0, 0.0, 0.0),
+            ..at(0.0, 0.0, 0.009)
+        },
+    ] {
+        let o = m.contact_step(&bad);
+        assert_eq!(o.force_n, Vec3::ZERO);
+        assert!(o.flags.contains(Flags::NON_FINITE_INPUT));
+        assert_eq!(o.state, ContactState::Rolling, "state kept");
+    }
+}
+
+#[test]
+fn invalid_parameters_are_rejected() {
+    let bad = ContactParams {
+        mu_k: 2.0,
+        ..ContactParams::DEFAULT
+    };
+    assert_eq!(
+        ContactModel::<Libm, Plane>::new(bad, Plane::default(), Quat::IDENTITY, DT).err(),
+        Some(ParamError::KineticAboveStatic)
+    );
+    assert_eq!(
+        ContactModel::<Libm, Plane>::new(
+            ContactParams::DEFAULT,
+            Plane::default(),
+            Quat::IDENTITY,
+            0.0
+        )
+        .err(),
+        Some(ParamError::NotPositive("dt_s"))
+    );
+}

@@ -1,0 +1,298 @@
+//! Table-driven test of every transition and every non-transition.
+
+use super::*;
+
+const P: StateParams = StateParams {
+    mu_s: 0.8,
+    mu_k: 0.6,
+    k_tau: 4.0,
+    radius_m: 0.01,
+    force_eps_n: 0.01,
+    accel_eps: 0.05,
+    normal_accel_tol: 20.0,
+    gap_eps_m: 1e-4,
+    stick_speed: 0.002,
+    hysteresis: 0.05,
+    roll_eps_m: 1e-9,
+};
+
+/// Pressing with 2 N, at rest, nothing else.
+fn pressed() -> StateInputs {
+    StateInputs {
+        normal_force_n: 2.0,
+        gap_m: -0.001,
+        ..StateInputs::default()
+    }
+}
+
+fn x(v: f32) -> Vec3 {
+    Vec3::new(v, 0.0, 0.0)
+}
+
+use ContactState::{Broken, Rolling, Sliding};
+
+#[test]
+fn every_transition_and_non_transition() {
+    // (name, from, inputs, expected state, expected reason)
+    let cases: &[(&str, ContactState, StateInputs, ContactState, Reason)] = &[
+        // --- broken ---
+        (
+            "broken, no force",
+            Broken,
+            StateInputs {
+                gap_m: 0.01,
+                ..Default::default()
+            },
+            Broken,
+            Reason::Kept,
+        ),
+        (
+            "broken, force at ε",
+            Broken,
+            StateInputs {
+                normal_force_n: 0.01,
+                ..Default::default()
+            },
+            Broken,
+            Reason::Kept,
+        ),
+        (
+            "broken, pressed",
+            Broken,
+            pressed(),
+            Rolling,
+            Reason::MadeContact,
+        ),
+        // --- rolling ---
+        (
+            "rolling, inside cone",
+            Rolling,
+            StateInputs {
+                tangential_force_n: x(1.0),
+                tangential_accel: x(1.0),
+                ..pressed()
+            },
+            Rolling,
+            Reason::Kept,
+        ),
+        (
+            "rolling, f_N=0 and a_N>0",
+            Rolling,
+            StateInputs {
+                normal_accel: 1.0,
+                ..Default::default()
+            },
+            Broken,
+            Reason::Separated,
+        ),
+        (
+            "rolling, f_N=0 and gap",
+            Rolling,
+            StateInputs {
+                gap_m: 0.001,
+                ..Default::default()
+            },
+            Broken,
+            Reason::Separated,
+        ),
+        (
+            "rolling, f_N=0 but approaching, touching",
+            Rolling,
+            StateInputs {
+                normal_accel: -1.0,
+                gap_m: 0.0,
+                ..Default::default()
+            },
+            Rolling,
+            Reason::Kept,
+        ),
+        (
+            "rolling, exactly on cone",
+            Rolling,
+            StateInputs {
+                tangential_force_n: x(1.6),
+                tangential_accel: x(1.0),
+                ..pressed()
+            },
+            Rolling,
+            Reason::Kept,
+        ),
+        (
+            "rolling, inside hysteresis band",
+            Rolling,
+            StateInputs {
+                tangential_force_n: x(1.67),
+                tangential_accel: x(1.0),
+                ..pressed()
+            },
+            Rolling,
+            Reason::Kept,
+        ),
+        (
+            "rolling, over cone, no rolling",
+            Rolling,
+            StateInputs {
+                tangential_force_n: x(1.7),
+                tangential_accel: x(1.0),
+                ..pressed()
+            },
+            Sliding,
+            Reason::ConeExceeded,
+        ),
+        (
+            "rolling, over cone, agrees with roll",
+            Rolling,
+            StateInputs {
+                tangential_force_n: x(1.7),
+                tangential_accel: x(1.0),
+                roll_disp_m: x(1e-5),
+                ..pressed()
+            },
+            Sliding,
+            Reason::ConeExceeded,
+        ),
+        (
+            "rolling, over cone, against roll (haptic rule)",
+            Rolling,
+            StateInputs {
+                tangential_force_n: x(-1.7),
+                tangential_accel: x(1.0),
+                roll_disp_m: x(1e-5),
+                ..pressed()
+            },
+            Rolling,
+            Reason::Kept,
+        ),
+        (
+            "rolling, over cone, a_T = 0",
+            Rolling,
+            StateInputs {
+                tangential_force_n: x(1.7),
+                ..pressed()
+            },
+            Rolling,
+            Reason::Kept,
+        ),
+        (
+            "rolling, over cone, a_N ≠ 0 (bouncing)",
+            Rolling,
+            StateInputs {
+                tangential_force_n: x(1.7),
+                tangential_accel: x(1.0),
+                normal_accel: 50.0,
+                ..pressed()
+            },
+            Rolling,
+            Reason::Kept,
+        ),
+        // Δθ_max = f_N·μ_s/(k_τ·r) = 2·0.8/(4·0.01) = 40 rad/s
+        (
+            "rolling, tilt rate below Δθ_max",
+            Rolling,
+            StateInputs {
+                tilt_rate: 39.0,
+                ..pressed()
+            },
+            Rolling,
+            Reason::Kept,
+        ),
+        (
+            "rolling, tilt rate above Δθ_max",
+            Rolling,
+            StateInputs {
+                tilt_rate: 41.0,
+                ..pressed()
+            },
+            Sliding,
+            Reason::TwistExceeded,
+        ),
+        // --- sliding ---
+        (
+            "sliding, moving",
+            Sliding,
+            StateInputs {
+                tangential_velocity: x(0.05),
+                tangential_force_n: x(1.2),
+                ..pressed()
+            },
+            Sliding,
+            Reason::Kept,
+        ),
+        (
+            "sliding, stopped inside kinetic cone",
+            Sliding,
+            StateInputs {
+                tangential_velocity: x(0.001),
+                tangential_force_n: x(1.1),
+                ..pressed()
+            },
+            Rolling,
+            Reason::Stuck,
+        ),
+        (
+            "sliding, stopped but pushed past kinetic cone",
+            Sliding,
+            StateInputs {
+                tangential_velocity: x(0.001),
+                tangential_force_n: x(1.3),
+                ..pressed()
+            },
+            Sliding,
+            Reason::Kept,
+        ),
+        (
+            "sliding, stopped, a_N ≠ 0",
+            Sliding,
+            StateInputs {
+                tangential_velocity: x(0.0),
+                normal_accel: 50.0,
+                ..pressed()
+            },
+            Sliding,
+            Reason::Kept,
+        ),
+        (
+            "sliding, f_N=0 and a_N>0",
+            Sliding,
+            StateInputs {
+                normal_accel: 1.0,
+                ..Default::default()
+            },
+            Broken,
+            Reason::Separated,
+        ),
+        (
+            "sliding, f_N=0, touching, at rest",
+            Sliding,
+            StateInputs::default(),
+            Sliding,
+            Reason::Kept,
+        ),
+    ];
+    for (name, from, inputs, to, reason) in cases {
+        let got = next_state(*from, inputs, &P);
+        assert_eq!(got, (*to, *reason), "case '{name}'");
+    }
+}
+
+/// A tangential force held on the static cone boundary with ±2 % noise never leaves rolling: the
+/// 5 % hysteresis margin is wider than the noise.
+#[test]
+fn force_on_the_cone_boundary_does_not_chatter() {
+    let mut state = Rolling;
+    let mut transitions = 0;
+    for k in 0..10_000 {
+        let noise = 0.02 * ((k as f32) * 0.7).sin();
+        let i = StateInputs {
+            tangential_force_n: x(1.6 * (1.0 + noise)),
+            tangential_accel: x(0.5),
+            ..pressed()
+        };
+        let (s, r) = next_state(state, &i, &P);
+        if r != Reason::Kept {
+            transitions += 1;
+        }
+        state = s;
+    }
+    assert_eq!(transitions, 0);
+}

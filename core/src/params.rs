@@ -1,0 +1,254 @@
+//! Validated parameters of the contact model. Invalid values are rejected with a typed error that
+//! names the field; nothing is clamped silently.
+
+use crate::contact_state::StateParams;
+use crate::decompose::Method;
+
+/// Why a parameter set was rejected. Each variant names the offending field.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ParamError {
+    /// The field is NaN or ±inf.
+    NotFinite(&'static str),
+    /// The field must be > 0.
+    NotPositive(&'static str),
+    /// The field must be ≥ 0.
+    Negative(&'static str),
+    /// The field is outside its documented range.
+    OutOfRange(&'static str),
+    /// μ_k must not exceed μ_s.
+    KineticAboveStatic,
+}
+
+impl core::fmt::Display for ParamError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ParamError::NotFinite(n) => write!(f, "{n} is not finite"),
+            ParamError::NotPositive(n) => write!(f, "{n} must be > 0"),
+            ParamError::Negative(n) => write!(f, "{n} must be >= 0"),
+            ParamError::OutOfRange(n) => write!(f, "{n} is out of range"),
+            ParamError::KineticAboveStatic => write!(f, "mu_k must not exceed mu_s"),
+        }
+    }
+}
+
+/// Check `v` is finite and > 0.
+pub fn positive(name: &'static str, v: f32) -> Result<(), ParamError> {
+    if !v.is_finite() {
+        Err(ParamError::NotFinite(name))
+    } else if v <= 0.0 {
+        Err(ParamError::NotPositive(name))
+    } else {
+        Ok(())
+    }
+}
+
+/// Check `v` is finite and ≥ 0.
+pub fn non_negative(name: &'static str, v: f32) -> Result<(), ParamError> {
+    if !v.is_finite() {
+        Err(ParamError::NotFinite(name))
+    } else if v < 0.0 {
+        Err(ParamError::Negative(name))
+    } else {
+        Ok(())
+    }
+}
+
+/// Everything the contact model needs. SI units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ContactParams {
+    /// Decomposition method for the rolling increments.
+    pub method: Method,
+    /// Fingertip sphere radius R₁, m (paper: 10 mm).
+    pub fingertip_radius_m: f32,
+    /// Normal (penetration) stiffness of the virtual surface, N/m.
+    pub normal_stiffness: f32,
+    /// Normal damping, N·s/m.
+    pub normal_damping: f32,
+    /// Tangential spring between the rolled position and the probe (section 3.2), N/m.
+    pub tangential_stiffness: f32,
+    /// Tangential damper of that coupling, N·s/m.
+    pub tangential_damping: f32,
+    /// μ_s: static friction coefficient.
+    pub mu_s: f32,
+    /// μ_k: kinetic friction coefficient (0 < μ_k ≤ μ_s).
+    pub mu_k: f32,
+    /// k_z: spin stiffness of eq. (1), N·m/rad.
+    pub spin_stiffness: f32,
+    /// Radius a of the contact patch for the torsional limit τ_max = (3π/16)·μ_s·f_N·a, m.
+    pub patch_radius_m: f32,
+    /// k_τ: twist stiffness of the rolling→sliding threshold, N·m·s/rad.
+    pub k_tau: f32,
+    /// Below this tangential speed the kinetic friction force ramps linearly to zero, m/s.
+    pub slide_smoothing_speed: f32,
+    /// Largest force the model may ask for, N (the device's limit; also enforced after it).
+    pub max_force_n: f32,
+    /// Tolerances of the state machine (see [`StateParams`]); `mu_s`, `mu_k`, `k_tau` and the
+    /// radius there are overwritten from the fields above.
+    pub force_eps_n: f32,
+    /// See [`StateParams::accel_eps`].
+    pub accel_eps: f32,
+    /// See [`StateParams::normal_accel_tol`].
+    pub normal_accel_tol: f32,
+    /// See [`StateParams::gap_eps_m`].
+    pub gap_eps_m: f32,
+    /// See [`StateParams::stick_speed`].
+    pub stick_speed: f32,
+    /// See [`StateParams::hysteresis`], fraction in [0, 1).
+    pub hysteresis: f32,
+}
+
+impl ContactParams {
+    /// Defaults for a human fingertip on a rigid surface rendered by an Omega.6-class device:
+    /// 10 mm fingertip (the paper's), 2 N/mm surface (the Omega.6 renders up to 14.5 N/mm),
+    /// μ_s = 0.8 / μ_k = 0.6 (skin on smooth surfaces is reported between 0.5 and 1.0), a 5 mm patch,
+    /// k_z = 0.01 N·m/rad, 12 N force limit (the Omega.6's continuous force).
+    pub const DEFAULT: ContactParams = ContactParams {
+        method: Method::Exact,
+        fingertip_radius_m: 0.01,
+        normal_stiffness: 2000.0,
+        normal_damping: 2.0,
+        tangential_stiffness: 1000.0,
+        tangential_damping: 1.0,
+        mu_s: 0.8,
+        mu_k: 0.6,
+        spin_stiffness: 0.01,
+        patch_radius_m: 0.005,
+        k_tau: 4.0,
+        slide_smoothing_speed: 0.005,
+        max_force_n: 12.0,
+        force_eps_n: 0.01,
+        accel_eps: 0.05,
+        normal_accel_tol: 50.0,
+        gap_eps_m: 1e-4,
+        stick_speed: 0.002,
+        hysteresis: 0.05,
+    };
+
+    /// Check every field; the first bad one is reported.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        positive("fingertip_radius_m", self.fingertip_radius_m)?;
+        non_negative("normal_stiffness", self.normal_stiffness)?;
+        non_negative("normal_damping", self.normal_damping)?;
+        non_negative("tangential_stiffness", self.tangential_stiffness)?;
+        non_negative("tangential_damping", self.tangential_damping)?;
+        positive("mu_s", self.mu_s)?;
+        positive("mu_k", self.mu_k)?;
+        if self.mu_k > self.mu_s {
+            return Err(ParamError::KineticAboveStatic);
+        }
+        non_negative("spin_stiffness", self.spin_stiffness)?;
+        non_negative("patch_radius_m", self.patch_radius_m)?;
+        positive("k_tau", self.k_tau)?;
+        positive("slide_smoothing_speed", self.slide_smoothing_speed)?;
+        positive("max_force_n", self.max_force_n)?;
+        non_negative("force_eps_n", self.force_eps_n)?;
+        non_negative("accel_eps", self.accel_eps)?;
+        non_negative("normal_accel_tol", self.normal_accel_tol)?;
+        non_negative("gap_eps_m", self.gap_eps_m)?;
+        non_negative("stick_speed", self.stick_speed)?;
+        non_negative("hysteresis", self.hysteresis)?;
+        if self.hysteresis >= 1.0 {
+            return Err(ParamError::OutOfRange("hysteresis"));
+        }
+        Ok(())
+    }
+
+    /// The state machine's view of these parameters.
+    pub fn state_params(&self) -> StateParams {
+        StateParams {
+            mu_s: self.mu_s,
+            mu_k: self.mu_k,
+            k_tau: self.k_tau,
+            radius_m: self.fingertip_radius_m,
+            force_eps_n: self.force_eps_n,
+            accel_eps: self.accel_eps,
+            normal_accel_tol: self.normal_accel_tol,
+            gap_eps_m: self.gap_eps_m,
+            stick_speed: self.stick_speed,
+            hysteresis: self.hysteresis,
+            roll_eps_m: 1e-9,
+        }
+    }
+}
+
+impl Default for ContactParams {
+    fn default() -> Self {
+        ContactParams::DEFAULT
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid() {
+        assert_eq!(ContactParams::DEFAULT.validate(), Ok(()));
+    }
+
+    #[test]
+    fn each_bad_field_is_named() {
+        let d = ContactParams::DEFAULT;
+        let cases: [(ContactParams, ParamError); 9] = [
+            (
+                ContactParams {
+                    fingertip_radius_m: 0.0,
+                    ..d
+                },
+                ParamError::NotPositive("fingertip_radius_m"),
+            ),
+            (
+                ContactParams {
+                    fingertip_radius_m: f32::NAN,
+                    ..d
+                },
+                ParamError::NotFinite("fingertip_radius_m"),
+            ),
+            (
+                ContactParams {
+                    normal_stiffness: -1.0,
+                    ..d
+                },
+                ParamError::Negative("normal_stiffness"),
+            ),
+            (
+                ContactParams {
+                    mu_s: f32::INFINITY,
+                    ..d
+                },
+                ParamError::NotFinite("mu_s"),
+            ),
+            (
+                ContactParams { mu_k: 0.0, ..d },
+                ParamError::NotPositive("mu_k"),
+            ),
+            (
+                ContactParams { mu_k: 0.9, ..d },
+                ParamError::KineticAboveStatic,
+            ),
+            (
+                ContactParams { k_tau: 0.0, ..d },
+                ParamError::NotPositive("k_tau"),
+            ),
+            (
+                ContactParams {
+                    hysteresis: 1.0,
+                    ..d
+                },
+                ParamError::OutOfRange("hysteresis"),
+            ),
+            (
+                ContactParams {
+                    max_force_n: -3.0,
+                    ..d
+                },
+                ParamError::NotPositive("max_force_n"),
+            ),
+        ];
+        for (p, e) in cases {
+            assert_eq!(p.validate(), Err(e));
+        }
+    }
+}

@@ -1,0 +1,106 @@
+//! Spin torque about the contact normal, eq. (1) τn = k_z·δφ, with the torsional friction limit of
+//! a soft finger.
+//!
+//! Model (elastic-perfectly-plastic torsion spring): the spin increments δφ wind a torsion spring of
+//! stiffness k_z (N·m/rad); the torque τn = k_z·φ_el is limited to the torsional friction limit
+//! τ_max, beyond which the patch slips and the spring stops winding (φ_el is clamped to τ_max/k_z).
+//! For a circular contact patch of radius a with a Hertzian pressure distribution and Coulomb
+//! friction μ, the limit is τ_max = (3π/16)·μ·f_N·a (Howe & Cutkosky, "Practical force-motion models
+//! for sliding manipulation", IJRR 15(6), 1996; uniform pressure would give (2/3)·μ·f_N·a).
+//! Sign (eq. 1 as printed): positive δφ is a right-handed rotation of the fingertip about the
+//! outward normal and τn = +k_z·φ_el has the same sign; the moment the contact exerts on the
+//! fingertip (what a 6-DoF device would render on the hand) is −τn.
+
+/// Coefficient of the Hertzian torsional friction limit, 3π/16.
+pub const HERTZ_TORSION_COEFF: f32 = 3.0 * core::f32::consts::PI / 16.0;
+
+/// The torsional friction limit τ_max = (3π/16)·μ·f_N·a (N·m). Zero for f_N ≤ 0.
+#[inline]
+pub fn torsion_limit(mu: f32, normal_force_n: f32, patch_radius_m: f32) -> f32 {
+    if normal_force_n > 0.0 {
+        HERTZ_TORSION_COEFF * mu * normal_force_n * patch_radius_m
+    } else {
+        0.0
+    }
+}
+
+/// The torsion spring's state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SpinSpring {
+    /// Elastic twist φ_el, rad.
+    pub elastic_rad: f32,
+    /// Total spin Σδφ since the contact began, rad.
+    pub accumulated_rad: f32,
+}
+
+impl SpinSpring {
+    /// Wind the spring by `dphi` (rad) and return (τn in N·m, saturated?). `k_z` in N·m/rad,
+    /// `tau_max` in N·m (≥ 0). Non-finite `dphi` is ignored (the caller flags it).
+    pub fn update(&mut self, dphi: f32, k_z: f32, tau_max: f32) -> (f32, bool) {
+        if dphi.is_finite() {
+            self.elastic_rad += dphi;
+            self.accumulated_rad += dphi;
+        }
+        let limit = if k_z > 0.0 { tau_max / k_z } else { 0.0 };
+        let saturated = self.elastic_rad.abs() > limit;
+        if saturated {
+            self.elastic_rad = if self.elastic_rad > 0.0 {
+                limit
+            } else {
+                -limit
+            };
+        }
+        (k_z * self.elastic_rad, saturated)
+    }
+
+    /// Release the spring (contact broken).
+    pub fn reset(&mut self) {
+        *self = SpinSpring::default();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn linear_below_the_limit_eq_1() {
+        let mut s = SpinSpring::default();
+        let (tau, sat) = s.update(0.01, 0.05, 1.0);
+        assert!(!sat);
+        assert!((tau - 0.0005).abs() < 1e-9, "τ = k_z·δφ, got {tau}");
+        let (tau, _) = s.update(0.01, 0.05, 1.0);
+        assert!((tau - 0.001).abs() < 1e-9, "the spring winds up: {tau}");
+    }
+
+    #[test]
+    fn saturates_at_the_hertzian_torsion_limit_and_unwinds_elastically() {
+        // μ = 1, f_N = 2 N, a = 5 mm: τ_max = 0.589·1·2·0.005 = 5.89e-3 N·m.
+        let tau_max = torsion_limit(1.0, 2.0, 0.005);
+        assert!((tau_max - 5.890_486e-3).abs() < 1e-8);
+        let mut s = SpinSpring::default();
+        for _ in 0..100 {
+            s.update(0.01, 0.05, tau_max);
+        }
+        let (tau, sat) = s.update(0.01, 0.05, tau_max);
+        assert!(sat);
+        assert!((tau - tau_max).abs() < 1e-8);
+        assert!((s.accumulated_rad - 1.01).abs() < 1e-5);
+        // Reversing unwinds from the limit immediately (no dead band).
+        let (tau, sat) = s.update(-0.01, 0.05, tau_max);
+        assert!(!sat);
+        assert!((tau - (tau_max - 0.0005)).abs() < 1e-7);
+    }
+
+    #[test]
+    fn no_normal_force_no_torque() {
+        assert_eq!(torsion_limit(1.0, -1.0, 0.005), 0.0);
+        let mut s = SpinSpring::default();
+        let (tau, sat) = s.update(0.3, 0.05, 0.0);
+        assert_eq!(tau, 0.0);
+        assert!(sat);
+        let (tau, _) = s.update(f32::NAN, 0.05, 1.0);
+        assert!(tau.is_finite());
+    }
+}

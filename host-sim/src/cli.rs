@@ -1,0 +1,46 @@
+//! The command line: parsing and dispatch. `run` is the default command.
+
+use clap::{Parser, Subcommand};
+use std::ffi::OsString;
+
+/// Run the softfinger contact core against a software plant, replay bench logs, validate against
+/// the classical rolling equations, and chart speed against accuracy.
+#[derive(Debug, Parser)]
+#[command(name = "host-sim", version, about)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Replay recorded fingertip orientations through the core (for tuning from bench logs).
+    Replay(crate::replay::Args),
+}
+
+/// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
+/// (clap's own usage errors also exit 2). Errors are printed on stderr as one line.
+pub fn run<I, T>(argv: I) -> u8
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(argv) {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() { 2 } else { 0 };
+        }
+    };
+    let result = match cli.command {
+        Some(Command::Replay(args)) => crate::replay::main(&args),
+        None => Err("the closed-loop run is not wired yet; try `host-sim --help`".to_string()),
+    };
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("host-sim: {e}");
+            2
+        }
+    }
+}

@@ -1,0 +1,6 @@
+//! host-sim as a library: the commands, the plant model and the references, so the cross-crate
+//! tests in `tests/` run them in-process.
+
+pub mod atomic_file;
+pub mod cli;
+pub mod replay;
