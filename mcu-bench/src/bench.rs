@@ -50,6 +50,11 @@ impl Bencher {
         self.ok
     }
 
+    /// Mark the run failed (a benchmark's precondition did not hold); the caller prints why.
+    pub fn fail(&mut self) {
+        self.ok = false;
+    }
+
     /// SysTick counts for `n` calls of `f`, loop overhead included. Never inlined, so every closure
     /// gets its own copy of the loop with the closure body inlined into it.
     #[inline(never)]

@@ -9,8 +9,13 @@
 #![no_main]
 
 use cortex_m_rt::entry;
+use cortex_m_semihosting::hprintln;
+use softfinger_core::contact::{ContactInput, ContactModel};
+use softfinger_core::contact_state::{next_state, ContactState, StateInputs};
 use softfinger_core::decompose::{decompose, Method};
+use softfinger_core::params::ContactParams;
 use softfinger_core::rolling::Rolling;
+use softfinger_core::spin::{torsion_limit, SpinSpring};
 use softfinger_core::surface::{Plane, Sphere};
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Rot3, Vec3};
 use softfinger_mcu_bench::bench::Bencher;
@@ -140,10 +145,109 @@ fn pipeline(b: &mut Bencher) {
     rolling!("rolling_plane_exact", Plane::default(), Method::Exact);
     rolling!("rolling_sphere_exact", Sphere::new(0.05), Method::Exact);
 
-    // PENDING until they have real bodies on main (then one `bench!` line each):
-    // - `state_machine`: the contact state machine's update
-    // - `contact_step`: orientation sample in; contact point, spin torque and state out. Target
-    //   <= 400 instructions with the best backend that keeps the error <= 0.001 mm (budget.json).
+    state_machine(b);
+    spin_torque(b);
+    contact_step::<Libm>(b, "contact_step", Method::Exact);
+    contact_step::<Micromath>(b, "contact_step", Method::Exact);
+    contact_step::<Fast>(b, "contact_step", Method::Exact);
+    contact_step::<Libm>(b, "contact_step_rpy", Method::Rpy);
+    contact_step::<Micromath>(b, "contact_step_rpy", Method::Rpy);
+    contact_step::<Fast>(b, "contact_step_rpy", Method::Rpy);
+
+    // PENDING until `Controller::tick` has a real body on main (then one line):
     // - `control_tick`: `Controller::<M>::tick`, six encoder counts in, three duties out. Target
     //   <= 2000 instructions (budget.json).
+}
+
+/// The contact state machine on its common path: rolling, kept (inside the friction cone, below the
+/// twist threshold). Backend-independent (no math kernels).
+fn state_machine(b: &mut Bencher) {
+    let params = ContactParams::DEFAULT.state_params();
+    let inputs = StateInputs {
+        normal_force_n: 2.0,
+        gap_m: -0.001,
+        normal_accel: 0.0,
+        tangential_force_n: Vec3::new(0.1, -0.05, 0.0),
+        tangential_accel: Vec3::new(0.01, 0.0, 0.0),
+        tangential_velocity: Vec3::new(0.0005, 0.0, 0.0),
+        roll_disp_m: Vec3::new(2.0e-6, -3.0e-6, 0.0),
+        tilt_rate: 0.36,
+    };
+    let (state, _) = next_state(ContactState::Rolling, &inputs, &params);
+    if state != ContactState::Rolling {
+        hprintln!("ERROR state_machine bench: inputs do not keep rolling");
+        b.fail();
+    }
+    bench!(b, "state_machine", _, || {
+        next_state(bb(ContactState::Rolling), &bb(inputs), &params)
+    });
+}
+
+/// Spin torque, eq. (1) with the torsional friction limit: wind the spring by δφ (alternating
+/// ±0.5 mrad so it stays elastic) and return τn. Backend-independent.
+fn spin_torque(b: &mut Bencher) {
+    let p = ContactParams::DEFAULT;
+    let mut spring = SpinSpring::default();
+    let mut dphi = 5.0e-4f32;
+    bench!(b, "spin_torque", _, || {
+        dphi = -dphi;
+        let tau_max = torsion_limit(p.mu_s, bb(2.0f32), p.patch_radius_m);
+        spring.update(bb(dphi), p.spin_stiffness, tau_max)
+    });
+}
+
+/// The full contact step (`ContactModel::contact_step`) on the plane at 10 kHz: orientation and
+/// probe sample in; force, contact points, spin torque and state out. The probe presses 1 mm into
+/// the plane (f_N = 2 N) and holds still while the orientation alternates between q0 and q0·dq,
+/// dq = the paper scene's increment / 100 (rolling at 3.6 rad/s: δ ≈ 0.6 mrad per tick), so every
+/// step rolls and the model stays in the rolling state (checked after the measurement).
+fn contact_step<M: Math>(b: &mut Bencher, name: &str, method: Method) {
+    let dt_s = 1.0e-4;
+    let params = ContactParams {
+        method,
+        ..ContactParams::DEFAULT
+    };
+    let q0 = Quat::IDENTITY;
+    let (dq, _) = Quat::from_rotation_vector::<Libm>(SCENE_STEP * 0.01);
+    let Ok(mut model) = ContactModel::<M, Plane>::new(params, Plane::default(), q0, dt_s) else {
+        hprintln!(
+            "ERROR {}: ContactModel::new rejected the default parameters",
+            name
+        );
+        return;
+    };
+    let probe_m = Vec3::new(0.0, 0.0, params.fingertip_radius_m - 0.001);
+    let inputs = [
+        ContactInput {
+            q: q0 * dq,
+            probe_m,
+            probe_vel: Vec3::ZERO,
+        },
+        ContactInput {
+            q: q0,
+            probe_m,
+            probe_vel: Vec3::ZERO,
+        },
+    ];
+    // Make contact first (broken → rolling), so the measurement is of the rolling path.
+    for _ in 0..4 {
+        model.contact_step(&inputs[1]);
+    }
+    let mut k = 0;
+    bench!(b, name, M, || {
+        let out = model.contact_step(&bb(inputs[k]));
+        k ^= 1;
+        out
+    });
+    let out = model.contact_step(&inputs[k]);
+    if out.state != ContactState::Rolling || !out.flags.is_empty() {
+        hprintln!(
+            "ERROR {} [{}]: expected to stay rolling without flags, got {:?} {:?}",
+            name,
+            M::NAME,
+            out.state,
+            out.flags
+        );
+        b.fail();
+    }
 }
