@@ -11,6 +11,7 @@
 #![no_main]
 
 mod accuracy;
+mod contact;
 mod decompose;
 mod kernels;
 mod robustness;
@@ -33,6 +34,7 @@ fn backend_checks<M: Accuracy>(c: &mut Checker) {
     decompose::checks::<M>(c);
     rolling::checks::<M>(c);
     robustness::checks::<M>(c);
+    contact::step_checks::<M>(c);
 }
 
 #[entry]
@@ -43,6 +45,8 @@ fn main() -> ! {
         "f32 arithmetic is IEEE single precision",
         f32_is_single_precision(),
     );
+    c.group("contact");
+    contact::checks(&mut c);
     backend_checks::<Libm>(&mut c);
     backend_checks::<Micromath>(&mut c);
     backend_checks::<Fast>(&mut c);
