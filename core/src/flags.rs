@@ -85,3 +85,19 @@ impl core::ops::BitOrAssign for Flags {
 pub fn all_finite(values: &[f32]) -> bool {
     values.iter().all(|v| v.is_finite())
 }
+
+impl core::ops::BitAnd for Flags {
+    type Output = Flags;
+    #[inline]
+    fn bitand(self, rhs: Flags) -> Flags {
+        Flags(self.0 & rhs.0)
+    }
+}
+
+impl core::ops::Not for Flags {
+    type Output = Flags;
+    #[inline]
+    fn not(self) -> Flags {
+        Flags(!self.0)
+    }
+}

@@ -1,0 +1,130 @@
+//! Per-step cost of the rolling contact update: each method × math backend, the same step written
+//! with nalgebra (f64 and f32) as the peer a Rust user would reach for, all in the same run.
+//!
+//! `cargo bench -p host-sim --bench step`. Report ratios between rows of one run, not absolute
+//! times.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use nalgebra::{Rotation3, UnitQuaternion, Vector3};
+use softfinger_core::decompose::Method;
+use softfinger_core::rolling::Rolling;
+use softfinger_core::surface::Plane;
+use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Vec3};
+use std::hint::black_box;
+
+/// The paper's per-sample increment Rz(0.05)·Ry(0.02)·Rx(0.03), applied body-fixed.
+fn paper_samples(n: usize) -> Vec<Quat> {
+    let inc = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.05)
+        * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), 0.02)
+        * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.03);
+    let mut q = UnitQuaternion::identity();
+    (0..n)
+        .map(|_| {
+            q *= inc;
+            Quat::new(q.w as f32, q.i as f32, q.j as f32, q.k as f32)
+        })
+        .collect()
+}
+
+fn bench_rolling<M: Math>(c: &mut Criterion, samples: &[Quat]) {
+    let mut group = c.benchmark_group("rolling_step");
+    for method in Method::ALL {
+        group.bench_with_input(
+            BenchmarkId::new(method.name(), M::NAME),
+            &method,
+            |b, &method| {
+                let mut r = Rolling::new(Plane::default(), 0.01, Quat::IDENTITY, method);
+                let mut k = 0usize;
+                b.iter(|| {
+                    let s = r.step::<M>(black_box(samples[k]));
+                    k = (k + 1) % samples.len();
+                    if k == 0 {
+                        r = Rolling::new(Plane::default(), 0.01, Quat::IDENTITY, method);
+                    }
+                    black_box(s)
+                });
+            },
+        );
+    }
+    group.finish();
+}
+
+/// The peer: what a user of nalgebra would write for the paper's algorithm: the relative rotation
+/// as a `Rotation3` from axis and angle (Rodrigues), `euler_angles`, then eqs. (2)-(3).
+fn bench_nalgebra(c: &mut Criterion, samples: &[Quat]) {
+    let mut group = c.benchmark_group("rolling_step");
+    let q64: Vec<UnitQuaternion<f64>> = samples
+        .iter()
+        .map(|q| {
+            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                q.w as f64, q.x as f64, q.y as f64, q.z as f64,
+            ))
+        })
+        .collect();
+    group.bench_function(BenchmarkId::new("nalgebra-rpy", "f64"), |b| {
+        let mut prev = UnitQuaternion::identity();
+        let mut p = Vector3::<f64>::zeros();
+        let mut k = 0usize;
+        b.iter(|| {
+            let q = black_box(q64[k]);
+            let dq = q * prev.inverse();
+            let rot = match dq.axis_angle() {
+                Some((axis, angle)) => Rotation3::from_axis_angle(&axis, angle),
+                None => Rotation3::identity(),
+            };
+            let (psi, theta, _phi) = rot.euler_angles();
+            p += Vector3::new(0.01 * theta, -0.01 * psi, 0.0);
+            prev = q;
+            k = (k + 1) % q64.len();
+            black_box(p)
+        });
+    });
+    let q32: Vec<UnitQuaternion<f32>> = samples
+        .iter()
+        .map(|q| UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q.w, q.x, q.y, q.z)))
+        .collect();
+    group.bench_function(BenchmarkId::new("nalgebra-rpy", "f32"), |b| {
+        let mut prev = UnitQuaternion::<f32>::identity();
+        let mut p = Vector3::<f32>::zeros();
+        let mut k = 0usize;
+        b.iter(|| {
+            let q = black_box(q32[k]);
+            let dq = q * prev.inverse();
+            let rot = match dq.axis_angle() {
+                Some((axis, angle)) => Rotation3::from_axis_angle(&axis, angle),
+                None => Rotation3::identity(),
+            };
+            let (psi, theta, _phi) = rot.euler_angles();
+            p += Vector3::new(0.01 * theta, -0.01 * psi, 0.0);
+            prev = q;
+            k = (k + 1) % q32.len();
+            black_box(p)
+        });
+    });
+    group.bench_function(BenchmarkId::new("nalgebra-exact", "f64"), |b| {
+        let mut prev = UnitQuaternion::identity();
+        let mut p = Vector3::<f64>::zeros();
+        let mut k = 0usize;
+        b.iter(|| {
+            let q = black_box(q64[k]);
+            let w = (q * prev.inverse()).scaled_axis();
+            p += Vector3::new(0.01 * w.y, -0.01 * w.x, 0.0);
+            prev = q;
+            k = (k + 1) % q64.len();
+            black_box(p)
+        });
+    });
+    group.finish();
+}
+
+fn benches(c: &mut Criterion) {
+    let samples = paper_samples(100);
+    bench_rolling::<Libm>(c, &samples);
+    bench_rolling::<Fast>(c, &samples);
+    bench_rolling::<Micromath>(c, &samples);
+    bench_nalgebra(c, &samples);
+    let _ = Vec3::ZERO;
+}
+
+criterion_group!(step, benches);
+criterion_main!(step);
