@@ -154,9 +154,15 @@ fn pipeline(b: &mut Bencher) {
     contact_step::<Micromath>(b, "contact_step_rpy", Method::Rpy);
     contact_step::<Fast>(b, "contact_step_rpy", Method::Rpy);
 
-    // PENDING until `Controller::tick` has a real body on main (then one line):
-    // - `control_tick`: `Controller::<M>::tick`, six encoder counts in, three duties out. Target
-    //   <= 2000 instructions (budget.json).
+    // PENDING until `Controller::tick` has a real body on main (on the last merge it returned
+    // `TickOutput::default()`; measuring that stub would only set a misleading budget). Then enable,
+    // with a config the controller accepts and encoder counts that keep it in contact:
+    //
+    //   let Ok(mut ctrl) = Controller::<M>::new(config) else { ... b.fail() };
+    //   let input = TickInput { counts: [..6 counts..], driver_fault: false, overrun: false };
+    //   bench!(b, "control_tick", M, || ctrl.tick(&bb(input)));
+    //
+    // for M in Libm, Micromath, Fast. Target <= 2000 instructions (budget.json `targets`).
 }
 
 /// The contact state machine on its common path: rolling, kept (inside the friction cone, below the
