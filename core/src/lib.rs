@@ -22,6 +22,7 @@ pub mod contact_state;
 pub mod controller;
 pub mod decompose;
 pub mod delta;
+pub mod device;
 pub mod encoder;
 pub mod flags;
 pub mod math;

@@ -3,4 +3,5 @@
 
 pub mod atomic_file;
 pub mod cli;
+pub mod reference;
 pub mod replay;

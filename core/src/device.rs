@@ -1,0 +1,297 @@
+//! The hardware description the controller and the host plant model must agree on: linkage
+//! geometry, motors and capstan drives, H-bridge supply and PWM timer, encoders, and the wrist
+//! gimbal convention. Values only the plant needs (inertias, friction, inductance) live in the
+//! plant, not here.
+//!
+//! # Sign conventions (the firmware's pin and counter set-up must honour them)
+//!
+//! - A positive duty drives a positive motor current, which gives a positive arm torque (towards
+//!   increasing arm angle θ, i.e. arm down; see [`crate::delta`]).
+//! - Motor encoder counts increase with θ. Counts are *extended* 32-bit positions referenced to
+//!   the calibration pose: 0 counts ↔ θ = [`DeviceParams::arm_angle_at_zero_count_rad`].
+//! - Wrist encoder counts increase with right-handed rotation about the joint's axis; 0 counts is
+//!   the wrist's zero pose.
+//!
+//! # Wrist gimbal
+//!
+//! Three passive revolute joints carry the handle. Joint 0 (next to the effector platform) turns
+//! about the platform's z axis, joint 1 about the y axis after joint 0, joint 2 (in the handle)
+//! about the x axis after joints 0 and 1: intrinsic z-y'-x'', so the handle orientation, mapping
+//! handle-frame vectors to the base frame `B`, is
+//!
+//! q = Rz(a₀) · Ry(a₁) · Rx(a₂)
+//!
+//! (the delta keeps the platform parallel to `B`). Zero pose: all three angles 0, handle frame
+//! aligned with `B`. This is the same matrix as nalgebra's `Rotation3::from_euler_angles(a₂, a₁,
+//! a₀)` (roll a₂, pitch a₁, yaw a₀).
+
+use crate::delta::DeltaGeometry;
+use crate::flags::{all_finite, Flags};
+use crate::math::{Libm, Math};
+use crate::quat::Quat;
+use crate::vec3::Vec3;
+use core::f32::consts::TAU;
+
+/// One motor with its capstan drive. The three axes use identical drives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct MotorParams {
+    /// Torque constant k_t, N·m/A (motor shaft).
+    pub torque_constant_nm_per_a: f32,
+    /// Winding (terminal) resistance, Ω.
+    pub resistance_ohm: f32,
+    /// Back-EMF constant k_e, V·s/rad (motor shaft). Equal to k_t in SI for an ideal DC motor;
+    /// kept separate because datasheets give both, rounded differently.
+    pub back_emf_v_s_per_rad: f32,
+    /// Capstan reduction: motor turns per arm turn (> 1).
+    pub capstan_ratio: f32,
+    /// Amplifier current limit, A (peak, both directions).
+    pub max_current_a: f32,
+}
+
+/// Everything about the hardware that the controller and the plant model share.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct DeviceParams {
+    /// Delta linkage geometry.
+    pub delta: DeltaGeometry,
+    /// The (identical) motor and capstan drive of each axis.
+    pub motor: MotorParams,
+    /// H-bridge supply voltage, V.
+    pub supply_v: f32,
+    /// PWM timer counts per PWM period (duty resolution), e.g. 8500 = 170 MHz / 20 kHz.
+    pub pwm_period_counts: u32,
+    /// Motor encoder quadrature counts per motor-shaft revolution (4 × lines).
+    pub motor_encoder_counts_per_rev: u32,
+    /// Wrist encoder quadrature counts per joint revolution (encoders sit on the joints).
+    pub wrist_encoder_counts_per_rev: u32,
+    /// Arm angle θ (rad) at which a motor's extended count is 0 (the calibration pose).
+    pub arm_angle_at_zero_count_rad: f32,
+}
+
+/// The parameter a [`DeviceParamError`] refers to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum DeviceParamField {
+    BaseRadius,
+    EffectorRadius,
+    UpperArm,
+    Forearm,
+    TorqueConstant,
+    Resistance,
+    BackEmfConstant,
+    CapstanRatio,
+    MaxCurrent,
+    SupplyVoltage,
+    PwmPeriodCounts,
+    MotorEncoderCountsPerRev,
+    WristEncoderCountsPerRev,
+    ArmAngleAtZeroCount,
+}
+
+/// Why [`DeviceParams::validate`] rejected a parameter set. Nothing is clamped silently.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum DeviceParamError {
+    /// The field is NaN or ±inf.
+    NonFinite(DeviceParamField),
+    /// The field is zero or negative but must be positive.
+    NotPositive(DeviceParamField),
+    /// The linkage cannot be assembled (or is singular) at the calibration pose.
+    CalibrationPoseUnreachable,
+}
+
+impl DeviceParams {
+    /// An Omega.6-like device, our choice of values (Force Dimension does not publish them):
+    ///
+    /// - linkage: [`DeltaGeometry::OMEGA_LIKE`];
+    /// - motors: a maxon RE 25-class brushed DC motor (Ø25 mm, 20 W, graphite brushes, 24 V
+    ///   winding), figures as in maxon's catalogue for that class, rounded: k_t = 23.4 mN·m/A,
+    ///   speed constant 408 rpm/V (k_e = 60/(2π·408) = 0.0234 V·s/rad), terminal resistance
+    ///   2.18 Ω (also: inductance 0.24 mH, rotor inertia 10.8 g·cm², which the plant uses). They
+    ///   are self-consistent: R·J/k² = 4.3 ms, the catalogue's mechanical time constant. Check a
+    ///   current datasheet before using them on hardware;
+    /// - capstan reduction 12:1 (ours: a 5 mm drive pulley on a 60 mm arm sector);
+    /// - amplifier limit 4 A: a short-term peak (the RE 25's continuous current is about 1.5 A),
+    ///   giving 12 × 0.0234 × 4 = 1.12 N·m per arm;
+    /// - 24 V supply; PWM 20 kHz from a 170 MHz timer clock, 8500 counts per period;
+    /// - motor encoders 1024 lines (4096 quadrature counts per motor turn): 2π/(4096·12) =
+    ///   0.128 mrad per count at the arm, ~13 µm at the effector;
+    /// - wrist encoders 4096 counts per joint turn (0.088° per count);
+    /// - counts referenced to the arms-horizontal pose (θ = 0).
+    pub const OMEGA_LIKE: DeviceParams = DeviceParams {
+        delta: DeltaGeometry::OMEGA_LIKE,
+        motor: MotorParams {
+            torque_constant_nm_per_a: 0.0234,
+            resistance_ohm: 2.18,
+            back_emf_v_s_per_rad: 0.0234,
+            capstan_ratio: 12.0,
+            max_current_a: 4.0,
+        },
+        supply_v: 24.0,
+        pwm_period_counts: 8500,
+        motor_encoder_counts_per_rev: 4096,
+        wrist_encoder_counts_per_rev: 4096,
+        arm_angle_at_zero_count_rad: 0.0,
+    };
+
+    /// Check every field; the first problem found is returned, naming the field.
+    pub fn validate(&self) -> Result<(), DeviceParamError> {
+        use DeviceParamField as F;
+        let positive = [
+            (self.delta.base_radius_m, F::BaseRadius),
+            (self.delta.effector_radius_m, F::EffectorRadius),
+            (self.delta.upper_arm_m, F::UpperArm),
+            (self.delta.forearm_m, F::Forearm),
+            (self.motor.torque_constant_nm_per_a, F::TorqueConstant),
+            (self.motor.resistance_ohm, F::Resistance),
+            (self.motor.back_emf_v_s_per_rad, F::BackEmfConstant),
+            (self.motor.capstan_ratio, F::CapstanRatio),
+            (self.motor.max_current_a, F::MaxCurrent),
+            (self.supply_v, F::SupplyVoltage),
+        ];
+        for (value, field) in positive {
+            if !value.is_finite() {
+                return Err(DeviceParamError::NonFinite(field));
+            }
+            if value <= 0.0 {
+                return Err(DeviceParamError::NotPositive(field));
+            }
+        }
+        let counts = [
+            (self.pwm_period_counts, F::PwmPeriodCounts),
+            (
+                self.motor_encoder_counts_per_rev,
+                F::MotorEncoderCountsPerRev,
+            ),
+            (
+                self.wrist_encoder_counts_per_rev,
+                F::WristEncoderCountsPerRev,
+            ),
+        ];
+        for (value, field) in counts {
+            if value == 0 {
+                return Err(DeviceParamError::NotPositive(field));
+            }
+        }
+        if !self.arm_angle_at_zero_count_rad.is_finite() {
+            return Err(DeviceParamError::NonFinite(F::ArmAngleAtZeroCount));
+        }
+        let theta = [self.arm_angle_at_zero_count_rad; 3];
+        let (p, flags) = self.delta.forward::<Libm>(theta);
+        let (_, jflags) = self.delta.jacobian::<Libm>(theta, p);
+        if !flags.is_empty() || !jflags.is_empty() {
+            return Err(DeviceParamError::CalibrationPoseUnreachable);
+        }
+        Ok(())
+    }
+
+    /// Arm angle per motor encoder count, rad: 2π / (counts per rev · capstan ratio).
+    #[inline]
+    pub fn arm_rad_per_motor_count(&self) -> f32 {
+        TAU / (self.motor_encoder_counts_per_rev as f32 * self.motor.capstan_ratio)
+    }
+
+    /// Wrist joint angle per wrist encoder count, rad: 2π / counts per rev.
+    #[inline]
+    pub fn wrist_rad_per_count(&self) -> f32 {
+        TAU / self.wrist_encoder_counts_per_rev as f32
+    }
+
+    /// Arm angle θ (rad) from an extended motor encoder count.
+    #[inline]
+    pub fn motor_counts_to_arm_angle_rad(&self, counts: i32) -> f32 {
+        self.arm_angle_at_zero_count_rad + counts as f32 * self.arm_rad_per_motor_count()
+    }
+
+    /// Wrist joint angle (rad) from an extended wrist encoder count.
+    #[inline]
+    pub fn wrist_counts_to_angle_rad(&self, counts: i32) -> f32 {
+        counts as f32 * self.wrist_rad_per_count()
+    }
+
+    /// Largest arm torque the amplifier's current limit allows, N·m: ratio · k_t · i_max.
+    #[inline]
+    pub fn max_arm_torque_nm(&self) -> f32 {
+        self.motor.capstan_ratio * self.motor.torque_constant_nm_per_a * self.motor.max_current_a
+    }
+
+    /// Duty (in [-1, 1]) that makes a voltage-mode H-bridge deliver `arm_torque_nm` at arm
+    /// velocity `arm_velocity_rad_s`. See [`Self::arm_torque_to_duty_checked`]; this drops the
+    /// flags.
+    #[inline]
+    pub fn arm_torque_to_duty(&self, arm_torque_nm: f32, arm_velocity_rad_s: f32) -> f32 {
+        self.arm_torque_to_duty_checked(arm_torque_nm, arm_velocity_rad_s)
+            .0
+    }
+
+    /// Duty for an arm torque, with flags.
+    ///
+    /// Quasi-static DC motor model: current i = τ_arm / (ratio · k_t), limited to ±i_max; motor
+    /// voltage V = R·i + k_e·ω_motor with ω_motor = ratio · ω_arm (the back-EMF feed-forward;
+    /// pass `arm_velocity_rad_s = 0` to leave it out); duty = V / V_supply limited to [-1, 1].
+    /// Either limit raises [`Flags::OUTPUT_LIMITED`]. Non-finite input gives duty 0 and
+    /// [`Flags::NON_FINITE_INPUT`].
+    pub fn arm_torque_to_duty_checked(
+        &self,
+        arm_torque_nm: f32,
+        arm_velocity_rad_s: f32,
+    ) -> (f32, Flags) {
+        if !all_finite(&[arm_torque_nm, arm_velocity_rad_s]) {
+            return (0.0, Flags::NON_FINITE_INPUT);
+        }
+        let m = &self.motor;
+        let mut flags = Flags::NONE;
+        let mut current = arm_torque_nm / (m.capstan_ratio * m.torque_constant_nm_per_a);
+        if current.abs() > m.max_current_a {
+            current = m.max_current_a.copysign(current);
+            flags.insert(Flags::OUTPUT_LIMITED);
+        }
+        let volts = m.resistance_ohm * current
+            + m.back_emf_v_s_per_rad * m.capstan_ratio * arm_velocity_rad_s;
+        let mut duty = volts / self.supply_v;
+        if !duty.is_finite() {
+            // Only with unvalidated parameters (zero supply, ...) or huge velocities.
+            return (0.0, flags | Flags::OUT_OF_RANGE);
+        }
+        if duty.abs() > 1.0 {
+            duty = 1.0f32.copysign(duty);
+            flags.insert(Flags::OUTPUT_LIMITED);
+        }
+        (duty, flags)
+    }
+
+    /// The PWM compare value for a signed duty, as the firmware writes it: round(|duty| · period)
+    /// with the duty's sign (the sign selects the H-bridge direction). Duties beyond ±1 saturate
+    /// at ±period; NaN gives 0.
+    pub fn duty_to_pwm_counts(&self, duty: f32) -> i32 {
+        if duty.is_nan() {
+            return 0;
+        }
+        let period = self.pwm_period_counts as f32;
+        let magnitude = duty.abs().min(1.0) * period;
+        // magnitude is in [0, period] here, so the cast cannot saturate.
+        let counts = (magnitude + 0.5) as i32;
+        if duty < 0.0 {
+            -counts
+        } else {
+            counts
+        }
+    }
+
+    /// Handle orientation from the three wrist joint angles (rad): q = Rz(a₀)·Ry(a₁)·Rx(a₂), maps
+    /// handle-frame vectors to the base frame (see the module doc). Non-finite angles give the
+    /// identity (wrist angles come from integer counts, so this only guards misuse).
+    pub fn wrist_orientation<M: Math>(angles_rad: [f32; 3]) -> Quat {
+        if !all_finite(&angles_rad) {
+            return Quat::IDENTITY;
+        }
+        let [a0, a1, a2] = angles_rad;
+        Quat::from_axis_angle::<M>(Vec3::Z, a0)
+            * Quat::from_axis_angle::<M>(Vec3::Y, a1)
+            * Quat::from_axis_angle::<M>(Vec3::X, a2)
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,775 @@
+//! Adaptive Dormand–Prince 5(4) integrator ("RK45", the method behind Matlab's `ode45`), f64.
+//!
+//! The state is a fixed-size array `[f64; N]`. One [`Rk45`] value integrates a system over a sequence of
+//! intervals `[t_k, t_{k+1}]`, each ending exactly at `t_{k+1}`; the right-hand side is a new closure for every
+//! interval, so an input that is constant within each sampling interval (a zero-order hold) is simply captured
+//! by that interval's closure. [`Rk45::integrate_dense`] additionally returns the solution at requested
+//! times inside one integration (Matlab's `tspan` output) through Matlab's continuous extension.
+//!
+//! Method (Dormand & Prince 1980; Hairer, Nørsett, Wanner, *Solving ODEs I*, §II.4–II.5):
+//! - 7 stages with the First-Same-As-Last property: the last stage of an accepted step is `f(t+h, y+h·Σ b_i k_i)`
+//!   and is reused as the first stage of the next step, so an accepted step costs 6 new evaluations. At the
+//!   start of every interval the first stage is evaluated afresh, because the input (and so `f`) changes there.
+//! - The step is advanced with the 5th-order solution (local extrapolation); the difference to the embedded
+//!   4th-order solution is the error estimate `err_i = h·Σ e_j k_{j,i}`.
+//! - Error norm (max-norm, like Matlab): `‖err‖ = max_i |err_i| / sc_i`. With [`ErrorScale::Sum`] (default)
+//!   `sc_i = atol_i + rtol_i·max(|y_i|, |y_new_i|)`; with [`ErrorScale::MatlabMax`] it is Matlab's
+//!   `sc_i = max(atol_i, rtol_i·max(|y_i|, |y_new_i|))` (the two differ by at most a factor of 2).
+//! - A step is accepted when `‖err‖ ≤ 1`. The next step is `h·clamp(safety·‖err‖^(-1/5), fac_min, fac_max)`;
+//!   right after a rejection the step may not grow (Hairer's rule; Matlab does the same).
+//! - The step that would reach within 10 % of the interval end is stretched or shortened to land exactly on
+//!   it (Matlab's rule `1.1·h ≥ t_end − t`), so every interval ends exactly at its end time.
+//! - The first step of the first interval (and of every interval when [`Options::reuse_step`] is false) is
+//!   chosen by Hairer's starting-step algorithm (one extra evaluation of `f`). Otherwise the step proposed at
+//!   the end of the previous interval is reused.
+//!
+//! Counters ([`Stats`]) record accepted and rejected steps and every evaluation of `f`.
+
+/// How the per-component error scale combines `atol` and `rtol`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ErrorScale {
+    /// `atol + rtol·max(|y|, |y_new|)` (Hairer's form).
+    Sum,
+    /// `max(atol, rtol·max(|y|, |y_new|))` (Matlab `ode45` with `NormControl` off).
+    MatlabMax,
+}
+
+/// Integrator settings. Tolerances are per component, in the units of that component.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options<const N: usize> {
+    /// Relative tolerance per component (dimensionless, > 0).
+    pub rtol: [f64; N],
+    /// Absolute tolerance per component (units of the component, > 0).
+    pub atol: [f64; N],
+    /// How `atol` and `rtol` combine into the error scale.
+    pub scale: ErrorScale,
+    /// Safety factor of the step-size controller (Hairer 0.9, Matlab 0.8).
+    pub safety: f64,
+    /// Smallest factor by which one step may shrink the next (0.2 here; Matlab 0.1 on a first failure).
+    pub fac_min: f64,
+    /// Largest factor by which one step may grow the next (5 like Matlab; Hairer uses 10).
+    pub fac_max: f64,
+    /// Largest step (units of t). Matlab's default is a tenth of the span given to `ode45`.
+    pub h_max: f64,
+    /// Most step attempts allowed within one call of [`Rk45::integrate`].
+    pub max_attempts: u64,
+    /// Start each interval with the step proposed at the end of the previous one (true), or run the
+    /// starting-step selection afresh on every interval (false, which is what calling `ode45` once per
+    /// sampling interval does).
+    pub reuse_step: bool,
+}
+
+impl<const N: usize> Options<N> {
+    /// The same `rtol` and `atol` for every component; other settings at their defaults
+    /// (sum scale, safety 0.9, factors 0.2..5, unlimited step, step reused across intervals).
+    pub fn uniform(rtol: f64, atol: f64) -> Self {
+        Self {
+            rtol: [rtol; N],
+            atol: [atol; N],
+            scale: ErrorScale::Sum,
+            safety: 0.9,
+            fac_min: 0.2,
+            fac_max: 5.0,
+            h_max: f64::INFINITY,
+            max_attempts: 1_000_000,
+            reuse_step: true,
+        }
+    }
+}
+
+/// Work counters, accumulated over all intervals integrated by one [`Rk45`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Accepted steps.
+    pub accepted: u64,
+    /// Rejected step attempts.
+    pub rejected: u64,
+    /// Evaluations of the right-hand side.
+    pub f_evals: u64,
+    /// Intervals integrated.
+    pub intervals: u64,
+}
+
+/// Why an integration stopped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Rk45Error {
+    /// A tolerance is not finite and positive, or a controller setting is out of range.
+    InvalidOptions,
+    /// The interval end is before its start, or a bound is not finite.
+    InvalidInterval,
+    /// The right-hand side returned a non-finite value at the start of an interval (time `t`).
+    NonFinite { t: f64 },
+    /// The step size fell below the round-off limit at time `t`.
+    StepTooSmall { t: f64, h: f64 },
+    /// More than `max_attempts` step attempts in one interval; stopped at time `t`.
+    TooManySteps { t: f64 },
+}
+
+// Dormand–Prince 5(4) tableau.
+const C2: f64 = 1.0 / 5.0;
+const C3: f64 = 3.0 / 10.0;
+const C4: f64 = 4.0 / 5.0;
+const C5: f64 = 8.0 / 9.0;
+const A21: f64 = 1.0 / 5.0;
+const A31: f64 = 3.0 / 40.0;
+const A32: f64 = 9.0 / 40.0;
+const A41: f64 = 44.0 / 45.0;
+const A42: f64 = -56.0 / 15.0;
+const A43: f64 = 32.0 / 9.0;
+const A51: f64 = 19372.0 / 6561.0;
+const A52: f64 = -25360.0 / 2187.0;
+const A53: f64 = 64448.0 / 6561.0;
+const A54: f64 = -212.0 / 729.0;
+const A61: f64 = 9017.0 / 3168.0;
+const A62: f64 = -355.0 / 33.0;
+const A63: f64 = 46732.0 / 5247.0;
+const A64: f64 = 49.0 / 176.0;
+const A65: f64 = -5103.0 / 18656.0;
+// 5th-order weights (also the 7th stage's row: FSAL).
+const B1: f64 = 35.0 / 384.0;
+const B3: f64 = 500.0 / 1113.0;
+const B4: f64 = 125.0 / 192.0;
+const B5: f64 = -2187.0 / 6784.0;
+const B6: f64 = 11.0 / 84.0;
+// Error weights e = b(5th) − b*(4th), b* = (5179/57600, 0, 7571/16695, 393/640, −92097/339200, 187/2100, 1/40).
+const E1: f64 = 71.0 / 57600.0;
+const E3: f64 = -71.0 / 16695.0;
+const E4: f64 = 71.0 / 1920.0;
+const E5: f64 = -17253.0 / 339200.0;
+const E6: f64 = 22.0 / 525.0;
+const E7: f64 = -1.0 / 40.0;
+
+/// `y + h·Σ c_j k_j` componentwise.
+fn combine<const N: usize>(y: &[f64; N], h: f64, terms: &[(f64, &[f64; N])]) -> [f64; N] {
+    let mut out = *y;
+    for (i, o) in out.iter_mut().enumerate() {
+        let s: f64 = terms.iter().map(|(c, k)| c * k[i]).sum();
+        *o += h * s;
+    }
+    out
+}
+
+/// One Dormand–Prince step: the 5th-order solution, the error estimate and the seven stages
+/// (`k[6] = f(t+h, y_new)`, the FSAL stage).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Step<const N: usize> {
+    /// 5th-order solution at `t + h`.
+    pub y_new: [f64; N],
+    /// Error estimate `h·Σ e_j k_j` (difference to the embedded 4th-order solution).
+    pub err: [f64; N],
+    /// Stages `k_1 … k_7`.
+    pub k: [[f64; N]; 7],
+}
+
+/// One Dormand–Prince step of size `h` from `(t, y)` with first stage `k1 = f(t, y)`.
+/// Costs 6 evaluations of `f`.
+pub fn dopri5_step<const N: usize, F>(
+    f: &mut F,
+    t: f64,
+    y: &[f64; N],
+    h: f64,
+    k1: &[f64; N],
+) -> Step<N>
+where
+    F: FnMut(f64, &[f64; N]) -> [f64; N],
+{
+    let k2 = f(t + C2 * h, &combine(y, h, &[(A21, k1)]));
+    let k3 = f(t + C3 * h, &combine(y, h, &[(A31, k1), (A32, &k2)]));
+    let k4 = f(
+        t + C4 * h,
+        &combine(y, h, &[(A41, k1), (A42, &k2), (A43, &k3)]),
+    );
+    let k5 = f(
+        t + C5 * h,
+        &combine(y, h, &[(A51, k1), (A52, &k2), (A53, &k3), (A54, &k4)]),
+    );
+    let k6 = f(
+        t + h,
+        &combine(
+            y,
+            h,
+            &[(A61, k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)],
+        ),
+    );
+    let y_new = combine(
+        y,
+        h,
+        &[(B1, k1), (B3, &k3), (B4, &k4), (B5, &k5), (B6, &k6)],
+    );
+    let k7 = f(t + h, &y_new);
+    let zero = [0.0; N];
+    let err = combine(
+        &zero,
+        h,
+        &[
+            (E1, k1),
+            (E3, &k3),
+            (E4, &k4),
+            (E5, &k5),
+            (E6, &k6),
+            (E7, &k7),
+        ],
+    );
+    Step {
+        y_new,
+        err,
+        k: [*k1, k2, k3, k4, k5, k6, k7],
+    }
+}
+
+// Continuous extension of Matlab's `ntrp45` (Shampine 1986): y(t + s·h) = y + h·Σ_j k_j·(BI_j · [s, s², s³, s⁴]).
+// Each row sums to the 5th-order weight b_j, so s = 1 reproduces y_new; 4th-order accurate in between.
+const BI: [[f64; 4]; 7] = [
+    [1.0, -183.0 / 64.0, 37.0 / 12.0, -145.0 / 128.0],
+    [0.0, 0.0, 0.0, 0.0],
+    [0.0, 1500.0 / 371.0, -1000.0 / 159.0, 1000.0 / 371.0],
+    [0.0, -125.0 / 32.0, 125.0 / 12.0, -375.0 / 64.0],
+    [0.0, 9477.0 / 3392.0, -729.0 / 106.0, 25515.0 / 6784.0],
+    [0.0, -11.0 / 7.0, 11.0 / 3.0, -55.0 / 28.0],
+    [0.0, 3.0 / 2.0, -4.0, 5.0 / 2.0],
+];
+
+/// The solution at `t + s·h` (`0 ≤ s ≤ 1`) inside a step taken from `(t, y)` with size `h`, by the
+/// continuous extension Matlab's `ode45` uses for output between steps (4th order).
+pub fn interpolate<const N: usize>(y: &[f64; N], h: f64, step: &Step<N>, s: f64) -> [f64; N] {
+    let powers = [s, s * s, s * s * s, s * s * s * s];
+    let mut out = *y;
+    for (i, o) in out.iter_mut().enumerate() {
+        let mut acc = 0.0;
+        for (row, k) in BI.iter().zip(&step.k) {
+            let w: f64 = row.iter().zip(&powers).map(|(b, p)| b * p).sum();
+            acc += w * k[i];
+        }
+        *o += h * acc;
+    }
+    out
+}
+
+/// Integrates `[t0, t1]` with `n` equal Dormand–Prince steps (5th-order solution, no error control).
+/// Used to check the order of the method. `n = 0` returns `y0`.
+pub fn integrate_fixed<const N: usize, F>(
+    mut f: F,
+    t0: f64,
+    t1: f64,
+    n: u32,
+    y0: [f64; N],
+) -> [f64; N]
+where
+    F: FnMut(f64, &[f64; N]) -> [f64; N],
+{
+    let mut y = y0;
+    if n == 0 {
+        return y;
+    }
+    let h = (t1 - t0) / f64::from(n);
+    for i in 0..n {
+        let t = t0 + f64::from(i) * h;
+        let k1 = f(t, &y);
+        y = dopri5_step(&mut f, t, &y, h, &k1).y_new;
+    }
+    y
+}
+
+/// Adaptive Dormand–Prince integrator carrying its step-size proposal and counters across intervals.
+#[derive(Clone, Debug)]
+pub struct Rk45<const N: usize> {
+    opts: Options<N>,
+    stats: Stats,
+    h_next: Option<f64>,
+}
+
+impl<const N: usize> Rk45<N> {
+    /// Checks the options: tolerances finite and > 0, `0 < safety ≤ 1`, `0 < fac_min < 1 < fac_max`,
+    /// `h_max > 0`.
+    pub fn new(opts: Options<N>) -> Result<Self, Rk45Error> {
+        let tol_ok = opts
+            .rtol
+            .iter()
+            .chain(opts.atol.iter())
+            .all(|v| v.is_finite() && *v > 0.0);
+        let ctl_ok = opts.safety > 0.0
+            && opts.safety <= 1.0
+            && opts.fac_min > 0.0
+            && opts.fac_min < 1.0
+            && opts.fac_max > 1.0
+            && opts.fac_max.is_finite()
+            && opts.h_max > 0.0;
+        if tol_ok && ctl_ok {
+            Ok(Self {
+                opts,
+                stats: Stats::default(),
+                h_next: None,
+            })
+        } else {
+            Err(Rk45Error::InvalidOptions)
+        }
+    }
+
+    /// Counters accumulated so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Per-component error scale for states `a` and `b`.
+    fn scale(&self, i: usize, a: f64, b: f64) -> f64 {
+        let rel = self.opts.rtol[i] * a.abs().max(b.abs());
+        match self.opts.scale {
+            ErrorScale::Sum => self.opts.atol[i] + rel,
+            ErrorScale::MatlabMax => self.opts.atol[i].max(rel),
+        }
+    }
+
+    /// Max-norm of `v` scaled by the error scale at `(y, y)`.
+    fn norm_at(&self, v: &[f64; N], y: &[f64; N]) -> f64 {
+        (0..N)
+            .map(|i| (v[i] / self.scale(i, y[i], y[i])).abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// Hairer's starting step (Solving ODEs I, §II.4), with this integrator's norm. One evaluation of `f`.
+    fn initial_step<F>(
+        &mut self,
+        f: &mut F,
+        t0: f64,
+        y0: &[f64; N],
+        f0: &[f64; N],
+        span: f64,
+    ) -> f64
+    where
+        F: FnMut(f64, &[f64; N]) -> [f64; N],
+    {
+        let d0 = self.norm_at(y0, y0);
+        let d1 = self.norm_at(f0, y0);
+        let h0 = if d0 < 1e-5 || d1 < 1e-5 {
+            1e-6
+        } else {
+            0.01 * d0 / d1
+        }
+        .min(span)
+        .min(self.opts.h_max);
+        let y1 = combine(y0, h0, &[(1.0, f0)]);
+        let f1 = f(t0 + h0, &y1);
+        self.stats.f_evals += 1;
+        let mut diff = [0.0; N];
+        for (i, d) in diff.iter_mut().enumerate() {
+            *d = f1[i] - f0[i];
+        }
+        let d2 = self.norm_at(&diff, y0) / h0;
+        let dmax = d1.max(d2);
+        let h1 = if !dmax.is_finite() {
+            h0
+        } else if dmax <= 1e-15 {
+            (h0 * 1e-3).max(1e-6)
+        } else {
+            (0.01 / dmax).powf(1.0 / 5.0)
+        };
+        (100.0 * h0).min(h1).min(span).min(self.opts.h_max)
+    }
+
+    /// Integrates `y' = f(t, y)` from `t0` to exactly `t1` (`t1 ≥ t0`), overwriting `y` with `y(t1)`.
+    /// On error `y` holds the last accepted state.
+    pub fn integrate<F>(
+        &mut self,
+        f: F,
+        t0: f64,
+        t1: f64,
+        y: &mut [f64; N],
+    ) -> Result<(), Rk45Error>
+    where
+        F: FnMut(f64, &[f64; N]) -> [f64; N],
+    {
+        self.integrate_observed(f, t0, t1, y, |_, _, _, _, _| {})
+    }
+
+    /// As [`Rk45::integrate`], and also returns the solution at each of `times` (ascending, within
+    /// `[t0, t1]`; others are skipped) in `out`, like Matlab's `ode45` given a `tspan` of more than two
+    /// points: a time that coincides with a step end gets that step's solution, any other time the
+    /// continuous extension ([`interpolate`]) of the step containing it.
+    pub fn integrate_dense<F>(
+        &mut self,
+        f: F,
+        t0: f64,
+        t1: f64,
+        y: &mut [f64; N],
+        times: &[f64],
+        out: &mut Vec<[f64; N]>,
+    ) -> Result<(), Rk45Error>
+    where
+        F: FnMut(f64, &[f64; N]) -> [f64; N],
+    {
+        let mut pending = times
+            .iter()
+            .copied()
+            .filter(|&t| t >= t0 && t <= t1)
+            .peekable();
+        while pending.next_if(|&t| t == t0).is_some() {
+            out.push(*y);
+        }
+        self.integrate_observed(f, t0, t1, y, |t, t_new, h, y_old, step| {
+            while let Some(tau) = pending.next_if(|&tau| tau <= t_new) {
+                if tau == t_new {
+                    out.push(step.y_new);
+                } else {
+                    out.push(interpolate(y_old, h, step, (tau - t) / h));
+                }
+            }
+        })
+    }
+
+    /// The adaptive loop; `observe(t, t_new, h, y_old, step)` is called after every accepted step from `t`
+    /// to `t_new` (`= t + h`, exactly `t1` for the last step).
+    fn integrate_observed<F, O>(
+        &mut self,
+        mut f: F,
+        t0: f64,
+        t1: f64,
+        y: &mut [f64; N],
+        mut observe: O,
+    ) -> Result<(), Rk45Error>
+    where
+        F: FnMut(f64, &[f64; N]) -> [f64; N],
+        O: FnMut(f64, f64, f64, &[f64; N], &Step<N>),
+    {
+        if !(t0.is_finite() && t1.is_finite()) || t1 < t0 {
+            return Err(Rk45Error::InvalidInterval);
+        }
+        self.stats.intervals += 1;
+        let span = t1 - t0;
+        if span == 0.0 {
+            return Ok(());
+        }
+        let mut k1 = f(t0, y);
+        self.stats.f_evals += 1;
+        if k1.iter().any(|v| !v.is_finite()) {
+            return Err(Rk45Error::NonFinite { t: t0 });
+        }
+        let mut h = match (self.opts.reuse_step, self.h_next) {
+            (true, Some(h)) => h.min(self.opts.h_max),
+            _ => self.initial_step(&mut f, t0, y, &k1, span),
+        };
+        let mut t = t0;
+        let mut rejected_last = false;
+        let mut attempts: u64 = 0;
+        loop {
+            let remaining = t1 - t;
+            let last = 1.1 * h >= remaining;
+            if last {
+                h = remaining;
+            }
+            let h_min = 16.0 * f64::EPSILON * t.abs().max(t1.abs()).max(f64::MIN_POSITIVE);
+            if h < h_min {
+                return Err(Rk45Error::StepTooSmall { t, h });
+            }
+            attempts += 1;
+            if attempts > self.opts.max_attempts {
+                return Err(Rk45Error::TooManySteps { t });
+            }
+            let step = dopri5_step(&mut f, t, y, h, &k1);
+            let (y_new, err_vec, k7) = (step.y_new, step.err, step.k[6]);
+            self.stats.f_evals += 6;
+            let err = (0..N)
+                .map(|i| (err_vec[i] / self.scale(i, y[i], y_new[i])).abs())
+                .fold(
+                    0.0,
+                    |a: f64, b| if b.is_nan() { f64::NAN } else { a.max(b) },
+                );
+            let finite = err.is_finite() && k7.iter().chain(y_new.iter()).all(|v| v.is_finite());
+            if finite && err <= 1.0 {
+                self.stats.accepted += 1;
+                observe(t, if last { t1 } else { t + h }, h, y, &step);
+                *y = y_new;
+                k1 = k7;
+                let mut fac = if err == 0.0 {
+                    self.opts.fac_max
+                } else {
+                    (self.opts.safety * err.powf(-0.2)).clamp(self.opts.fac_min, self.opts.fac_max)
+                };
+                if rejected_last {
+                    fac = fac.min(1.0);
+                }
+                rejected_last = false;
+                let h_prop = (h * fac).min(self.opts.h_max);
+                if last {
+                    self.h_next = Some(h_prop);
+                    return Ok(());
+                }
+                t += h;
+                h = h_prop;
+            } else {
+                self.stats.rejected += 1;
+                let fac = if finite {
+                    (self.opts.safety * err.powf(-0.2)).max(self.opts.fac_min)
+                } else {
+                    self.opts.fac_min
+                };
+                h *= fac.min(1.0);
+                rejected_last = true;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// y' = −λ y, λ = 2: y(t) = y0·exp(−λ t).
+    fn decay(_t: f64, y: &[f64; 1]) -> [f64; 1] {
+        [-2.0 * y[0]]
+    }
+
+    /// Harmonic oscillator y0' = y1, y1' = −y0: (cos t, −sin t) from (1, 0).
+    fn oscillator(_t: f64, y: &[f64; 2]) -> [f64; 2] {
+        [y[1], -y[0]]
+    }
+
+    fn osc_error(y: &[f64; 2], t: f64) -> f64 {
+        (y[0] - t.cos()).abs().max((y[1] + t.sin()).abs())
+    }
+
+    #[test]
+    fn decay_global_error_follows_tolerance() {
+        // y(5) = exp(−10) ≈ 4.5e-5 from y(0) = 1. With rtol = atol = tol each local error is at most about
+        // tol·(1 + |y|) and the decay damps earlier ones, so the global error is a fraction of tol
+        // (measured 0.03..0.19·tol). Asserted: err ≤ tol, and the error tracks the tolerance: at least 10×
+        // smaller per two decades of tolerance (measured ~100×).
+        let exact = (-10.0f64).exp();
+        let mut prev = f64::INFINITY;
+        for tol in [1e-3, 1e-5, 1e-7, 1e-9, 1e-11] {
+            let mut rk = Rk45::new(Options::<1>::uniform(tol, tol)).unwrap();
+            let mut y = [1.0];
+            rk.integrate(decay, 0.0, 5.0, &mut y).unwrap();
+            let err = (y[0] - exact).abs();
+            assert!(err <= tol, "tol {tol}: err {err}");
+            assert!(
+                err < prev / 10.0,
+                "tol {tol}: err {err} did not drop from {prev}"
+            );
+            prev = err;
+        }
+    }
+
+    #[test]
+    fn oscillator_global_error_follows_tolerance() {
+        // Over t ∈ [0, 20] (about 3 periods) the oscillator neither damps nor amplifies errors, so the
+        // global error accumulates the local ones; with local extrapolation the error per unit time is
+        // proportional to tol, so err/tol stays roughly constant (measured 5.4..8.6). Asserted:
+        // err ≤ 50·tol, and at least 10× less error per two decades of tolerance (measured ~100×).
+        let t_end = 20.0;
+        let mut prev = f64::INFINITY;
+        let mut prev_steps = 0;
+        for tol in [1e-4, 1e-6, 1e-8, 1e-10, 1e-12] {
+            let mut rk = Rk45::new(Options::<2>::uniform(tol, tol)).unwrap();
+            let mut y = [1.0, 0.0];
+            rk.integrate(oscillator, 0.0, t_end, &mut y).unwrap();
+            let err = osc_error(&y, t_end);
+            assert!(err <= 50.0 * tol, "tol {tol}: err {err}");
+            assert!(
+                err < prev / 10.0,
+                "tol {tol}: err {err} did not drop from {prev}"
+            );
+            // A 5th-order method needs ~100^(1/5) ≈ 2.5× more steps per two decades of tolerance.
+            let steps = rk.stats().accepted;
+            assert!(steps > prev_steps, "steps must grow as tol shrinks");
+            prev = err;
+            prev_steps = steps;
+        }
+    }
+
+    #[test]
+    fn fsal_evaluation_count() {
+        // Each attempt costs 6 evaluations, plus 1 for the first stage and 1 for the starting step.
+        let mut rk = Rk45::new(Options::<2>::uniform(1e-8, 1e-8)).unwrap();
+        let mut y = [1.0, 0.0];
+        rk.integrate(oscillator, 0.0, 3.0, &mut y).unwrap();
+        let s = rk.stats();
+        assert!(s.accepted > 0);
+        assert_eq!(s.f_evals, 6 * (s.accepted + s.rejected) + 2);
+        assert_eq!(s.intervals, 1);
+    }
+
+    #[test]
+    fn fifth_order_convergence_fixed_step() {
+        // Global error of the fixed-step 5th-order solution ~ C·h^5: halving h divides it by ~32.
+        // Observed order from three step sizes on the oscillator over [0, 2]; must lie within ±0.3 of 5
+        // (measured 5.05; the asymptotic regime is reached at these step sizes and the smallest error,
+        // ≈ 5e-10, is far above round-off).
+        let t_end = 2.0;
+        let errs: Vec<f64> = [8u32, 16, 32]
+            .iter()
+            .map(|&n| {
+                osc_error(
+                    &integrate_fixed(oscillator, 0.0, t_end, n, [1.0, 0.0]),
+                    t_end,
+                )
+            })
+            .collect();
+        for w in errs.windows(2) {
+            let order = (w[0] / w[1]).log2();
+            assert!(
+                (order - 5.0).abs() < 0.3,
+                "observed order {order}, errors {errs:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn embedded_error_estimate_is_fourth_order_local() {
+        // The error estimate is the difference to the 4th-order solution, whose local error is O(h^5):
+        // halving h divides the estimate by ~32 (measured log2 ratio 4.998; asserted within ±0.5).
+        let mut f = oscillator;
+        let y = [1.0, 0.0];
+        let k1 = f(0.0, &y);
+        let e1 = dopri5_step(&mut f, 0.0, &y, 0.2, &k1).err;
+        let e2 = dopri5_step(&mut f, 0.0, &y, 0.1, &k1).err;
+        let (e1, e2) = (e1[0].abs().max(e1[1].abs()), e2[0].abs().max(e2[1].abs()));
+        let order = (e1 / e2).log2();
+        assert!((order - 5.0).abs() < 0.5, "estimate order {order}");
+    }
+
+    #[test]
+    fn continuous_extension_is_consistent_and_fourth_order() {
+        // s = 0 gives y, s = 1 gives the 5th-order solution (each BI row sums to b_j; the sums are formed
+        // differently, so a few ulp of the O(1) values: asserted 1e-15).
+        // In between the extension is 4th order: its local error at s = 1/2 is O(h^5), so halving h divides
+        // it by ~32 (measured log2 ratio 4.98; asserted within ±0.5 of 5).
+        let mut f = oscillator;
+        let y = [1.0, 0.0];
+        let k1 = f(0.0, &y);
+        let step = dopri5_step(&mut f, 0.0, &y, 0.3, &k1);
+        assert_eq!(interpolate(&y, 0.3, &step, 0.0), y);
+        let end = interpolate(&y, 0.3, &step, 1.0);
+        assert!((end[0] - step.y_new[0]).abs() < 1e-15 && (end[1] - step.y_new[1]).abs() < 1e-15);
+        let mut mid_err = |h: f64| {
+            let step = dopri5_step(&mut f, 0.0, &y, h, &k1);
+            osc_error(&interpolate(&y, h, &step, 0.5), h / 2.0)
+        };
+        let (e1, e2) = (mid_err(0.4), mid_err(0.2));
+        let order = (e1 / e2).log2();
+        eprintln!("interpolant local error order {order} ({e1:e}, {e2:e})");
+        assert!((order - 5.0).abs() < 0.5, "{order}");
+    }
+
+    #[test]
+    fn dense_output_at_requested_times() {
+        // Matlab-style tspan: outputs at 0, 0.1, …, 5 from one call. The interpolant is 4th order while the
+        // steps are 5th order, so between steps the error may exceed the step-end error; at
+        // rtol = atol = 1e-8 it must still be ~tol (asserted 1e-7 absolute on values ≤ 1).
+        let times: Vec<f64> = (0..=50).map(|i| f64::from(i) * 0.1).collect();
+        let mut rk = Rk45::new(Options::<1>::uniform(1e-8, 1e-8)).unwrap();
+        let mut y = [1.0];
+        let mut out = Vec::new();
+        // Out-of-range times are skipped.
+        let mut requested = vec![-1.0];
+        requested.extend(&times);
+        requested.push(7.0);
+        rk.integrate_dense(decay, 0.0, 5.0, &mut y, &requested, &mut out)
+            .unwrap();
+        assert_eq!(out.len(), times.len());
+        assert_eq!(out[0], [1.0]);
+        assert_eq!(out.last().copied(), Some(y));
+        for (t, v) in times.iter().zip(&out) {
+            assert!((v[0] - (-2.0 * t).exp()).abs() < 1e-7, "t {t}");
+        }
+        // Far fewer steps than outputs: the outputs do not restart the integration.
+        assert!(rk.stats().accepted < 50, "{:?}", rk.stats());
+    }
+
+    #[test]
+    fn piecewise_constant_input_hits_sample_times() {
+        // y' = u_k − y on [k·dt, (k+1)·dt] with u_k piecewise constant has the exact update
+        // y_{k+1} = u_k + (y_k − u_k)·exp(−dt). 50 intervals at rtol = atol = 1e-12: the exact solution is a
+        // contraction, so the accumulated error stays within ~10·tol per interval at most; we assert 1e-10.
+        let dt = 0.05;
+        let mut rk = Rk45::new(Options::<1>::uniform(1e-12, 1e-12)).unwrap();
+        let mut y = [0.3];
+        let mut exact = 0.3;
+        for k in 0..50 {
+            let u = (k as f64 * 0.7).sin() * 2.0;
+            let t0 = k as f64 * dt;
+            rk.integrate(|_t, y: &[f64; 1]| [u - y[0]], t0, t0 + dt, &mut y)
+                .unwrap();
+            exact = u + (exact - u) * (-dt).exp();
+            assert!((y[0] - exact).abs() < 1e-10, "interval {k}");
+        }
+        let s = rk.stats();
+        assert_eq!(s.intervals, 50);
+        // One fresh first stage per interval plus one starting-step evaluation (first interval only).
+        assert_eq!(s.f_evals, 6 * (s.accepted + s.rejected) + 50 + 1);
+    }
+
+    #[test]
+    fn fresh_start_on_every_interval_costs_one_more_evaluation_each() {
+        let mut opts = Options::<1>::uniform(1e-9, 1e-9);
+        opts.reuse_step = false;
+        let mut rk = Rk45::new(opts).unwrap();
+        let mut y = [1.0];
+        for k in 0..10 {
+            let t0 = f64::from(k) * 0.1;
+            rk.integrate(decay, t0, t0 + 0.1, &mut y).unwrap();
+        }
+        let s = rk.stats();
+        assert_eq!(s.f_evals, 6 * (s.accepted + s.rejected) + 2 * 10);
+        assert!((y[0] - (-2.0f64).exp()).abs() < 1e-8);
+    }
+
+    #[test]
+    fn h_max_limits_the_step() {
+        // With h_max = span/10 (Matlab's default) an interval takes at least 10 steps.
+        let mut opts = Options::<1>::uniform(1e-3, 1e-6);
+        opts.h_max = 0.1;
+        let mut rk = Rk45::new(opts).unwrap();
+        let mut y = [1.0];
+        rk.integrate(decay, 0.0, 1.0, &mut y).unwrap();
+        assert!(rk.stats().accepted >= 10);
+    }
+
+    #[test]
+    fn error_scale_forms() {
+        // atol = 1e-6, rtol = 1e-3, |y| = 0.01, |y_new| = 0.02: sum 1e-6 + 2e-5, Matlab max(1e-6, 2e-5).
+        let mut opts = Options::<1>::uniform(1e-3, 1e-6);
+        let sum = Rk45::new(opts).unwrap().scale(0, 0.01, -0.02);
+        opts.scale = ErrorScale::MatlabMax;
+        let max = Rk45::new(opts).unwrap().scale(0, 0.01, -0.02);
+        assert!((sum - 2.1e-5).abs() < 1e-18);
+        assert!((max - 2.0e-5).abs() < 1e-18);
+    }
+
+    #[test]
+    fn rejects_bad_options_and_intervals() {
+        assert_eq!(
+            Rk45::new(Options::<1>::uniform(0.0, 1e-6)).err(),
+            Some(Rk45Error::InvalidOptions)
+        );
+        assert_eq!(
+            Rk45::new(Options::<1>::uniform(1e-3, f64::NAN)).err(),
+            Some(Rk45Error::InvalidOptions)
+        );
+        let mut rk = Rk45::new(Options::<1>::uniform(1e-3, 1e-6)).unwrap();
+        let mut y = [1.0];
+        assert_eq!(
+            rk.integrate(decay, 1.0, 0.0, &mut y),
+            Err(Rk45Error::InvalidInterval)
+        );
+        assert_eq!(
+            rk.integrate(|_, _| [f64::NAN], 0.0, 1.0, &mut y),
+            Err(Rk45Error::NonFinite { t: 0.0 })
+        );
+        // A zero-length interval is a no-op.
+        rk.integrate(decay, 2.0, 2.0, &mut y).unwrap();
+        assert_eq!(y, [1.0]);
+    }
+
+    #[test]
+    fn blow_up_reports_step_too_small() {
+        // y' = y², y(0) = 1 blows up at t = 1: the integrator must stop with an error, not loop or lie.
+        let mut rk = Rk45::new(Options::<1>::uniform(1e-8, 1e-8)).unwrap();
+        let mut y = [1.0];
+        let r = rk.integrate(|_, y: &[f64; 1]| [y[0] * y[0]], 0.0, 2.0, &mut y);
+        assert!(
+            matches!(r, Err(Rk45Error::StepTooSmall { t, .. }) if (t - 1.0).abs() < 1e-3)
+                || matches!(r, Err(Rk45Error::TooManySteps { .. })),
+            "{r:?}"
+        );
+    }
+}
