@@ -1,10 +1,28 @@
 //! The hardware-independent controller tick: six encoder counts in, three motor duties out.
-//! STUB: types final, tick body pending.
+//!
+//! Each tick: fault inputs → encoder checks → motor angles → delta forward kinematics (probe
+//! position) → wrist orientation → contact step (rolling, spin torque, state machine, proxy force)
+//! → Jacobian-transpose motor torques → duties → independent output limits. The firmware calls it
+//! from its highest-priority timer interrupt; host-sim calls it against the plant model, so both run
+//! exactly the same code.
+//!
+//! Frames: the device **base frame** is the delta's (see [`crate::delta`]); the object (scene) frame
+//! is the base frame translated by `object_origin_m` (no rotation), so forces computed in the object
+//! frame apply unchanged in the base frame.
+//!
+//! Safety: any fault — driver fault input, encoder glitch, encoder stuck under drive, non-finite
+//! output, an overrun streak — is latched: duties are zero and `enable` is false from that tick on,
+//! until [`Controller::clear_faults`].
 
+use crate::contact::{ContactInput, ContactModel, ContactOutput};
+use crate::contact_state::ContactState;
+use crate::device::DeviceParams;
 use crate::flags::Flags;
 use crate::math::Math;
+use crate::params::{positive, ContactParams, ParamError};
+use crate::quat::Quat;
+use crate::surface::{Plane, Surface};
 use crate::vec3::Vec3;
-use core::marker::PhantomData;
 
 /// What the firmware (or the host plant) hands the controller each tick.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -26,7 +44,7 @@ pub struct TickOutput {
     pub duties: [f32; 3],
     /// Drive the shared driver-enable pin. False in any fault: outputs at zero torque.
     pub enable: bool,
-    /// Flags raised this tick (including the latched fault flags).
+    /// Flags raised this tick, including the latched fault flags.
     pub flags: Flags,
     /// Probe (fingertip centre) position in the device base frame, m.
     pub probe_m: Vec3,
@@ -34,38 +52,403 @@ pub struct TickOutput {
     pub force_n: Vec3,
     /// Spin torque about the contact normal, N·m (not displayed by a 3-DoF device; reported).
     pub tau_n_nm: f32,
+    /// Contact state after this tick.
+    pub state: ContactState,
 }
 
-/// Everything the controller needs to know about the device and the scene. STUB: fields pending.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ControllerConfig {
-    /// Control rate, Hz.
-    pub rate_hz: f32,
-}
-
-/// A rejected parameter set. STUB: variants pending.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Limits and fault thresholds enforced by the controller, independently of the contact model.
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum ParamError {
-    /// A value is outside its valid range.
-    OutOfRange,
+pub struct Limits {
+    /// Largest |duty| ever output, (0, 1].
+    pub max_duty: f32,
+    /// Largest motor-side arm torque requested, N·m.
+    pub max_arm_torque_nm: f32,
+    /// A motor or wrist count change larger than this in one tick is a glitch (counts).
+    pub max_counts_per_tick: i32,
+    /// This many overruns in a row latch a fault.
+    pub overrun_streak: u16,
+    /// |duty| at or above this, with no count change for `stuck_ticks`, latches ENCODER_STUCK.
+    pub stuck_duty: f32,
+    /// Ticks of drive without motion before ENCODER_STUCK.
+    pub stuck_ticks: u16,
+    /// Cut-off of the first-order low-pass on the finite-difference velocities, Hz.
+    pub velocity_cutoff_hz: f32,
+    /// Arm angles outside [min, max] (rad) cannot be reached by the mechanism: the encoders or
+    /// their calibration are wrong, so no force is rendered ([`Flags::OUT_OF_RANGE`]).
+    pub arm_angle_range_rad: [f32; 2],
 }
 
-/// The controller with its state. Generic over the math backend.
-#[derive(Debug)]
-pub struct Controller<M: Math> {
-    _m: PhantomData<M>,
+impl Limits {
+    /// Defaults for the Omega-like device at 10 kHz. Glitch: 2000 counts per tick is 20 M counts/s,
+    /// far beyond any physical arm speed with the default encoders (see `DeviceParams`). Stuck: 50 %
+    /// duty for 0.2 s (2000 ticks at 10 kHz) without a single count: a hand holding the handle still
+    /// against that drive still moves it by more than a count (physiological tremor).
+    pub const DEFAULT: Limits = Limits {
+        max_duty: 0.95,
+        max_arm_torque_nm: 2.0,
+        max_counts_per_tick: 2000,
+        overrun_streak: 3,
+        stuck_duty: 0.5,
+        stuck_ticks: 2000,
+        velocity_cutoff_hz: 300.0,
+        // The Omega-like linkage needs −31° … 94° over its workspace (see `crate::delta`); the
+        // range allows margin for the workspace's edge.
+        arm_angle_range_rad: [-1.05, 2.1],
+    };
+
+    /// Check every field.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        positive("max_duty", self.max_duty)?;
+        if self.max_duty > 1.0 {
+            return Err(ParamError::OutOfRange("max_duty"));
+        }
+        positive("max_arm_torque_nm", self.max_arm_torque_nm)?;
+        if self.max_counts_per_tick <= 0 {
+            return Err(ParamError::NotPositive("max_counts_per_tick"));
+        }
+        if self.overrun_streak == 0 {
+            return Err(ParamError::NotPositive("overrun_streak"));
+        }
+        positive("stuck_duty", self.stuck_duty)?;
+        if self.stuck_ticks == 0 {
+            return Err(ParamError::NotPositive("stuck_ticks"));
+        }
+        positive("velocity_cutoff_hz", self.velocity_cutoff_hz)?;
+        let [lo, hi] = self.arm_angle_range_rad;
+        if !lo.is_finite() || !hi.is_finite() {
+            return Err(ParamError::NotFinite("arm_angle_range_rad"));
+        }
+        if lo >= hi {
+            return Err(ParamError::OutOfRange("arm_angle_range_rad"));
+        }
+        Ok(())
+    }
 }
 
-impl<M: Math> Controller<M> {
+impl Default for Limits {
+    fn default() -> Self {
+        Limits::DEFAULT
+    }
+}
+
+/// Everything the controller needs to know about the device and the scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ControllerConfig<S: Surface = Plane> {
+    /// Control rate, Hz (1 kHz to 40 kHz).
+    pub rate_hz: f32,
+    /// The device: kinematics, motors, encoders.
+    pub device: DeviceParams,
+    /// The contact model.
+    pub contact: ContactParams,
+    /// The object surface of the scene.
+    pub surface: S,
+    /// Origin of the object frame in the device base frame, m.
+    pub object_origin_m: Vec3,
+    /// Limits and fault thresholds.
+    pub limits: Limits,
+}
+
+impl ControllerConfig<Plane> {
+    /// The default scene: a plane 25 mm below the centre of the device's workspace (the fingertip's
+    /// centre rests 15 mm above the workspace centre's floor... i.e. the probe touches it 15 mm
+    /// below the workspace centre), at 10 kHz.
+    pub fn default_plane() -> Self {
+        ControllerConfig {
+            rate_hz: 10_000.0,
+            device: DeviceParams::OMEGA_LIKE,
+            contact: ContactParams::DEFAULT,
+            surface: Plane::default(),
+            object_origin_m: crate::delta::DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M
+                - Vec3::new(0.0, 0.0, 0.025),
+            limits: Limits::DEFAULT,
+        }
+    }
+}
+
+impl Default for ControllerConfig<Plane> {
+    fn default() -> Self {
+        ControllerConfig::default_plane()
+    }
+}
+
+impl<S: Surface> ControllerConfig<S> {
+    /// Check every part.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        positive("rate_hz", self.rate_hz)?;
+        if !(1_000.0..=40_000.0).contains(&self.rate_hz) {
+            return Err(ParamError::OutOfRange("rate_hz"));
+        }
+        self.device.validate().map_err(ParamError::Device)?;
+        self.contact.validate()?;
+        self.limits.validate()?;
+        if !self.object_origin_m.is_finite() {
+            return Err(ParamError::NotFinite("object_origin_m"));
+        }
+        Ok(())
+    }
+}
+
+/// The controller with its state. `M`: math backend; `S`: scene surface.
+#[derive(Clone, Copy, Debug)]
+pub struct Controller<M: Math, S: Surface = Plane> {
+    config: ControllerConfig<S>,
+    contact: ContactModel<M, S>,
+    dt_s: f32,
+    /// Low-pass coefficient α of the velocity filters: v ← v + α·(v_raw − v).
+    alpha: f32,
+    started: bool,
+    prev_counts: [i32; 6],
+    prev_probe: Vec3,
+    probe_vel: Vec3,
+    prev_angles: [f32; 3],
+    arm_vel: [f32; 3],
+    overruns: u16,
+    stuck: [u16; 3],
+    latched: Flags,
+    pending: Flags,
+}
+
+/// Faults that latch: the outputs stay at zero torque until an explicit clear.
+pub const LATCHING: Flags = Flags(
+    Flags::DRIVER_FAULT.0
+        | Flags::ENCODER_GLITCH.0
+        | Flags::ENCODER_STUCK.0
+        | Flags::NON_FINITE_OUTPUT.0
+        | Flags::OVERRUN.0,
+);
+
+impl<M: Math, S: Surface> Controller<M, S> {
     /// Build a controller; an invalid configuration is rejected, never clamped.
-    pub fn new(_config: ControllerConfig) -> Result<Self, ParamError> {
-        Ok(Controller { _m: PhantomData })
+    pub fn new(config: ControllerConfig<S>) -> Result<Self, ParamError> {
+        config.validate()?;
+        let dt_s = 1.0 / config.rate_hz;
+        let contact = ContactModel::new(config.contact, config.surface, Quat::IDENTITY, dt_s)?;
+        // α = 1 − exp(−2π·f_c·T) ≈ 2π·f_c·T/(1 + 2π·f_c·T) (bilinear-free, no exp on the MCU).
+        let wt = 2.0 * core::f32::consts::PI * config.limits.velocity_cutoff_hz * dt_s;
+        Ok(Controller {
+            config,
+            contact,
+            dt_s,
+            alpha: wt / (1.0 + wt),
+            started: false,
+            prev_counts: [0; 6],
+            prev_probe: Vec3::ZERO,
+            probe_vel: Vec3::ZERO,
+            prev_angles: [0.0; 3],
+            arm_vel: [0.0; 3],
+            overruns: 0,
+            stuck: [0; 3],
+            latched: Flags::NONE,
+            pending: Flags::NONE,
+        })
     }
+
+    /// The configuration in force.
+    pub fn config(&self) -> &ControllerConfig<S> {
+        &self.config
+    }
+
+    /// The contact model (read-only view for logs and charts).
+    pub fn contact(&self) -> &ContactModel<M, S> {
+        &self.contact
+    }
+
+    /// Latched faults (empty when the outputs are allowed).
+    pub fn latched_faults(&self) -> Flags {
+        self.latched
+    }
+
+    /// Clear latched faults (an explicit operator action). The next tick starts afresh: no velocity
+    /// history, contact broken.
+    pub fn clear_faults(&mut self) {
+        self.latched = Flags::NONE;
+        self.restart();
+    }
+
+    fn restart(&mut self) {
+        self.started = false;
+        self.overruns = 0;
+        self.stuck = [0; 3];
+        if let Ok(c) = ContactModel::new(
+            self.config.contact,
+            self.config.surface,
+            Quat::IDENTITY,
+            self.dt_s,
+        ) {
+            self.contact = c;
+        }
+    }
+
+    /// Change the contact parameters at run time. Invalid values are rejected (the old ones stay)
+    /// and [`Flags::PARAM_REJECTED`] is raised on the next tick. A valid change restarts the contact.
+    pub fn set_contact_params(&mut self, p: ContactParams) -> Result<(), ParamError> {
+        match ContactModel::new(p, self.config.surface, Quat::IDENTITY, self.dt_s) {
+            Ok(c) => {
+                self.config.contact = p;
+                self.contact = c;
+                Ok(())
+            }
+            Err(e) => {
+                self.pending |= Flags::PARAM_REJECTED;
+                Err(e)
+            }
+        }
+    }
+
     /// One control tick. Never panics; any fault gives zero duties and `enable = false`.
-    pub fn tick(&mut self, _input: &TickInput) -> TickOutput {
-        TickOutput::default()
+    pub fn tick(&mut self, input: &TickInput) -> TickOutput {
+        let mut flags = self.pending;
+        self.pending = Flags::NONE;
+        let lim = self.config.limits;
+        let dev = self.config.device;
+
+        // Fault inputs.
+        if input.driver_fault {
+            self.latched |= Flags::DRIVER_FAULT;
+        }
+        self.overruns = if input.overrun {
+            self.overruns.saturating_add(1)
+        } else {
+            0
+        };
+        if self.overruns >= lim.overrun_streak {
+            self.latched |= Flags::OVERRUN;
+        }
+        if self.started {
+            for (now, before) in input.counts.iter().zip(self.prev_counts.iter()) {
+                if now.wrapping_sub(*before).unsigned_abs() > lim.max_counts_per_tick as u32 {
+                    self.latched |= Flags::ENCODER_GLITCH;
+                }
+            }
+        }
+
+        // Kinematics.
+        let mut angles = [0.0f32; 3];
+        for (a, c) in angles.iter_mut().zip(input.counts.iter()) {
+            *a = dev.motor_counts_to_arm_angle_rad(*c);
+        }
+        let wrist = [
+            dev.wrist_counts_to_angle_rad(input.counts[3]),
+            dev.wrist_counts_to_angle_rad(input.counts[4]),
+            dev.wrist_counts_to_angle_rad(input.counts[5]),
+        ];
+        let (probe_dev, mut kflags) = dev.delta.forward::<M>(angles);
+        let [lo, hi] = lim.arm_angle_range_rad;
+        if angles.iter().any(|a| !(lo..=hi).contains(a)) {
+            kflags |= Flags::OUT_OF_RANGE;
+        }
+        flags |= kflags;
+        let q = DeviceParams::wrist_orientation::<M>(wrist);
+
+        // Velocities: filtered finite differences.
+        let inv_dt = self.config.rate_hz;
+        if !self.started {
+            self.prev_probe = probe_dev;
+            self.prev_angles = angles;
+            self.probe_vel = Vec3::ZERO;
+            self.arm_vel = [0.0; 3];
+        }
+        self.probe_vel += ((probe_dev - self.prev_probe) * inv_dt - self.probe_vel) * self.alpha;
+        for ((v, a), a_prev) in self.arm_vel.iter_mut().zip(angles).zip(self.prev_angles) {
+            *v += ((a - a_prev) * inv_dt - *v) * self.alpha;
+        }
+        self.prev_probe = probe_dev;
+        self.prev_angles = angles;
+
+        // Contact: only with trustworthy kinematics, otherwise no force this tick.
+        let trusted = !kflags
+            .intersects(Flags::KINEMATICS_SINGULAR | Flags::NON_FINITE_INPUT | Flags::OUT_OF_RANGE);
+        let contact = if !trusted {
+            ContactOutput {
+                state: self.contact.state(),
+                ..ContactOutput::default()
+            }
+        } else {
+            self.contact.contact_step(&ContactInput {
+                q,
+                probe_m: probe_dev - self.config.object_origin_m,
+                probe_vel: self.probe_vel,
+            })
+        };
+        flags |= contact.flags & !Flags::NON_FINITE_OUTPUT;
+        if contact.flags.contains(Flags::NON_FINITE_OUTPUT) {
+            self.latched |= Flags::NON_FINITE_OUTPUT;
+        }
+
+        // Motor torques and duties.
+        let (torques, jflags) = dev
+            .delta
+            .joint_torques::<M>(angles, probe_dev, contact.force_n);
+        flags |= jflags;
+        let mut duties = [0.0f32; 3];
+        for i in 0..3 {
+            let mut t = if !trusted || jflags.intersects(Flags::KINEMATICS_SINGULAR) {
+                0.0
+            } else {
+                torques[i]
+            };
+            if t.abs() > lim.max_arm_torque_nm {
+                t = libm::copysignf(lim.max_arm_torque_nm, t);
+                flags |= Flags::OUTPUT_LIMITED;
+            }
+            let (mut d, dflags) = dev.arm_torque_to_duty_checked(t, self.arm_vel[i]);
+            flags |= dflags & Flags::OUTPUT_LIMITED;
+            if !d.is_finite() {
+                d = 0.0;
+                self.latched |= Flags::NON_FINITE_OUTPUT;
+            }
+            if d.abs() > lim.max_duty {
+                d = libm::copysignf(lim.max_duty, d);
+                flags |= Flags::OUTPUT_LIMITED;
+            }
+            duties[i] = d;
+        }
+
+        // Encoder stuck under drive.
+        if self.started {
+            for (i, stuck) in self.stuck.iter_mut().enumerate() {
+                let moved = input.counts[i] != self.prev_counts[i];
+                *stuck = if duties[i].abs() >= lim.stuck_duty && !moved {
+                    stuck.saturating_add(1)
+                } else {
+                    0
+                };
+                if *stuck >= lim.stuck_ticks {
+                    self.latched |= Flags::ENCODER_STUCK;
+                }
+            }
+        }
+        self.prev_counts = input.counts;
+        self.started = true;
+
+        // Latched faults: zero torque, drivers disabled.
+        let faulted = !self.latched.is_empty();
+        if faulted {
+            duties = [0.0; 3];
+        }
+        flags |= self.latched;
+        let finite = |v: Vec3| if v.is_finite() { v } else { Vec3::ZERO };
+        TickOutput {
+            duties,
+            enable: !faulted,
+            flags,
+            probe_m: finite(probe_dev),
+            force_n: if faulted {
+                Vec3::ZERO
+            } else {
+                finite(contact.force_n)
+            },
+            tau_n_nm: if faulted || !contact.tau_n_nm.is_finite() {
+                0.0
+            } else {
+                contact.tau_n_nm
+            },
+            state: contact.state,
+        }
     }
-    /// Clear latched faults (an explicit operator action).
-    pub fn clear_faults(&mut self) {}
 }
+
+#[cfg(test)]
+mod tests;

@@ -18,6 +18,8 @@ pub enum ParamError {
     OutOfRange(&'static str),
     /// μ_k must not exceed μ_s.
     KineticAboveStatic,
+    /// The device parameters were rejected.
+    Device(crate::device::DeviceParamError),
 }
 
 impl core::fmt::Display for ParamError {
@@ -28,6 +30,7 @@ impl core::fmt::Display for ParamError {
             ParamError::Negative(n) => write!(f, "{n} must be >= 0"),
             ParamError::OutOfRange(n) => write!(f, "{n} is out of range"),
             ParamError::KineticAboveStatic => write!(f, "mu_k must not exceed mu_s"),
+            ParamError::Device(e) => write!(f, "device parameters: {e:?}"),
         }
     }
 }
