@@ -12,7 +12,9 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 use softfinger_core::contact::{ContactInput, ContactModel};
 use softfinger_core::contact_state::{next_state, ContactState, StateInputs};
+use softfinger_core::controller::{Controller, ControllerConfig, TickInput};
 use softfinger_core::decompose::{decompose, Method};
+use softfinger_core::device::DeviceParams;
 use softfinger_core::params::ContactParams;
 use softfinger_core::rolling::Rolling;
 use softfinger_core::spin::{torsion_limit, SpinSpring};
@@ -154,15 +156,10 @@ fn pipeline(b: &mut Bencher) {
     contact_step::<Micromath>(b, "contact_step_rpy", Method::Rpy);
     contact_step::<Fast>(b, "contact_step_rpy", Method::Rpy);
 
-    // PENDING until `Controller::tick` has a real body on main (on the last merge it returned
-    // `TickOutput::default()`; measuring that stub would only set a misleading budget). Then enable,
-    // with a config the controller accepts and encoder counts that keep it in contact:
-    //
-    //   let Ok(mut ctrl) = Controller::<M>::new(config) else { ... b.fail() };
-    //   let input = TickInput { counts: [..6 counts..], driver_fault: false, overrun: false };
-    //   bench!(b, "control_tick", M, || ctrl.tick(&bb(input)));
-    //
-    // for M in Libm, Micromath, Fast. Target <= 2000 instructions (budget.json `targets`).
+    device_kinematics(b);
+    control_tick::<Libm>(b);
+    control_tick::<Micromath>(b);
+    control_tick::<Fast>(b);
 }
 
 /// The contact state machine on its common path: rolling, kept (inside the friction cone, below the
@@ -256,4 +253,110 @@ fn contact_step<M: Math>(b: &mut Bencher, name: &str, method: Method) {
         );
         b.fail();
     }
+}
+
+/// Encoder counts `[motor0, motor1, motor2, wrist0, wrist1, wrist2]` that put the probe (fingertip
+/// centre) at `p` (device base frame, m), from the delta's inverse kinematics; `None` if unreachable.
+fn counts_at(dev: &DeviceParams, p: Vec3, wrist: [i32; 3]) -> Option<[i32; 6]> {
+    let (angles, flags) = dev.delta.inverse::<Libm>(p);
+    if !flags.is_empty() {
+        return None;
+    }
+    let c = |a: f32| {
+        libm::roundf((a - dev.arm_angle_at_zero_count_rad) / dev.arm_rad_per_motor_count()) as i32
+    };
+    Some([
+        c(angles[0]),
+        c(angles[1]),
+        c(angles[2]),
+        wrist[0],
+        wrist[1],
+        wrist[2],
+    ])
+}
+
+/// The full controller tick (`Controller::tick`): six encoder counts in, three duties out, through
+/// forward kinematics, the wrist orientation, the contact step and Jᵀ·F torques, at 10 kHz on the
+/// default plane scene. The probe presses 1 mm into the plane (f_N ≈ 2 N) and the wrist's middle
+/// joint alternates between 0 and 1 count (1.5 mrad per tick, 15 rad/s: below the twist threshold
+/// of 40 rad/s), so every tick rolls when the kinematics are accurate. Afterwards the drivers must be
+/// enabled with no latched fault; the contact state reached is printed as a `NOTE`.
+fn control_tick<M: Math>(b: &mut Bencher) {
+    let config = ControllerConfig::default_plane();
+    let Ok(mut ctrl) = Controller::<M, Plane>::new(config) else {
+        hprintln!(
+            "ERROR control_tick [{}]: the default configuration was rejected",
+            M::NAME
+        );
+        b.fail();
+        return;
+    };
+    let touching =
+        config.object_origin_m + Vec3::new(0.0, 0.0, config.contact.fingertip_radius_m - 0.001);
+    let (Some(a), Some(b1)) = (
+        counts_at(&config.device, touching, [0, 0, 0]),
+        counts_at(&config.device, touching, [0, 1, 0]),
+    ) else {
+        hprintln!("ERROR control_tick: the pressing position is out of reach");
+        b.fail();
+        return;
+    };
+    let inputs = [
+        TickInput {
+            counts: a,
+            ..TickInput::default()
+        },
+        TickInput {
+            counts: b1,
+            ..TickInput::default()
+        },
+    ];
+    for _ in 0..8 {
+        ctrl.tick(&inputs[0]);
+    }
+    let mut k = 0;
+    bench!(b, "control_tick", M, || {
+        let out = ctrl.tick(&bb(inputs[k]));
+        k ^= 1;
+        out
+    });
+    // Which path was measured depends on the backend's accuracy (the kinematics run on it), so a
+    // different end state is reported, not failed; a latched fault or disabled drivers fail.
+    let out = ctrl.tick(&inputs[k]);
+    hprintln!(
+        "NOTE control_tick [{}]: ends {} with probe {:?} m, force {:?} N",
+        M::NAME,
+        out.state.name(),
+        out.probe_m.to_array(),
+        out.force_n.to_array()
+    );
+    if !out.enable || !ctrl.latched_faults().is_empty() {
+        hprintln!(
+            "ERROR control_tick [{}]: expected enabled drivers and no latched fault; got enable {}, flags {:?}",
+            M::NAME,
+            out.enable,
+            out.flags
+        );
+        b.fail();
+    }
+}
+
+/// The device stages of the controller tick, at the pressing pose of [`control_tick`]: the delta's
+/// forward kinematics, Jᵀ·F joint torques, and the wrist orientation from three joint angles.
+fn device_kinematics(b: &mut Bencher) {
+    let config = ControllerConfig::default_plane();
+    let dev = config.device;
+    let touching =
+        config.object_origin_m + Vec3::new(0.0, 0.0, config.contact.fingertip_radius_m - 0.001);
+    let (angles, _) = dev.delta.inverse::<Libm>(touching);
+    let force = Vec3::new(0.17, 0.0, 2.0);
+    bench!(b, "delta_forward", for M in [Libm, Micromath, Fast], || {
+        dev.delta.forward::<M>(bb(angles))
+    });
+    bench!(b, "delta_joint_torques", for M in [Libm, Micromath, Fast], || {
+        dev.delta.joint_torques::<M>(bb(angles), bb(touching), bb(force))
+    });
+    bench!(b, "wrist_orientation", for M in [Libm, Micromath, Fast], || {
+        DeviceParams::wrist_orientation::<M>(bb([0.0, 0.0015, 0.0]))
+    });
 }

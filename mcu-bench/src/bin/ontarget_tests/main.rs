@@ -12,6 +12,7 @@
 
 mod accuracy;
 mod contact;
+mod controller;
 mod decompose;
 mod kernels;
 mod robustness;
@@ -27,7 +28,7 @@ use softfinger_mcu_bench::install_fault_handler;
 install_fault_handler!();
 
 /// All checks that are generic over the math backend.
-fn backend_checks<M: Accuracy>(c: &mut Checker) {
+fn backend_checks<M: Accuracy>(c: &mut Checker, accurate_kinematics: bool) {
     c.group(M::NAME);
     kernels::checks::<M>(c);
     rotations::checks::<M>(c);
@@ -35,6 +36,7 @@ fn backend_checks<M: Accuracy>(c: &mut Checker) {
     rolling::checks::<M>(c);
     robustness::checks::<M>(c);
     contact::step_checks::<M>(c);
+    controller::checks::<M>(c, accurate_kinematics);
 }
 
 #[entry]
@@ -47,9 +49,9 @@ fn main() -> ! {
     );
     c.group("contact");
     contact::checks(&mut c);
-    backend_checks::<Libm>(&mut c);
-    backend_checks::<Micromath>(&mut c);
-    backend_checks::<Fast>(&mut c);
+    backend_checks::<Libm>(&mut c, true);
+    backend_checks::<Micromath>(&mut c, false);
+    backend_checks::<Fast>(&mut c, true);
     c.finish()
 }
 
