@@ -1,0 +1,362 @@
+//! `mcu-bench`: instructions per call of softfinger-core's kernels on an emulated Cortex-M4F.
+//!
+//! Runs on QEMU `mps2-an386` with `-icount shift=0` (see `.cargo/config.toml`); prints one
+//! `BENCH <name> <backend> <instructions>` line per result through semihosting and exits with
+//! failure if a sanity check or a measurement fails. `scripts/mcu-bench` builds, runs and parses it.
+//!
+//! To add a benchmark, add one `bench!` line below (see [`softfinger_mcu_bench::bench!`]).
+#![no_std]
+#![no_main]
+
+use cortex_m_rt::entry;
+use cortex_m_semihosting::hprintln;
+use softfinger_core::contact::{ContactInput, ContactModel};
+use softfinger_core::contact_state::{next_state, ContactState, StateInputs};
+use softfinger_core::controller::{Controller, ControllerConfig, TickInput};
+use softfinger_core::decompose::{decompose, Method};
+use softfinger_core::device::DeviceParams;
+use softfinger_core::params::ContactParams;
+use softfinger_core::rolling::Rolling;
+use softfinger_core::spin::{torsion_limit, SpinSpring};
+use softfinger_core::surface::{Plane, Sphere};
+use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Rot3, Vec3};
+use softfinger_mcu_bench::bench::Bencher;
+use softfinger_mcu_bench::counter::Counter;
+use softfinger_mcu_bench::{bb, bench, exit::exit, install_fault_handler};
+
+install_fault_handler!();
+
+#[entry]
+fn main() -> ! {
+    let Some(peripherals) = cortex_m::Peripherals::take() else {
+        exit(false)
+    };
+    let mut b = Bencher::new(Counter::new(peripherals.SYST));
+
+    sanity_checks(&mut b);
+    math_kernels(&mut b);
+    rotations(&mut b);
+    pipeline(&mut b);
+
+    exit(b.ok())
+}
+
+// The instruction sequences are written out, not `.rept`: LLVM sizes inline assembly by its lines
+// when it places literal pools, and a `.rept` line would be sized as one instruction.
+macro_rules! x5 {
+    ($i:expr) => {
+        concat!($i, "\n", $i, "\n", $i, "\n", $i, "\n", $i, "\n")
+    };
+}
+macro_rules! x10 {
+    ($i:expr) => {
+        concat!(x5!($i), x5!($i))
+    };
+}
+macro_rules! x100 {
+    ($i:expr) => {
+        x10!(x10!($i))
+    };
+}
+
+/// Sequences of known length: the method must report exactly their instruction count. The FP one
+/// also proves the FPU is enabled (with CP10/CP11 off, VADD raises a usage fault → HardFault → the
+/// handler reports it and exits with failure).
+fn sanity_checks(b: &mut Bencher) {
+    b.sanity("nop_x100", 100, || {
+        // SAFETY: NOPs only; no memory, stack or flags touched.
+        unsafe { core::arch::asm!(x100!("nop"), options(nomem, nostack, preserves_flags)) }
+    });
+    b.sanity("vadd_f32_x50", 50, || {
+        // SAFETY: touches only s0, which is declared clobbered.
+        unsafe {
+            core::arch::asm!(
+                x10!(x5!("vadd.f32 s0, s0, s0")),
+                out("s0") _,
+                options(nomem, nostack, preserves_flags)
+            )
+        }
+    });
+}
+
+/// The scalar kernels of each math backend, at a mid-range input (1 rad: away from each backend's
+/// small-argument fast path; libm's sinf/cosf reduce 1 rad against π/2 in f64).
+fn math_kernels(b: &mut Bencher) {
+    bench!(b, "sin", for M in [Libm, Micromath, Fast], || M::sin(bb(1.0f32)));
+    bench!(b, "cos", for M in [Libm, Micromath, Fast], || M::cos(bb(1.0f32)));
+    bench!(b, "sin_cos", for M in [Libm, Micromath, Fast], || M::sin_cos(bb(1.0f32)));
+    bench!(b, "atan2", for M in [Libm, Micromath, Fast], || M::atan2(bb(0.3f32), bb(-0.8f32)));
+    bench!(b, "sqrt", for M in [Libm, Micromath, Fast], || M::sqrt(bb(2.5f32)));
+}
+
+/// Rodrigues (eq. 4) and the quaternion log map.
+fn rotations(b: &mut Bencher) {
+    // A unit axis (1, 2, 3)/√14 and 1 rad; the axis is re-normalised inside (one sqrt).
+    let axis = Vec3::new(0.267_261_24, 0.534_522_5, 0.801_783_7);
+    bench!(b, "rot3_from_axis_angle", for M in [Libm, Micromath, Fast], || {
+        Rot3::from_axis_angle::<M>(bb(axis), bb(1.0f32))
+    });
+    // The same rotation as a unit quaternion (cos 0.5, axis · sin 0.5).
+    let q = Quat::new(0.877_582_56, 0.128_129_8, 0.256_259_6, 0.384_389_4);
+    bench!(b, "quat_to_rotation_vector", for M in [Libm, Micromath, Fast], || {
+        bb(q).to_rotation_vector::<M>()
+    });
+}
+
+/// The paper scene's rotation increment per 10 ms step: δψ = 0.03 rad about x, δθ = 0.02 rad about y,
+/// δφ = 0.05 rad about z (the contact normal), as a rotation vector (x, y, z).
+const SCENE_STEP: Vec3 = Vec3::new(0.03, 0.02, 0.05);
+
+/// The contact pipeline, stage by stage.
+fn pipeline(b: &mut Bencher) {
+    let (dq, _) = Quat::from_rotation_vector::<Libm>(SCENE_STEP);
+    bench!(b, "decompose_paper", for M in [Libm, Micromath, Fast], || {
+        decompose::<M>(Method::PaperVerbatim, bb(dq))
+    });
+    bench!(b, "decompose_rpy", for M in [Libm, Micromath, Fast], || {
+        decompose::<M>(Method::Rpy, bb(dq))
+    });
+    bench!(b, "decompose_exact", for M in [Libm, Micromath, Fast], || {
+        decompose::<M>(Method::Exact, bb(dq))
+    });
+
+    // Rolling update (Algorithm 1): one orientation sample in, the contact points move. The samples
+    // alternate between q0 and q0·dq, so every step rolls by the scene increment, forwards then back
+    // (the alternation costs about two instructions per call).
+    let q0 = Quat::new(0.877_582_56, 0.128_129_8, 0.256_259_6, 0.384_389_4);
+    let samples = [q0 * dq, q0];
+    macro_rules! rolling {
+        ($name:literal, $surface:expr, $method:expr) => {
+            bench!(b, $name, for M in [Libm, Micromath, Fast], {
+                let mut r = Rolling::new($surface, 0.01, q0, $method);
+                let mut k = 0;
+                move || {
+                    let q = samples[k];
+                    k ^= 1;
+                    r.step::<M>(bb(q))
+                }
+            });
+        };
+    }
+    rolling!(
+        "rolling_plane_paper",
+        Plane::default(),
+        Method::PaperVerbatim
+    );
+    rolling!("rolling_plane_rpy", Plane::default(), Method::Rpy);
+    rolling!("rolling_plane_exact", Plane::default(), Method::Exact);
+    rolling!("rolling_sphere_exact", Sphere::new(0.05), Method::Exact);
+
+    state_machine(b);
+    spin_torque(b);
+    contact_step::<Libm>(b, "contact_step", Method::Exact);
+    contact_step::<Micromath>(b, "contact_step", Method::Exact);
+    contact_step::<Fast>(b, "contact_step", Method::Exact);
+    contact_step::<Libm>(b, "contact_step_rpy", Method::Rpy);
+    contact_step::<Micromath>(b, "contact_step_rpy", Method::Rpy);
+    contact_step::<Fast>(b, "contact_step_rpy", Method::Rpy);
+
+    device_kinematics(b);
+    control_tick::<Libm>(b);
+    control_tick::<Micromath>(b);
+    control_tick::<Fast>(b);
+}
+
+/// The contact state machine on its common path: rolling, kept (inside the friction cone, below the
+/// twist threshold). Backend-independent (no math kernels).
+fn state_machine(b: &mut Bencher) {
+    let params = ContactParams::DEFAULT.state_params();
+    let inputs = StateInputs {
+        normal_force_n: 2.0,
+        gap_m: -0.001,
+        normal_accel: 0.0,
+        tangential_force_n: Vec3::new(0.1, -0.05, 0.0),
+        tangential_accel: Vec3::new(0.01, 0.0, 0.0),
+        tangential_velocity: Vec3::new(0.0005, 0.0, 0.0),
+        roll_disp_m: Vec3::new(2.0e-6, -3.0e-6, 0.0),
+        tilt_rate: 0.36,
+    };
+    let (state, _) = next_state(ContactState::Rolling, &inputs, &params);
+    if state != ContactState::Rolling {
+        hprintln!("ERROR state_machine bench: inputs do not keep rolling");
+        b.fail();
+    }
+    bench!(b, "state_machine", _, || {
+        next_state(bb(ContactState::Rolling), &bb(inputs), &params)
+    });
+}
+
+/// Spin torque, eq. (1) with the torsional friction limit: wind the spring by δφ (alternating
+/// ±0.5 mrad so it stays elastic) and return τn. Backend-independent.
+fn spin_torque(b: &mut Bencher) {
+    let p = ContactParams::DEFAULT;
+    let mut spring = SpinSpring::default();
+    let mut dphi = 5.0e-4f32;
+    bench!(b, "spin_torque", _, || {
+        dphi = -dphi;
+        let tau_max = torsion_limit(p.mu_s, bb(2.0f32), p.patch_radius_m);
+        spring.update(bb(dphi), p.spin_stiffness, tau_max)
+    });
+}
+
+/// The full contact step (`ContactModel::contact_step`) on the plane at 10 kHz: orientation and
+/// probe sample in; force, contact points, spin torque and state out. The probe presses 1 mm into
+/// the plane (f_N = 2 N) and holds still while the orientation alternates between q0 and q0·dq,
+/// dq = the paper scene's increment / 100 (rolling at 3.6 rad/s: δ ≈ 0.6 mrad per tick), so every
+/// step rolls and the model stays in the rolling state (checked after the measurement).
+fn contact_step<M: Math>(b: &mut Bencher, name: &str, method: Method) {
+    let dt_s = 1.0e-4;
+    let params = ContactParams {
+        method,
+        ..ContactParams::DEFAULT
+    };
+    let q0 = Quat::IDENTITY;
+    let (dq, _) = Quat::from_rotation_vector::<Libm>(SCENE_STEP * 0.01);
+    let Ok(mut model) = ContactModel::<M, Plane>::new(params, Plane::default(), q0, dt_s) else {
+        hprintln!(
+            "ERROR {}: ContactModel::new rejected the default parameters",
+            name
+        );
+        return;
+    };
+    let probe_m = Vec3::new(0.0, 0.0, params.fingertip_radius_m - 0.001);
+    let inputs = [
+        ContactInput {
+            q: q0 * dq,
+            probe_m,
+            probe_vel: Vec3::ZERO,
+        },
+        ContactInput {
+            q: q0,
+            probe_m,
+            probe_vel: Vec3::ZERO,
+        },
+    ];
+    // Make contact first (broken → rolling), so the measurement is of the rolling path.
+    for _ in 0..4 {
+        model.contact_step(&inputs[1]);
+    }
+    let mut k = 0;
+    bench!(b, name, M, || {
+        let out = model.contact_step(&bb(inputs[k]));
+        k ^= 1;
+        out
+    });
+    let out = model.contact_step(&inputs[k]);
+    if out.state != ContactState::Rolling || !out.flags.is_empty() {
+        hprintln!(
+            "ERROR {} [{}]: expected to stay rolling without flags, got {:?} {:?}",
+            name,
+            M::NAME,
+            out.state,
+            out.flags
+        );
+        b.fail();
+    }
+}
+
+/// Encoder counts `[motor0, motor1, motor2, wrist0, wrist1, wrist2]` that put the probe (fingertip
+/// centre) at `p` (device base frame, m), from the delta's inverse kinematics; `None` if unreachable.
+fn counts_at(dev: &DeviceParams, p: Vec3, wrist: [i32; 3]) -> Option<[i32; 6]> {
+    let (angles, flags) = dev.delta.inverse::<Libm>(p);
+    if !flags.is_empty() {
+        return None;
+    }
+    let c = |a: f32| {
+        libm::roundf((a - dev.arm_angle_at_zero_count_rad) / dev.arm_rad_per_motor_count()) as i32
+    };
+    Some([
+        c(angles[0]),
+        c(angles[1]),
+        c(angles[2]),
+        wrist[0],
+        wrist[1],
+        wrist[2],
+    ])
+}
+
+/// The full controller tick (`Controller::tick`): six encoder counts in, three duties out, through
+/// forward kinematics, the wrist orientation, the contact step and Jᵀ·F torques, at 10 kHz on the
+/// default plane scene. The probe presses 1 mm into the plane (f_N ≈ 2 N) and the wrist's middle
+/// joint alternates between 0 and 1 count (1.5 mrad per tick, 15 rad/s: below the twist threshold
+/// of 40 rad/s), so every tick rolls when the kinematics are accurate. Afterwards the drivers must be
+/// enabled with no latched fault; the contact state reached is printed as a `NOTE`.
+fn control_tick<M: Math>(b: &mut Bencher) {
+    let config = ControllerConfig::default_plane();
+    let Ok(mut ctrl) = Controller::<M, Plane>::new(config) else {
+        hprintln!(
+            "ERROR control_tick [{}]: the default configuration was rejected",
+            M::NAME
+        );
+        b.fail();
+        return;
+    };
+    let touching =
+        config.object_origin_m + Vec3::new(0.0, 0.0, config.contact.fingertip_radius_m - 0.001);
+    let (Some(a), Some(b1)) = (
+        counts_at(&config.device, touching, [0, 0, 0]),
+        counts_at(&config.device, touching, [0, 1, 0]),
+    ) else {
+        hprintln!("ERROR control_tick: the pressing position is out of reach");
+        b.fail();
+        return;
+    };
+    let inputs = [
+        TickInput {
+            counts: a,
+            ..TickInput::default()
+        },
+        TickInput {
+            counts: b1,
+            ..TickInput::default()
+        },
+    ];
+    for _ in 0..8 {
+        ctrl.tick(&inputs[0]);
+    }
+    let mut k = 0;
+    bench!(b, "control_tick", M, || {
+        let out = ctrl.tick(&bb(inputs[k]));
+        k ^= 1;
+        out
+    });
+    // Which path was measured depends on the backend's accuracy (the kinematics run on it), so a
+    // different end state is reported, not failed; a latched fault or disabled drivers fail.
+    let out = ctrl.tick(&inputs[k]);
+    hprintln!(
+        "NOTE control_tick [{}]: ends {} with probe {:?} m, force {:?} N",
+        M::NAME,
+        out.state.name(),
+        out.probe_m.to_array(),
+        out.force_n.to_array()
+    );
+    if !out.enable || !ctrl.latched_faults().is_empty() {
+        hprintln!(
+            "ERROR control_tick [{}]: expected enabled drivers and no latched fault; got enable {}, flags {:?}",
+            M::NAME,
+            out.enable,
+            out.flags
+        );
+        b.fail();
+    }
+}
+
+/// The device stages of the controller tick, at the pressing pose of [`control_tick`]: the delta's
+/// forward kinematics, Jᵀ·F joint torques, and the wrist orientation from three joint angles.
+fn device_kinematics(b: &mut Bencher) {
+    let config = ControllerConfig::default_plane();
+    let dev = config.device;
+    let touching =
+        config.object_origin_m + Vec3::new(0.0, 0.0, config.contact.fingertip_radius_m - 0.001);
+    let (angles, _) = dev.delta.inverse::<Libm>(touching);
+    let force = Vec3::new(0.17, 0.0, 2.0);
+    bench!(b, "delta_forward", for M in [Libm, Micromath, Fast], || {
+        dev.delta.forward::<M>(bb(angles))
+    });
+    bench!(b, "delta_joint_torques", for M in [Libm, Micromath, Fast], || {
+        dev.delta.joint_torques::<M>(bb(angles), bb(touching), bb(force))
+    });
+    bench!(b, "wrist_orientation", for M in [Libm, Micromath, Fast], || {
+        DeviceParams::wrist_orientation::<M>(bb([0.0, 0.0015, 0.0]))
+    });
+}
