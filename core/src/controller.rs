@@ -152,9 +152,8 @@ pub struct ControllerConfig<S: Surface = Plane> {
 }
 
 impl ControllerConfig<Plane> {
-    /// The default scene: a plane 25 mm below the centre of the device's workspace (the fingertip's
-    /// centre rests 15 mm above the workspace centre's floor... i.e. the probe touches it 15 mm
-    /// below the workspace centre), at 10 kHz.
+    /// The default scene: a plane 10 mm below the centre of the device's workspace, so the
+    /// 10 mm fingertip touches it with its centre at the workspace centre, at 10 kHz.
     pub fn default_plane() -> Self {
         ControllerConfig {
             rate_hz: 10_000.0,
