@@ -22,6 +22,11 @@ use crate::surface::Surface;
 use crate::vec3::Vec3;
 use core::marker::PhantomData;
 
+/// Shortest accepted step, s (1 MHz): 1/dt and the finite differences stay finite.
+pub const MIN_DT_S: f32 = 1.0e-6;
+/// Longest accepted step, s (1 Hz).
+pub const MAX_DT_S: f32 = 1.0;
+
 /// One sample of the fingertip.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -75,10 +80,14 @@ pub struct ContactModel<M: Math, S: Surface> {
 }
 
 impl<M: Math, S: Surface> ContactModel<M, S> {
-    /// A model touching nothing yet, at orientation `q0`, stepped every `dt_s` seconds.
+    /// A model touching nothing yet, at orientation `q0`, stepped every `dt_s` seconds
+    /// ([`MIN_DT_S`] to [`MAX_DT_S`]).
     pub fn new(params: ContactParams, surface: S, q0: Quat, dt_s: f32) -> Result<Self, ParamError> {
         params.validate()?;
         crate::params::positive("dt_s", dt_s)?;
+        if !(MIN_DT_S..=MAX_DT_S).contains(&dt_s) {
+            return Err(ParamError::OutOfRange("dt_s"));
+        }
         let (q0, _) = q0.normalized_checked::<M>();
         Ok(ContactModel {
             params,

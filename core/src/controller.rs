@@ -393,7 +393,13 @@ impl<M: Math, S: Surface> Controller<M, S> {
                 t = libm::copysignf(lim.max_arm_torque_nm, t);
                 flags |= Flags::OUTPUT_LIMITED;
             }
-            let (mut d, dflags) = dev.arm_torque_to_duty_checked(t, self.arm_vel[i]);
+            // Untrusted kinematics: the velocities are as wrong as the angles, so no back-EMF
+            // feed-forward either: zero duty.
+            let (mut d, dflags) = if trusted {
+                dev.arm_torque_to_duty_checked(t, self.arm_vel[i])
+            } else {
+                (0.0, Flags::NONE)
+            };
             flags |= dflags & Flags::OUTPUT_LIMITED;
             if !d.is_finite() {
                 d = 0.0;

@@ -57,6 +57,17 @@ pub fn non_negative(name: &'static str, v: f32) -> Result<(), ParamError> {
     }
 }
 
+/// Check `v` is finite and at most `max` (the upper end of its documented range).
+pub fn at_most(name: &'static str, v: f32, max: f32) -> Result<(), ParamError> {
+    if !v.is_finite() {
+        Err(ParamError::NotFinite(name))
+    } else if v > max {
+        Err(ParamError::OutOfRange(name))
+    } else {
+        Ok(())
+    }
+}
+
 /// Everything the contact model needs. SI units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -129,28 +140,84 @@ impl ContactParams {
         hysteresis: 0.05,
     };
 
-    /// Check every field; the first bad one is reported.
+    /// Largest accepted value of each field (see [`Self::validate`]): far beyond any device or
+    /// scene (a 1 m fingertip, 10⁷ N/m, 10 kN), and small enough that products of fields with
+    /// workspace-sized lengths, speeds and rates stay far from f32 overflow.
+    pub const MAX: ContactParams = ContactParams {
+        method: Method::Exact,
+        fingertip_radius_m: 1.0,
+        normal_stiffness: 1.0e7,
+        normal_damping: 1.0e5,
+        tangential_stiffness: 1.0e7,
+        tangential_damping: 1.0e5,
+        mu_s: 100.0,
+        mu_k: 100.0,
+        spin_stiffness: 1.0e3,
+        patch_radius_m: 1.0,
+        k_tau: 1.0e6,
+        slide_smoothing_speed: 100.0,
+        max_force_n: 1.0e4,
+        force_eps_n: 1.0e4,
+        accel_eps: 1.0e6,
+        normal_accel_tol: 1.0e6,
+        gap_eps_m: 1.0,
+        stick_speed: 100.0,
+        hysteresis: 1.0,
+    };
+
+    /// Smallest accepted fingertip radius, m (0.1 mm): 1/ρ stays finite and meaningful.
+    pub const MIN_FINGERTIP_RADIUS_M: f32 = 1.0e-4;
+
+    /// Smallest accepted force limit, N (1 mN): the limit is applied by a rescale F·(max/|F|),
+    /// which must not fall into the subnormal range, where it would lose its precision.
+    pub const MIN_MAX_FORCE_N: f32 = 1.0e-3;
+
+    /// Check every field; the first bad one is reported. Each field must be finite, within its
+    /// sign constraint and at most its value in [`Self::MAX`].
     pub fn validate(&self) -> Result<(), ParamError> {
+        let m = &Self::MAX;
         positive("fingertip_radius_m", self.fingertip_radius_m)?;
+        if self.fingertip_radius_m < Self::MIN_FINGERTIP_RADIUS_M {
+            return Err(ParamError::OutOfRange("fingertip_radius_m"));
+        }
+        at_most("fingertip_radius_m", self.fingertip_radius_m, m.fingertip_radius_m)?;
         non_negative("normal_stiffness", self.normal_stiffness)?;
+        at_most("normal_stiffness", self.normal_stiffness, m.normal_stiffness)?;
         non_negative("normal_damping", self.normal_damping)?;
+        at_most("normal_damping", self.normal_damping, m.normal_damping)?;
         non_negative("tangential_stiffness", self.tangential_stiffness)?;
+        at_most("tangential_stiffness", self.tangential_stiffness, m.tangential_stiffness)?;
         non_negative("tangential_damping", self.tangential_damping)?;
+        at_most("tangential_damping", self.tangential_damping, m.tangential_damping)?;
         positive("mu_s", self.mu_s)?;
+        at_most("mu_s", self.mu_s, m.mu_s)?;
         positive("mu_k", self.mu_k)?;
         if self.mu_k > self.mu_s {
             return Err(ParamError::KineticAboveStatic);
         }
         non_negative("spin_stiffness", self.spin_stiffness)?;
+        at_most("spin_stiffness", self.spin_stiffness, m.spin_stiffness)?;
         non_negative("patch_radius_m", self.patch_radius_m)?;
+        at_most("patch_radius_m", self.patch_radius_m, m.patch_radius_m)?;
         positive("k_tau", self.k_tau)?;
+        at_most("k_tau", self.k_tau, m.k_tau)?;
         positive("slide_smoothing_speed", self.slide_smoothing_speed)?;
+        at_most("slide_smoothing_speed", self.slide_smoothing_speed, m.slide_smoothing_speed)?;
         positive("max_force_n", self.max_force_n)?;
+        if self.max_force_n < Self::MIN_MAX_FORCE_N {
+            return Err(ParamError::OutOfRange("max_force_n"));
+        }
+        at_most("max_force_n", self.max_force_n, m.max_force_n)?;
         non_negative("force_eps_n", self.force_eps_n)?;
+        at_most("force_eps_n", self.force_eps_n, m.force_eps_n)?;
         non_negative("accel_eps", self.accel_eps)?;
+        at_most("accel_eps", self.accel_eps, m.accel_eps)?;
         non_negative("normal_accel_tol", self.normal_accel_tol)?;
+        at_most("normal_accel_tol", self.normal_accel_tol, m.normal_accel_tol)?;
         non_negative("gap_eps_m", self.gap_eps_m)?;
+        at_most("gap_eps_m", self.gap_eps_m, m.gap_eps_m)?;
         non_negative("stick_speed", self.stick_speed)?;
+        at_most("stick_speed", self.stick_speed, m.stick_speed)?;
         non_negative("hysteresis", self.hysteresis)?;
         if self.hysteresis >= 1.0 {
             return Err(ParamError::OutOfRange("hysteresis"));
