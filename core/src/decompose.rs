@@ -84,15 +84,23 @@ pub const RPY_POLE_COS: f32 = 1.0e-4;
 /// Decompose the unit-quaternion increment `dq` (contact frame) with `method`.
 ///
 /// `dq` must be finite; a non-finite `dq` returns zero angles and [`Flags::NON_FINITE_INPUT`]. The
-/// caller normalises (see [`Quat::normalized_checked`]).
+/// caller normalises (see [`Quat::normalized_checked`]); a finite `dq` so far from unit that the
+/// angles would overflow returns zero angles and [`Flags::NON_UNIT_QUAT`].
 pub fn decompose<M: Math>(method: Method, dq: Quat) -> (Angles, Flags) {
     if !dq.is_finite() {
         return (Angles::ZERO, Flags::NON_FINITE_INPUT);
     }
-    match method {
+    let (a, f) = match method {
         Method::PaperVerbatim => paper_verbatim::<M>(&Rot3::from_quat(dq)),
         Method::Rpy => rpy::<M>(&Rot3::from_quat(dq)),
         Method::Exact => (exact::<M>(dq), Flags::NONE),
+    };
+    // A finite but far-from-unit dq (the caller skipped the normalisation) can overflow the
+    // matrix entries to ±inf and the angles to NaN: zero angles and a flag instead.
+    if a.phi.is_finite() && a.theta.is_finite() && a.psi.is_finite() {
+        (a, f)
+    } else {
+        (Angles::ZERO, f | Flags::NON_UNIT_QUAT)
     }
 }
 
