@@ -82,15 +82,19 @@ pub struct Limits {
 
 impl Limits {
     /// Defaults for the Omega-like device at 10 kHz. Glitch: 2000 counts per tick is 20 M counts/s,
-    /// far beyond any physical arm speed with the default encoders (see `DeviceParams`). Stuck: 50 %
+    /// far beyond any physical arm speed with the default encoders (see `DeviceParams`). Stuck: 20 %
     /// duty for 0.2 s (2000 ticks at 10 kHz) without a single count: a hand holding the handle still
-    /// against that drive still moves it by more than a count (physiological tremor).
+    /// against that drive still moves it by more than a count (physiological tremor). The duty
+    /// threshold must lie below the largest duty at stall, R·i_max/V = 2.18·4/24 = 0.363: a frozen
+    /// encoder reads zero velocity, so its motor gets no back-EMF feed-forward and its duty never
+    /// exceeds that (with 0.5, a frozen encoder could never be detected). At the 12 N force limit
+    /// the duties of the touch scene reach about 0.24.
     pub const DEFAULT: Limits = Limits {
         max_duty: 0.95,
         max_arm_torque_nm: 2.0,
         max_counts_per_tick: 2000,
         overrun_streak: 3,
-        stuck_duty: 0.5,
+        stuck_duty: 0.2,
         stuck_ticks: 2000,
         velocity_cutoff_hz: 300.0,
         // The Omega-like linkage needs −31° … 94° over its workspace (see `crate::delta`); the

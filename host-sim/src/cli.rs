@@ -16,6 +16,10 @@ pub struct Cli {
 pub enum Command {
     /// Replay recorded fingertip orientations through the core (for tuning from bench logs).
     Replay(crate::replay::Args),
+    /// Fault-injection campaign, closed loop with the plant: table, or JSON with --json.
+    Faults(crate::faults::Args),
+    /// Long closed-loop run repeating the touch script (release build; 10^8 ticks ~ 20 min).
+    Soak(crate::faults::soak::Args),
 }
 
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
@@ -34,6 +38,8 @@ where
     };
     let result = match cli.command {
         Some(Command::Replay(args)) => crate::replay::main(&args),
+        Some(Command::Faults(args)) => crate::faults::main(&args),
+        Some(Command::Soak(args)) => crate::faults::soak::main(&args),
         None => Err("the closed-loop run is not wired yet; try `host-sim --help`".to_string()),
     };
     match result {

@@ -3,6 +3,7 @@
 
 pub mod atomic_file;
 pub mod cli;
+pub mod faults;
 pub mod plant;
 pub mod reference;
 pub mod replay;

@@ -288,6 +288,20 @@ impl Plant {
         );
     }
 
+    /// The user lets go of the handle: from now on no hand mass, grasp stiffness or damping.
+    pub fn release_hand(&mut self) {
+        self.params = self.params.without_hand();
+        self.inertia.translating_kg = self.params.effector_mass_kg + self.params.hand_mass_kg;
+        self.refresh_hand();
+    }
+
+    /// Play the hand's script again from its start, keeping the mechanical state (for soak runs
+    /// that repeat a script whose end returns to its start). Simulated time restarts at 0.
+    pub fn restart_script(&mut self) {
+        self.time_s = 0.0;
+        self.refresh_hand();
+    }
+
     /// Simulated time, s.
     pub fn time_s(&self) -> f64 {
         self.time_s

@@ -1,0 +1,98 @@
+//! `host-sim faults`: the fault-injection campaign, closed loop with the plant (see
+//! [`scenarios`] for the scenarios and what "survived" means for each), and `host-sim soak`,
+//! the long repeated-script run ([`soak`]).
+
+pub mod closed_loop;
+pub mod scenarios;
+pub mod soak;
+
+use serde::Serialize;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Print the campaign as JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The campaign's figures, as printed with `--json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct CampaignReport {
+    /// Scenarios with a fault or disturbance injected.
+    pub injected: usize,
+    /// Of those, how many survived.
+    pub survived: usize,
+    /// NaN outputs over every scenario (nominal included).
+    pub nan_outputs: usize,
+    /// Largest rendered force over every scenario, N.
+    pub max_force_n: f64,
+    /// Largest force the motors exerted (plant currents), N.
+    pub max_plant_force_n: f64,
+    /// The rendered-force limit (`max_force_n` of the contact parameters), N.
+    pub force_limit_n: f64,
+    /// The motors' limit: force_limit_n × the plant margin, N.
+    pub plant_force_limit_n: f64,
+    pub scenarios: Vec<scenarios::Outcome>,
+}
+
+/// Run the campaign and summarise it.
+pub fn campaign_report() -> Result<CampaignReport, String> {
+    let results = scenarios::campaign()?;
+    let limit = softfinger_core::params::ContactParams::DEFAULT.max_force_n as f64;
+    let injected = results.iter().filter(|(_, i)| *i).count();
+    let survived = results.iter().filter(|(o, i)| *i && o.survived).count();
+    let all = || results.iter().map(|(o, _)| o);
+    Ok(CampaignReport {
+        injected,
+        survived,
+        nan_outputs: all().map(|o| o.nan_outputs).sum(),
+        max_force_n: all().map(|o| o.max_rendered_force_n).fold(0.0, f64::max),
+        max_plant_force_n: all().map(|o| o.max_plant_force_n).fold(0.0, f64::max),
+        force_limit_n: limit,
+        plant_force_limit_n: limit * scenarios::PLANT_FORCE_MARGIN,
+        scenarios: results.into_iter().map(|(o, _)| o).collect(),
+    })
+}
+
+fn opt(v: Option<u64>) -> String {
+    v.map_or("-".into(), |k| k.to_string())
+}
+
+/// `host-sim faults`.
+pub fn main(args: &Args) -> Result<(), String> {
+    let r = campaign_report()?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?);
+        return Ok(());
+    }
+    println!(
+        "{:<20} {:>8} {:>7} {:>7} {:>7} {:>9} {:>9} {:>4}  states / detail",
+        "scenario", "result", "inject", "detect", "safe", "render N", "motors N", "NaN"
+    );
+    for o in &r.scenarios {
+        println!(
+            "{:<20} {:>8} {:>7} {:>7} {:>7} {:>9.3} {:>9.3} {:>4}  {} {}",
+            o.name,
+            if o.survived { "survived" } else { "FAILED" },
+            opt(o.inject_tick),
+            opt(o.detect_tick),
+            opt(o.safe_tick),
+            o.max_rendered_force_n,
+            o.max_plant_force_n,
+            o.nan_outputs,
+            o.states.join(">"),
+            o.detail
+        );
+    }
+    println!(
+        "injected {}, survived {}, NaN outputs {}, max force rendered {:.3} N / motors {:.3} N (limits {} N / {} N)",
+        r.injected,
+        r.survived,
+        r.nan_outputs,
+        r.max_force_n,
+        r.max_plant_force_n,
+        r.force_limit_n,
+        r.plant_force_limit_n
+    );
+    Ok(())
+}
