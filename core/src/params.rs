@@ -180,15 +180,31 @@ impl ContactParams {
         if self.fingertip_radius_m < Self::MIN_FINGERTIP_RADIUS_M {
             return Err(ParamError::OutOfRange("fingertip_radius_m"));
         }
-        at_most("fingertip_radius_m", self.fingertip_radius_m, m.fingertip_radius_m)?;
+        at_most(
+            "fingertip_radius_m",
+            self.fingertip_radius_m,
+            m.fingertip_radius_m,
+        )?;
         non_negative("normal_stiffness", self.normal_stiffness)?;
-        at_most("normal_stiffness", self.normal_stiffness, m.normal_stiffness)?;
+        at_most(
+            "normal_stiffness",
+            self.normal_stiffness,
+            m.normal_stiffness,
+        )?;
         non_negative("normal_damping", self.normal_damping)?;
         at_most("normal_damping", self.normal_damping, m.normal_damping)?;
         non_negative("tangential_stiffness", self.tangential_stiffness)?;
-        at_most("tangential_stiffness", self.tangential_stiffness, m.tangential_stiffness)?;
+        at_most(
+            "tangential_stiffness",
+            self.tangential_stiffness,
+            m.tangential_stiffness,
+        )?;
         non_negative("tangential_damping", self.tangential_damping)?;
-        at_most("tangential_damping", self.tangential_damping, m.tangential_damping)?;
+        at_most(
+            "tangential_damping",
+            self.tangential_damping,
+            m.tangential_damping,
+        )?;
         positive("mu_s", self.mu_s)?;
         at_most("mu_s", self.mu_s, m.mu_s)?;
         positive("mu_k", self.mu_k)?;
@@ -202,7 +218,11 @@ impl ContactParams {
         positive("k_tau", self.k_tau)?;
         at_most("k_tau", self.k_tau, m.k_tau)?;
         positive("slide_smoothing_speed", self.slide_smoothing_speed)?;
-        at_most("slide_smoothing_speed", self.slide_smoothing_speed, m.slide_smoothing_speed)?;
+        at_most(
+            "slide_smoothing_speed",
+            self.slide_smoothing_speed,
+            m.slide_smoothing_speed,
+        )?;
         positive("max_force_n", self.max_force_n)?;
         if self.max_force_n < Self::MIN_MAX_FORCE_N {
             return Err(ParamError::OutOfRange("max_force_n"));
@@ -213,7 +233,11 @@ impl ContactParams {
         non_negative("accel_eps", self.accel_eps)?;
         at_most("accel_eps", self.accel_eps, m.accel_eps)?;
         non_negative("normal_accel_tol", self.normal_accel_tol)?;
-        at_most("normal_accel_tol", self.normal_accel_tol, m.normal_accel_tol)?;
+        at_most(
+            "normal_accel_tol",
+            self.normal_accel_tol,
+            m.normal_accel_tol,
+        )?;
         non_negative("gap_eps_m", self.gap_eps_m)?;
         at_most("gap_eps_m", self.gap_eps_m, m.gap_eps_m)?;
         non_negative("stick_speed", self.stick_speed)?;

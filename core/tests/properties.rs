@@ -311,7 +311,9 @@ fn absurd_contact_parameters_are_rejected() {
     ];
     for p in cases {
         assert!(p.validate().is_err(), "{p:?}");
-        assert!(ContactModel::<Libm, Plane>::new(p, Plane::default(), Quat::IDENTITY, 1e-4).is_err());
+        assert!(
+            ContactModel::<Libm, Plane>::new(p, Plane::default(), Quat::IDENTITY, 1e-4).is_err()
+        );
     }
     assert!(ContactModel::<Libm, Plane>::new(d, Plane::default(), Quat::IDENTITY, 1e-45).is_err());
 }

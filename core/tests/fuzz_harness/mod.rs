@@ -154,7 +154,12 @@ impl<'a> Bytes<'a> {
 
     /// A quaternion that can be anything: unit, scaled, zero, non-finite.
     pub fn any_quat(&mut self) -> Quat {
-        Quat::new(self.any_f32(), self.any_f32(), self.any_f32(), self.any_f32())
+        Quat::new(
+            self.any_f32(),
+            self.any_f32(),
+            self.any_f32(),
+            self.any_f32(),
+        )
     }
 
     /// A small rotation vector: each component in ±0.25 rad (steps of 2 mrad).
@@ -319,7 +324,11 @@ fn quat_needs_flag(q: Quat) -> bool {
     if c.iter().any(|v| !v.is_finite()) {
         return true;
     }
-    let n = c.iter().map(|&v| (v as f64) * (v as f64)).sum::<f64>().sqrt();
+    let n = c
+        .iter()
+        .map(|&v| (v as f64) * (v as f64))
+        .sum::<f64>()
+        .sqrt();
     !(0.998..=1.002).contains(&n)
 }
 
@@ -445,8 +454,7 @@ fn run_contact<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary
         if quat_needs_flag(input.q) && !out.flags.intersects(QUAT_FLAGS) {
             return Err(format!("bad quaternion not flagged, {}", ctx()));
         }
-        if out.state == ContactState::Broken && (out.force_n != Vec3::ZERO || out.tau_n_nm != 0.0)
-        {
+        if out.state == ContactState::Broken && (out.force_n != Vec3::ZERO || out.tau_n_nm != 0.0) {
             return Err(format!("force without contact, {}", ctx()));
         }
         if out.flags.contains(Flags::NON_FINITE_OUTPUT) {
@@ -629,7 +637,11 @@ fn run_tick<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary, S
         let ctx = || format!("tick {at}: {input:?} -> {out:?} with {:?}", ctrl.config());
 
         let max_duty = lim.max_duty;
-        if !out.duties.iter().all(|d| d.is_finite() && d.abs() <= max_duty) {
+        if !out
+            .duties
+            .iter()
+            .all(|d| d.is_finite() && d.abs() <= max_duty)
+        {
             return Err(format!("duty non-finite or above {max_duty}, {}", ctx()));
         }
         if !(finite3(out.force_n) && finite3(out.probe_m) && out.tau_n_nm.is_finite()) {
@@ -677,7 +689,9 @@ fn run_tick<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary, S
             .iter()
             .any(|&c| !(lo..=hi).contains(&dev.motor_counts_to_arm_angle_rad(c)));
         if unreachable
-            && (!out.flags.intersects(Flags::OUT_OF_RANGE | Flags::KINEMATICS_SINGULAR)
+            && (!out
+                .flags
+                .intersects(Flags::OUT_OF_RANGE | Flags::KINEMATICS_SINGULAR)
                 || out.force_n != Vec3::ZERO
                 || out.duties != [0.0; 3])
         {

@@ -147,7 +147,10 @@ pub struct Trace {
 
 impl Trace {
     pub fn max_rendered_n(&self) -> f64 {
-        self.records.iter().map(|r| r.rendered_n).fold(0.0, f64::max)
+        self.records
+            .iter()
+            .map(|r| r.rendered_n)
+            .fold(0.0, f64::max)
     }
     pub fn max_plant_n(&self) -> f64 {
         self.records.iter().map(|r| r.plant_n).fold(0.0, f64::max)

@@ -62,7 +62,10 @@ fn opt(v: Option<u64>) -> String {
 pub fn main(args: &Args) -> Result<(), String> {
     let r = campaign_report()?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?
+        );
         return Ok(());
     }
     println!(

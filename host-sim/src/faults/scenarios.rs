@@ -161,7 +161,10 @@ fn common_failures(trace: &Trace, limit: f64) -> Vec<String> {
     let mut f = Vec::new();
     // The rescale to max_force_n rounds in f32: a few ulps above is the limit itself.
     if trace.max_rendered_n() > limit * (1.0 + 1e-6) {
-        f.push(format!("rendered {:.3} N > {limit} N", trace.max_rendered_n()));
+        f.push(format!(
+            "rendered {:.3} N > {limit} N",
+            trace.max_rendered_n()
+        ));
     }
     if trace.max_plant_n() > limit * PLANT_FORCE_MARGIN {
         f.push(format!(
@@ -269,40 +272,41 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
     let short = K_INJECT + 5_000;
     let mut out = Vec::new();
 
-    let mut push = |s: Setup, judge: &dyn Fn(&Trace, &ClosedLoop) -> Judged| -> Result<(), String> {
-        let (name, injection, criterion, injected, ticks) =
-            (s.name, s.injection, s.criterion, s.injected, s.ticks);
-        let (trace, lp) = run(s)?;
-        let mut j = judge(&trace, &lp);
-        let common = common_failures(&trace, limit);
-        if !common.is_empty() {
-            j.detail = if j.survived {
-                common.join("; ")
-            } else {
-                format!("{}; {}", j.detail, common.join("; "))
-            };
-            j.survived = false;
-        }
-        out.push((
-            Outcome {
-                name,
-                injection,
-                criterion,
-                survived: j.survived,
-                detail: j.detail,
-                ticks,
-                inject_tick: j.inject_tick,
-                detect_tick: j.detect_tick,
-                safe_tick: trace.safe_from(),
-                max_rendered_force_n: trace.max_rendered_n(),
-                max_plant_force_n: trace.max_plant_n(),
-                nan_outputs: trace.nan_outputs(),
-                states: state_names(&trace),
-            },
-            injected,
-        ));
-        Ok(())
-    };
+    let mut push =
+        |s: Setup, judge: &dyn Fn(&Trace, &ClosedLoop) -> Judged| -> Result<(), String> {
+            let (name, injection, criterion, injected, ticks) =
+                (s.name, s.injection, s.criterion, s.injected, s.ticks);
+            let (trace, lp) = run(s)?;
+            let mut j = judge(&trace, &lp);
+            let common = common_failures(&trace, limit);
+            if !common.is_empty() {
+                j.detail = if j.survived {
+                    common.join("; ")
+                } else {
+                    format!("{}; {}", j.detail, common.join("; "))
+                };
+                j.survived = false;
+            }
+            out.push((
+                Outcome {
+                    name,
+                    injection,
+                    criterion,
+                    survived: j.survived,
+                    detail: j.detail,
+                    ticks,
+                    inject_tick: j.inject_tick,
+                    detect_tick: j.detect_tick,
+                    safe_tick: trace.safe_from(),
+                    max_rendered_force_n: trace.max_rendered_n(),
+                    max_plant_force_n: trace.max_plant_n(),
+                    nan_outputs: trace.nan_outputs(),
+                    states: state_names(&trace),
+                },
+                injected,
+            ));
+            Ok(())
+        };
 
     // 0. Nominal: the reference run.
     push(
@@ -403,7 +407,14 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             ticks: K_INJECT + 2 * base.limits.stuck_ticks as u64 + 3_000,
             hook: Box::new(|_, _, _, _| {}),
         },
-        &|t, _| judged(no_latch(t), None, t.first_flag(Flags::ENCODER_STUCK, 0), String::new()),
+        &|t, _| {
+            judged(
+                no_latch(t),
+                None,
+                t.first_flag(Flags::ENCODER_STUCK, 0),
+                String::new(),
+            )
+        },
     )?;
 
     // 3. Driver fault mid-contact, asserted for 1 ms then gone.
@@ -440,7 +451,7 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             script: nominal_script.clone(),
             ticks: short,
             hook: Box::new(move |k, i, _, _| {
-                let pair = k >= K_INJECT - 1000 && k < K_INJECT && k % 100 < streak - 1;
+                let pair = (K_INJECT - 1000..K_INJECT).contains(&k) && k % 100 < streak - 1;
                 i.overrun = pair || k >= K_INJECT;
             }),
         },
@@ -626,12 +637,7 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
         },
         &|t, _| {
             let twist_slid = t.states().any(|s| s == ContactState::Sliding);
-            judged(
-                no_latch(t),
-                None,
-                None,
-                format!("slid: {twist_slid}"),
-            )
+            judged(no_latch(t), None, None, format!("slid: {twist_slid}"))
         },
     )?;
 
@@ -659,7 +665,12 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
                 .iter()
                 .find(|r| r.out.flags.intersects(LATCHING))
                 .map(|r| r.k);
-            judged(Vec::new(), Some(K_INJECT), latched, format!("latched: {latched:?}"))
+            judged(
+                Vec::new(),
+                Some(K_INJECT),
+                latched,
+                format!("latched: {latched:?}"),
+            )
         },
     )?;
 

@@ -97,7 +97,10 @@ pub fn soak(ticks: u64) -> Result<SoakReport, String> {
                 None => {}
                 Some(r) => {
                     if r.timeline.len() != done.timeline.len()
-                        || r.timeline.iter().zip(&done.timeline).any(|(a, b)| a.1 != b.1)
+                        || r.timeline
+                            .iter()
+                            .zip(&done.timeline)
+                            .any(|(a, b)| a.1 != b.1)
                     {
                         mismatches += 1;
                     } else {
@@ -153,7 +156,10 @@ pub fn soak(ticks: u64) -> Result<SoakReport, String> {
 pub fn main(args: &Args) -> Result<(), String> {
     let r = soak(args.ticks)?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?
+        );
     } else {
         println!(
             "soak: {} ticks ({} repetitions of {} ticks) in {:.1} s = {:.0} ticks/s",
