@@ -7,6 +7,7 @@ pub mod scenarios;
 pub mod soak;
 
 use serde::Serialize;
+use std::fmt::Write;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -61,19 +62,24 @@ fn opt(v: Option<u64>) -> String {
 /// `host-sim faults`.
 pub fn main(args: &Args) -> Result<(), String> {
     let r = campaign_report()?;
+    let mut text = String::new();
     if args.json {
-        println!(
+        let _ = writeln!(
+            text,
             "{}",
             serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?
         );
+        emit(&text);
         return Ok(());
     }
-    println!(
+    let _ = writeln!(
+        text,
         "{:<20} {:>8} {:>7} {:>7} {:>7} {:>9} {:>9} {:>4}  states / detail",
         "scenario", "result", "inject", "detect", "safe", "render N", "motors N", "NaN"
     );
     for o in &r.scenarios {
-        println!(
+        let _ = writeln!(
+            text,
             "{:<20} {:>8} {:>7} {:>7} {:>7} {:>9.3} {:>9.3} {:>4}  {} {}",
             o.name,
             if o.survived { "survived" } else { "FAILED" },
@@ -87,7 +93,9 @@ pub fn main(args: &Args) -> Result<(), String> {
             o.detail
         );
     }
-    println!(
+    let _ = writeln!(
+            text,
+
         "injected {}, survived {}, NaN outputs {}, max force rendered {:.3} N / motors {:.3} N (limits {} N / {} N)",
         r.injected,
         r.survived,
@@ -97,5 +105,12 @@ pub fn main(args: &Args) -> Result<(), String> {
         r.force_limit_n,
         r.plant_force_limit_n
     );
+    emit(&text);
     Ok(())
+}
+
+/// Write to stdout; a closed pipe (`| head`) is not an error worth a panic.
+pub(crate) fn emit(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stdout().write_all(text.as_bytes());
 }

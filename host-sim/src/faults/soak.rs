@@ -17,6 +17,7 @@ use crate::plant::{Phase, PlantParams, TouchScript, Waypoint};
 use serde::Serialize;
 use softfinger_core::contact_state::ContactState;
 use softfinger_core::surface::Surface;
+use std::fmt::Write;
 use std::time::Instant;
 
 #[derive(Debug, clap::Args)]
@@ -155,25 +156,33 @@ pub fn soak(ticks: u64) -> Result<SoakReport, String> {
 /// `host-sim soak`.
 pub fn main(args: &Args) -> Result<(), String> {
     let r = soak(args.ticks)?;
+    let mut text = String::new();
     if args.json {
-        println!(
+        let _ = writeln!(
+            text,
             "{}",
             serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?
         );
     } else {
-        println!(
+        let _ = writeln!(
+            text,
             "soak: {} ticks ({} repetitions of {} ticks) in {:.1} s = {:.0} ticks/s",
             r.ticks, r.repetitions, r.ticks_per_repetition, r.wall_s, r.ticks_per_s
         );
-        println!(
+        let _ = writeln!(
+            text,
+
             "max force: rendered {:.3} N, motors {:.3} N (limit {} N); NaN outputs {}; faulted ticks {}",
             r.max_rendered_force_n, r.max_plant_force_n, r.force_limit_n, r.nan_outputs, r.latched_ticks
         );
-        println!(
+        let _ = writeln!(
+            text,
+
             "drift vs repetition 2: {} timeline mismatches, max transition shift {} ticks, max end-of-roll contact point drift {:.3e} m",
             r.timeline_mismatches, r.max_transition_shift_ticks, r.max_contact_point_drift_m
         );
-        println!("reference timeline: {:?}", r.reference_timeline);
+        let _ = writeln!(text, "reference timeline: {:?}", r.reference_timeline);
     }
+    super::emit(&text);
     Ok(())
 }
