@@ -31,18 +31,20 @@ fn replay(target: &str, run: fn(&[u8]) -> Result<fuzz_harness::Summary, String>)
     // The corpus is committed: an empty directory means it was lost, not that all is well.
     assert!(files.len() >= 10, "{target}: only {} files", files.len());
     let mut failures = Vec::new();
-    let (mut accepted, mut steps) = (0usize, 0usize);
+    let (mut accepted, mut steps, mut internal_nan) = (0usize, 0usize, 0usize);
     for (name, data) in &files {
         match run(data) {
             Ok(s) => {
                 accepted += s.accepted as usize;
                 steps += s.steps;
+                internal_nan += s.internal_non_finite as usize;
             }
             Err(e) => failures.push(format!("{name}: {e}")),
         }
     }
     println!(
-        "{target}: {} inputs, {accepted} with accepted parameters, {steps} steps",
+        "{target}: {} inputs, {accepted} with accepted parameters, {steps} steps, \
+         {internal_nan} with an internal NaN caught by the output guard",
         files.len()
     );
     assert!(failures.is_empty(), "{}", failures.join("\n"));

@@ -296,7 +296,7 @@ pub fn limits_valid(l: &Limits) -> bool {
 }
 
 /// What a run did, for the regression test's report.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct Summary {
     /// The parameters were accepted and the sequence ran.
     pub accepted: bool,
@@ -306,6 +306,8 @@ pub struct Summary {
     pub flags_seen: Flags,
     /// A valid configuration latched NON_FINITE_OUTPUT (safe, but an internal NaN).
     pub internal_non_finite: bool,
+    /// The step or tick where that first happened, with the parameters.
+    pub internal_non_finite_at: Option<String>,
 }
 
 fn norm64(v: Vec3) -> f64 {
@@ -457,8 +459,9 @@ fn run_contact<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary
         if out.state == ContactState::Broken && (out.force_n != Vec3::ZERO || out.tau_n_nm != 0.0) {
             return Err(format!("force without contact, {}", ctx()));
         }
-        if out.flags.contains(Flags::NON_FINITE_OUTPUT) {
+        if out.flags.contains(Flags::NON_FINITE_OUTPUT) && !summary.internal_non_finite {
             summary.internal_non_finite = true;
+            summary.internal_non_finite_at = Some(ctx());
         }
     }
     Ok(summary)
@@ -697,8 +700,9 @@ fn run_tick<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary, S
         {
             return Err(format!("unreachable pose not flagged or driven, {}", ctx()));
         }
-        if latched.contains(Flags::NON_FINITE_OUTPUT) {
+        if latched.contains(Flags::NON_FINITE_OUTPUT) && !summary.internal_non_finite {
             summary.internal_non_finite = true;
+            summary.internal_non_finite_at = Some(ctx());
         }
         expect |= latched & (Flags::ENCODER_STUCK | Flags::NON_FINITE_OUTPUT);
     }
