@@ -68,6 +68,7 @@ pub struct ContactModel<M: Math, S: Surface> {
     /// Torsion spring of the soft finger.
     pub spin: SpinSpring,
     state: ContactState,
+    time_in_state_s: f32,
     dt_s: f32,
     prev_vel: Vec3,
     prev_anchor: Vec3,
@@ -86,6 +87,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             rolling: Rolling::new(surface, params.fingertip_radius_m, q0, params.method),
             spin: SpinSpring::default(),
             state: ContactState::Broken,
+            time_in_state_s: 0.0,
             dt_s,
             prev_vel: Vec3::ZERO,
             prev_anchor: Vec3::ZERO,
@@ -202,11 +204,16 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             },
             roll_disp_m: roll.object_disp_m,
             tilt_rate: tilt * inv_dt,
+            time_in_state_s: self.time_in_state_s,
         };
 
         // 4. State transition and entry actions.
         let (state, reason) = next_state(self.state, &inputs, &self.state_params);
-        if state != self.state {
+        if state == self.state {
+            // Saturates (f32 stops growing past 2^24 ticks of 1e-4 s), which is harmless.
+            self.time_in_state_s += self.dt_s;
+        } else {
+            self.time_in_state_s = 0.0;
             match state {
                 ContactState::Rolling => self.restart_at(probe, q_now),
                 ContactState::Broken => self.spin.reset(),

@@ -8,10 +8,10 @@
 //! | from | to | condition (all must hold) |
 //! | --- | --- | --- |
 //! | any contact | broken | f_N ≤ ε_f and (a_N > ε_a or gap > ε_gap) — the paper's "f_N = 0, a_N > 0"; the gap test is ours, so a probe lifted off at constant speed also breaks contact |
-//! | broken | rolling | f_N > ε_f (contact made; the paper gives no rule for it) |
+//! | broken | rolling | f_N > f_make (contact made; the paper gives no rule for it). f_make > ε_f is a hysteresis band: encoder quantisation makes the penetration of a grazing probe flicker around zero, and without the band the state chatters broken ↔ rolling ↔ sliding |
 //! | rolling | sliding | |a_N| ≤ tol_a, \|f_T\| > μ_s·f_N·(1 + h), relative tangential motion (\|a_T\| > ε_a or \|v_T\| > v_stick), and the haptic rule: f_T·d_roll ≥ 0 (the user's tangential force agrees with the rolling displacement d_roll) or no rolling this step |
 //! | rolling | sliding | the twist threshold: Δθ > Δθ_max = f_N·μ_s/(k_τ·r), with Δθ the tilt rate δξ/T (see below) |
-//! | sliding | rolling | |a_N| ≤ tol_a, \|f_T\| ≤ μ_k·f_N, \|v_T\| ≤ v_stick |
+//! | sliding | rolling | |a_N| ≤ tol_a, \|f_T\| ≤ μ_k·f_N, \|v_T\| ≤ v_stick, and at least t_slide in sliding (a dwell: at the onset of a slide the probe has not picked up speed yet) |
 //! | otherwise | unchanged | rolling kept inside the cone; sliding kept while moving or pushed |
 //!
 //! The paper asks for a_T ≠ 0 to leave rolling; a probe dragged at constant speed has a_T = 0 yet
@@ -93,6 +93,8 @@ pub struct StateInputs {
     pub roll_disp_m: Vec3,
     /// Δθ: tilt rate δξ/T, rad/s.
     pub tilt_rate: f32,
+    /// Time spent in the current state, s.
+    pub time_in_state_s: f32,
 }
 
 /// Thresholds and friction (validated by [`crate::params`]).
@@ -121,6 +123,10 @@ pub struct StateParams {
     pub hysteresis: f32,
     /// A rolling displacement shorter than this is "no rolling" for the haptic rule, m.
     pub roll_eps_m: f32,
+    /// f_make: the normal force that makes contact from broken, N (≥ ε_f).
+    pub make_force_n: f32,
+    /// t_slide: least time in sliding before sticking again, s.
+    pub min_slide_s: f32,
 }
 
 /// The state after one step, and why. Pure function: no state of its own.
@@ -131,7 +137,7 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
     let ft2 = i.tangential_force_n.norm_squared();
     match state {
         ContactState::Broken => {
-            if f_n > p.force_eps_n {
+            if f_n > p.make_force_n {
                 (ContactState::Rolling, Reason::MadeContact)
             } else {
                 (ContactState::Broken, Reason::Kept)
@@ -164,7 +170,9 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             }
             let kinetic = p.mu_k * f_n;
             let stopped = i.tangential_velocity.norm_squared() <= p.stick_speed * p.stick_speed;
-            if f_n > p.force_eps_n && normal_steady && ft2 <= kinetic * kinetic && stopped {
+            let dwelt = i.time_in_state_s >= p.min_slide_s;
+            if f_n > p.force_eps_n && normal_steady && ft2 <= kinetic * kinetic && stopped && dwelt
+            {
                 return (ContactState::Rolling, Reason::Stuck);
             }
             (ContactState::Sliding, Reason::Kept)

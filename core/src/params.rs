@@ -100,6 +100,10 @@ pub struct ContactParams {
     pub stick_speed: f32,
     /// See [`StateParams::hysteresis`], fraction in [0, 1).
     pub hysteresis: f32,
+    /// See [`StateParams::make_force_n`] (≥ `force_eps_n`).
+    pub make_force_n: f32,
+    /// See [`StateParams::min_slide_s`].
+    pub min_slide_s: f32,
 }
 
 impl ContactParams {
@@ -127,6 +131,10 @@ impl ContactParams {
         gap_eps_m: 1e-4,
         stick_speed: 0.002,
         hysteresis: 0.05,
+        // 0.05 N is 25 µm of penetration at 2 N/mm: about two counts of the default encoders'
+        // quantisation at the effector (~13 µm), the noise a grazing probe sees.
+        make_force_n: 0.05,
+        min_slide_s: 0.02,
     };
 
     /// Check every field; the first bad one is reported.
@@ -155,6 +163,11 @@ impl ContactParams {
         if self.hysteresis >= 1.0 {
             return Err(ParamError::OutOfRange("hysteresis"));
         }
+        non_negative("make_force_n", self.make_force_n)?;
+        if self.make_force_n < self.force_eps_n {
+            return Err(ParamError::OutOfRange("make_force_n"));
+        }
+        non_negative("min_slide_s", self.min_slide_s)?;
         Ok(())
     }
 
@@ -172,6 +185,8 @@ impl ContactParams {
             stick_speed: self.stick_speed,
             hysteresis: self.hysteresis,
             roll_eps_m: 1e-9,
+            make_force_n: self.make_force_n,
+            min_slide_s: self.min_slide_s,
         }
     }
 }

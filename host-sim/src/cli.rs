@@ -14,6 +14,8 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Run a scene in closed loop with the plant (the default): summary, CSV and SVG charts.
+    Run(crate::run::Args),
     /// Replay recorded fingertip orientations through the core (for tuning from bench logs).
     Replay(crate::replay::Args),
 }
@@ -33,8 +35,9 @@ where
         }
     };
     let result = match cli.command {
+        Some(Command::Run(args)) => crate::run::main(&args),
         Some(Command::Replay(args)) => crate::replay::main(&args),
-        None => Err("the closed-loop run is not wired yet; try `host-sim --help`".to_string()),
+        None => crate::run::main(&crate::run::Args::default()),
     };
     match result {
         Ok(()) => 0,

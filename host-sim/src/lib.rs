@@ -3,6 +3,10 @@
 
 pub mod atomic_file;
 pub mod cli;
+pub mod closed_loop;
 pub mod plant;
 pub mod reference;
 pub mod replay;
+pub mod run;
+pub mod scene;
+pub mod svg_chart;

@@ -14,6 +14,8 @@ const P: StateParams = StateParams {
     stick_speed: 0.002,
     hysteresis: 0.05,
     roll_eps_m: 1e-9,
+    make_force_n: 0.05,
+    min_slide_s: 0.02,
 };
 
 /// Pressing with 2 N, at rest, nothing else.
@@ -51,6 +53,16 @@ fn every_transition_and_non_transition() {
             Broken,
             StateInputs {
                 normal_force_n: 0.01,
+                ..Default::default()
+            },
+            Broken,
+            Reason::Kept,
+        ),
+        (
+            "broken, force inside the make band",
+            Broken,
+            StateInputs {
+                normal_force_n: 0.04,
                 ..Default::default()
             },
             Broken,
@@ -224,10 +236,23 @@ fn every_transition_and_non_transition() {
             StateInputs {
                 tangential_velocity: x(0.001),
                 tangential_force_n: x(1.1),
+                time_in_state_s: 0.5,
                 ..pressed()
             },
             Rolling,
             Reason::Stuck,
+        ),
+        (
+            "sliding, stopped but only just started sliding",
+            Sliding,
+            StateInputs {
+                tangential_velocity: x(0.001),
+                tangential_force_n: x(1.1),
+                time_in_state_s: 0.01,
+                ..pressed()
+            },
+            Sliding,
+            Reason::Kept,
         ),
         (
             "sliding, stopped but pushed past kinetic cone",
@@ -235,6 +260,7 @@ fn every_transition_and_non_transition() {
             StateInputs {
                 tangential_velocity: x(0.001),
                 tangential_force_n: x(1.3),
+                time_in_state_s: 0.5,
                 ..pressed()
             },
             Sliding,
@@ -246,6 +272,7 @@ fn every_transition_and_non_transition() {
             StateInputs {
                 tangential_velocity: x(0.0),
                 normal_accel: 50.0,
+                time_in_state_s: 0.5,
                 ..pressed()
             },
             Sliding,
