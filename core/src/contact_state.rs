@@ -8,7 +8,7 @@
 //! | from | to | condition (all must hold) |
 //! | --- | --- | --- |
 //! | any contact | broken | f_N ≤ ε_f and (a_N > ε_a or gap > ε_gap) — the paper's "f_N = 0, a_N > 0"; the gap test is ours, so a probe lifted off at constant speed also breaks contact |
-//! | broken | rolling | f_N > f_make (contact made; the paper gives no rule for it). f_make > ε_f is a hysteresis band: encoder quantisation makes the penetration of a grazing probe flicker around zero, and without the band the state chatters broken ↔ rolling ↔ sliding |
+//! | broken | rolling | f_N > f_make (contact made; the paper gives no rule for it). f_make > ε_f is a hysteresis band: encoder quantisation makes the penetration of a grazing probe flicker around zero, and without the band the state chatters broken ↔ rolling ↔ sliding; and at least t_broken since the break (a probe lifted off fast re-crosses zero penetration for single ticks) |
 //! | rolling | sliding | |a_N| ≤ tol_a, \|f_T\| > μ_s·f_N·(1 + h), relative tangential motion (\|a_T\| > ε_a or \|v_T\| > v_stick), and the haptic rule: f_T·d_roll ≥ 0 (the user's tangential force agrees with the rolling displacement d_roll) or no rolling this step |
 //! | rolling | sliding | the twist threshold: Δθ > Δθ_max = f_N·μ_s/(k_τ·r), with Δθ the tilt rate δξ/T (see below) |
 //! | sliding | rolling | |a_N| ≤ tol_a, \|f_T\| ≤ μ_k·f_N, \|v_T\| ≤ v_stick, and at least t_slide in sliding (a dwell: at the onset of a slide the probe has not picked up speed yet) |
@@ -127,6 +127,8 @@ pub struct StateParams {
     pub make_force_n: f32,
     /// t_slide: least time in sliding before sticking again, s.
     pub min_slide_s: f32,
+    /// t_broken: least time in broken before contact can be made again, s.
+    pub min_broken_s: f32,
 }
 
 /// The state after one step, and why. Pure function: no state of its own.
@@ -137,7 +139,7 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
     let ft2 = i.tangential_force_n.norm_squared();
     match state {
         ContactState::Broken => {
-            if f_n > p.make_force_n {
+            if f_n > p.make_force_n && i.time_in_state_s >= p.min_broken_s {
                 (ContactState::Rolling, Reason::MadeContact)
             } else {
                 (ContactState::Broken, Reason::Kept)

@@ -83,8 +83,6 @@ pub struct ContactParams {
     pub patch_radius_m: f32,
     /// k_τ: twist stiffness of the rolling→sliding threshold, N·m·s/rad.
     pub k_tau: f32,
-    /// Below this tangential speed the kinetic friction force ramps linearly to zero, m/s.
-    pub slide_smoothing_speed: f32,
     /// Largest force the model may ask for, N (the device's limit; also enforced after it).
     pub max_force_n: f32,
     /// Tolerances of the state machine (see [`StateParams`]); `mu_s`, `mu_k`, `k_tau` and the
@@ -104,6 +102,8 @@ pub struct ContactParams {
     pub make_force_n: f32,
     /// See [`StateParams::min_slide_s`].
     pub min_slide_s: f32,
+    /// See [`StateParams::min_broken_s`].
+    pub min_broken_s: f32,
 }
 
 impl ContactParams {
@@ -123,7 +123,6 @@ impl ContactParams {
         spin_stiffness: 0.01,
         patch_radius_m: 0.005,
         k_tau: 4.0,
-        slide_smoothing_speed: 0.005,
         max_force_n: 12.0,
         force_eps_n: 0.01,
         accel_eps: 0.05,
@@ -135,6 +134,7 @@ impl ContactParams {
         // quantisation at the effector (~13 µm), the noise a grazing probe sees.
         make_force_n: 0.05,
         min_slide_s: 0.02,
+        min_broken_s: 0.002,
     };
 
     /// Check every field; the first bad one is reported.
@@ -152,7 +152,6 @@ impl ContactParams {
         non_negative("spin_stiffness", self.spin_stiffness)?;
         non_negative("patch_radius_m", self.patch_radius_m)?;
         positive("k_tau", self.k_tau)?;
-        positive("slide_smoothing_speed", self.slide_smoothing_speed)?;
         positive("max_force_n", self.max_force_n)?;
         non_negative("force_eps_n", self.force_eps_n)?;
         non_negative("accel_eps", self.accel_eps)?;
@@ -168,6 +167,7 @@ impl ContactParams {
             return Err(ParamError::OutOfRange("make_force_n"));
         }
         non_negative("min_slide_s", self.min_slide_s)?;
+        non_negative("min_broken_s", self.min_broken_s)?;
         Ok(())
     }
 
@@ -187,6 +187,7 @@ impl ContactParams {
             roll_eps_m: 1e-9,
             make_force_n: self.make_force_n,
             min_slide_s: self.min_slide_s,
+            min_broken_s: self.min_broken_s,
         }
     }
 }

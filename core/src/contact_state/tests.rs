@@ -16,6 +16,7 @@ const P: StateParams = StateParams {
     roll_eps_m: 1e-9,
     make_force_n: 0.05,
     min_slide_s: 0.02,
+    min_broken_s: 0.002,
 };
 
 /// Pressing with 2 N, at rest, nothing else.
@@ -23,6 +24,7 @@ fn pressed() -> StateInputs {
     StateInputs {
         normal_force_n: 2.0,
         gap_m: -0.001,
+        time_in_state_s: 1.0,
         ..StateInputs::default()
     }
 }
@@ -64,6 +66,16 @@ fn every_transition_and_non_transition() {
             StateInputs {
                 normal_force_n: 0.04,
                 ..Default::default()
+            },
+            Broken,
+            Reason::Kept,
+        ),
+        (
+            "broken, pressed right after a break",
+            Broken,
+            StateInputs {
+                time_in_state_s: 0.001,
+                ..pressed()
             },
             Broken,
             Reason::Kept,
