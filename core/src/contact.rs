@@ -57,8 +57,6 @@ pub struct ContactOutput {
     pub reason: Reason,
     /// Contact point on the object, object frame, m.
     pub object_point_m: Vec3,
-    /// Contact point on the fingertip, fingertip frame, m.
-    pub finger_point_m: Vec3,
     /// Decomposed increment of this step (contact frame), rad.
     pub angles: Angles,
     /// Flags raised this step.
@@ -132,7 +130,6 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             state: self.state,
             reason: Reason::Kept,
             object_point_m: self.rolling.surface.contact_point(),
-            finger_point_m: self.rolling.finger_point,
             spin_rad: self.spin.accumulated_rad,
             flags,
             ..ContactOutput::default()
@@ -197,8 +194,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             f - n * f.dot(n)
         };
         let f_couple = couple(anchor - probe, anchor_vel - vel);
-        let tilt =
-            M::sqrt(roll.angles.theta * roll.angles.theta + roll.angles.psi * roll.angles.psi);
+        let tilt2 = roll.angles.theta * roll.angles.theta + roll.angles.psi * roll.angles.psi;
         let inputs = StateInputs {
             normal_force_n: f_n,
             gap_m: -pen,
@@ -211,7 +207,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
                 v_t
             },
             roll_disp_m: roll.object_disp_m,
-            tilt_rate: tilt * inv_dt,
+            tilt_rate_sq: tilt2 * inv_dt * inv_dt,
             time_in_state_s: self.time_in_state_s,
         };
 
@@ -291,7 +287,6 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             state,
             reason,
             object_point_m: self.rolling.surface.contact_point(),
-            finger_point_m: self.rolling.finger_point,
             angles: roll.angles,
             flags,
         }

@@ -91,8 +91,8 @@ pub struct StateInputs {
     pub tangential_velocity: Vec3,
     /// d_roll: the contact point's rolling displacement this step, m.
     pub roll_disp_m: Vec3,
-    /// Δθ: tilt rate δξ/T, rad/s.
-    pub tilt_rate: f32,
+    /// Δθ²: the square of the tilt rate δξ/T, rad²/s² (squared so no square root is needed).
+    pub tilt_rate_sq: f32,
     /// Time spent in the current state, s.
     pub time_in_state_s: f32,
 }
@@ -160,8 +160,11 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             if normal_steady && ft2 > cone * cone && (accelerating || slipping) && agrees {
                 return (ContactState::Sliding, Reason::ConeExceeded);
             }
-            // Δθ > f_N·μ_s/(k_τ·r)  ⇔  Δθ·k_τ·r > f_N·μ_s (no division).
-            if i.tilt_rate * p.k_tau * p.radius_m > f_n * p.mu_s {
+            // Δθ > f_N·μ_s/(k_τ·r)  ⇔  Δθ²·(k_τ·r)² > (f_N·μ_s)² (both sides ≥ 0; no division or
+            // square root).
+            let kr = p.k_tau * p.radius_m;
+            let fm = f_n * p.mu_s;
+            if i.tilt_rate_sq * kr * kr > fm * fm {
                 return (ContactState::Sliding, Reason::TwistExceeded);
             }
             (ContactState::Rolling, Reason::Kept)

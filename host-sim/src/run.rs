@@ -163,7 +163,7 @@ fn run_with<M: Math, S: Surface>(
             let contact = c.contact();
             let truth = p.truth();
             let o = contact.rolling.surface.contact_point();
-            let f = contact.rolling.finger_point;
+            let f = contact.rolling.finger_point();
             rows.push(Row {
                 t_s: (k + 1) as f64 * dt,
                 phase: truth.hand_reference.phase.name(),

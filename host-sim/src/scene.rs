@@ -88,9 +88,23 @@ impl Scene {
     /// Parse TOML text; `origin` names the source in errors (which carry the line).
     pub fn parse(text: &str, origin: &str) -> Result<Scene, String> {
         let scene: Scene = toml::from_str(text).map_err(|e| {
-            let line = e
-                .span()
-                .map(|s| text[..s.start.min(text.len())].lines().count().max(1));
+            // An unknown key's span covers its whole table; point at the key's own line instead.
+            let unknown_key_line = e
+                .message()
+                .strip_prefix("unknown field `")
+                .and_then(|rest| rest.split('`').next())
+                .and_then(|key| {
+                    text.lines()
+                        .position(|l| {
+                            let l = l.trim_start();
+                            l.starts_with(key) && l[key.len()..].trim_start().starts_with('=')
+                        })
+                        .map(|i| i + 1)
+                });
+            let line = unknown_key_line.or_else(|| {
+                e.span()
+                    .map(|s| text[..s.start.min(text.len())].lines().count().max(1))
+            });
             match line {
                 Some(l) => format!("{origin} line {l}: {}", e.message()),
                 None => format!("{origin}: {}", e.message()),

@@ -214,7 +214,7 @@ fn every_transition_and_non_transition() {
             "rolling, tilt rate below Δθ_max",
             Rolling,
             StateInputs {
-                tilt_rate: 39.0,
+                tilt_rate_sq: 39.0 * 39.0,
                 ..pressed()
             },
             Rolling,
@@ -224,7 +224,7 @@ fn every_transition_and_non_transition() {
             "rolling, tilt rate above Δθ_max",
             Rolling,
             StateInputs {
-                tilt_rate: 41.0,
+                tilt_rate_sq: 41.0 * 41.0,
                 ..pressed()
             },
             Sliding,
