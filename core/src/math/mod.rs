@@ -14,15 +14,15 @@
 //! from the sweeps in the backends' tests (`cargo test -p softfinger-core math:: -- --nocapture`
 //! prints them), which compare against the host's f64 functions.
 //!
-//! Measured maximum errors (sweeps of 1-3 million inputs per row; details and test names on each
+//! Measured maximum errors (sweeps of about a million inputs or more per row; details and test names on each
 //! function):
 //!
 //! | kernel | libm | micromath | fast |
 //! | --- | --- | --- | --- |
-//! | sin, cos, sin_cos, abs, \|x\| ≤ 1e4 | 3.0e-8 | 2.3e-3 | 6.4e-8 |
+//! | sin, cos, sin_cos, abs, \|x\| ≤ 1e4 | 3.0e-8 | 2.3e-3 | 6.5e-8 |
 //! | sin, cos, abs, all finite x | 3.0e-8 | meaningless beyond ~1e6 | 8.9e-8 |
-//! | atan2, abs (rad), all finite inputs | 2.4e-7 | 2.8e-3 | 1.7e-7 |
-//! | atan2, relative, small angles (y > 0, x = 1) | 5.9e-8 | 6.3e-2 | 6.0e-8 |
+//! | atan2, abs (rad), all finite inputs | 2.4e-7 | 2.8e-3 | 1.8e-7 |
+//! | atan2, relative, small angles (y > 0, x = 1) | 5.9e-8 | 6.3e-2 | 5.9e-8 |
 //! | sqrt, normal x | 0.5 ulp | 6.1 % | 0.5005 ulp |
 //! | sqrt, subnormal x | 0.5 ulp | ×2170 | 0.5002 ulp |
 

@@ -77,12 +77,12 @@ pub fn random_finite(n: usize, seed: u32) -> impl Iterator<Item = f32> {
     .map(f32::from_bits)
 }
 
-/// Inputs for sin/cos over |x| ≤ `limit`: every 2039th positive float and its negative, 500 000
+/// Inputs for sin/cos over |x| ≤ `limit`: every 4093rd positive float and its negative, 250 000
 /// evenly spaced points, and the 9 floats nearest each multiple of π/2 (where the reduced argument
-/// is tiny and reduction errors would show).
+/// is tiny and reduction errors would show). About 830 000 inputs for `limit` = 1e4.
 pub fn trig_samples(limit: f32) -> Vec<f32> {
-    let mut v: Vec<f32> = bit_stride(0.0, limit, 2039).flat_map(|x| [x, -x]).collect();
-    v.extend(linear(-f64::from(limit), f64::from(limit), 500_000));
+    let mut v: Vec<f32> = bit_stride(0.0, limit, 4093).flat_map(|x| [x, -x]).collect();
+    v.extend(linear(-f64::from(limit), f64::from(limit), 250_000));
     let kmax = (f64::from(limit) / FRAC_PI_2) as i32;
     for k in -kmax..=kmax {
         let x0 = (f64::from(k) * FRAC_PI_2) as f32;
@@ -132,37 +132,39 @@ pub fn sin_cos_abs<M: Math>(xs: &[f32]) -> MaxErr {
 }
 
 /// (y, x) pairs for atan2:
-/// - 200 000 angles evenly spaced over [-π, π] on circles of radius 1, 1e-20, 1e20, 1e-41
+/// - 100 000 angles evenly spaced over [-π, π] on circles of radius 1, 1e-20, 1e20, 1e-41
 ///   (subnormal components) and 3e38;
-/// - small ratios: every 4001st positive float t ≤ 1 in the eight sign/order combinations
+/// - small ratios: every 8009th positive float t ≤ 1 in the eight sign/order combinations
 ///   (±t, ±1), (±1, ±t) — this covers angles from 1e-45 rad up and every octant boundary;
-/// - 300 000 random finite bit-pattern pairs (any magnitudes, ratios that under- and overflow).
+/// - 200 000 random finite bit-pattern pairs (any magnitudes, ratios that under- and overflow).
+///
+/// About 1.8 million pairs.
 pub fn atan2_samples() -> Vec<(f32, f32)> {
     let mut v = Vec::new();
     for radius in [1.0, 1e-20, 1e20, 1e-41, 3e38] {
-        for i in 0..200_000 {
-            let th = -PI + 2.0 * PI * f64::from(i) / 199_999.0;
+        for i in 0..100_000 {
+            let th = -PI + 2.0 * PI * f64::from(i) / 99_999.0;
             v.push(((radius * th.sin()) as f32, (radius * th.cos()) as f32));
         }
     }
-    for t in bit_stride(f32::from_bits(1), 1.0, 4001) {
+    for t in bit_stride(f32::from_bits(1), 1.0, 8009) {
         for (a, b) in [(t, 1.0), (1.0, t)] {
             for (sy, sx) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
                 v.push((sy * a, sx * b));
             }
         }
     }
-    let ys: Vec<f32> = random_finite(300_000, 0x1234_5678).collect();
-    v.extend(ys.into_iter().zip(random_finite(300_000, 0x9abc_def1)));
+    let ys: Vec<f32> = random_finite(200_000, 0x1234_5678).collect();
+    v.extend(ys.into_iter().zip(random_finite(200_000, 0x9abc_def1)));
     v
 }
 
 /// Max absolute error (rad) and max relative error of `M::atan2` over `pairs`.
 ///
-/// The error is the angular distance modulo 2π, so that +π and -π count as the same angle (micromath
-/// returns +π-ish values for y slightly below 0 and x < 0, where the exact result is near -π; for
-/// the other backends this makes no difference). The relative error is taken where the exact
-/// result is a normal f32 (≥ 2^-126): below, no f32 result can carry relative precision.
+/// The error is the angular distance modulo 2π, so that +π and -π count as the same angle
+/// (micromath returns +π-ish values for y slightly below 0 and x < 0, where the exact result is
+/// near -π; for the other backends this makes no difference). The relative error is taken where the
+/// exact result is a normal f32 (≥ 2^-126): below, no f32 result can carry relative precision.
 pub fn atan2_abs_rel<M: Math>(pairs: &[(f32, f32)]) -> (MaxErr, MaxErr) {
     let (mut abs, mut rel) = (MaxErr::default(), MaxErr::default());
     for &(y, x) in pairs {
@@ -178,12 +180,12 @@ pub fn atan2_abs_rel<M: Math>(pairs: &[(f32, f32)]) -> (MaxErr, MaxErr) {
 }
 
 /// Max relative error of `M::atan2` for small angles, the case of `2·atan2(s, w)/s` in the rolling
-/// code: y/x from 1e-30 to 0.1 (every 2003rd float ratio t, as (t·x, x) for x in {1, 0.37, 1e-10,
+/// code: y/x from 1e-30 to 0.1 (every 8009th float ratio t, as (t·x, x) for x in {1, 0.37, 1e-10,
 /// 1e10}). Returns the maximum over y > 0, x = 1 (the rolling code's case: x is the scalar part of
 /// a unit quaternion, ≈ 1) and over all four sign combinations and all x.
 pub fn atan2_small_angle_rel<M: Math>() -> (MaxErr, MaxErr) {
     let (mut first, mut all) = (MaxErr::default(), MaxErr::default());
-    for t in bit_stride(1e-30, 0.1, 2003) {
+    for t in bit_stride(1e-30, 0.1, 8009) {
         for x in [1.0f32, 0.37, 1e-10, 1e10] {
             for (sy, sx) in [(1.0f32, 1.0f32), (-1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)] {
                 let (y, x) = (sy * t * x, sx * x);
@@ -200,11 +202,11 @@ pub fn atan2_small_angle_rel<M: Math>() -> (MaxErr, MaxErr) {
     (first, all)
 }
 
-/// Inputs for sqrt: every 7th float in [1, 4) (two binades: the kernels treat x and 4x alike up to
+/// Inputs for sqrt (about 1.8 million): every 13th float in [1, 4) (two binades: the kernels treat x and 4x alike up to
 /// exact scaling), every 4099th positive float over the whole finite range, every 97th subnormal
 /// and the 64 smallest subnormals.
 pub fn sqrt_samples() -> Vec<f32> {
-    let mut v: Vec<f32> = bit_stride(1.0, 4.0, 7).collect();
+    let mut v: Vec<f32> = bit_stride(1.0, 4.0, 13).collect();
     v.extend(bit_stride(0.0, f32::MAX, 4099));
     v.extend(bit_stride(0.0, f32::MIN_POSITIVE, 97));
     v.extend((1..=64).map(f32::from_bits));

@@ -1,6 +1,9 @@
 //! Exhaustive checks of [`Fast`] over every float of a range: too slow for the default test run
-//! (tens of seconds in release), so ignored. Run with
+//! (6.5 CPU-minutes in release for the three), so ignored. Run with
 //! `cargo test --release -p softfinger-core exhaustive -- --ignored --nocapture`.
+//!
+//! Last measured: sin_cos 6.46e-8 abs over every |x| ≤ 1e4; sqrt 0.5005 ulp over every positive
+//! float; atan2(y, ±1) 1.79e-7 abs and 1.58e-7 relative over every finite y.
 
 use super::super::sweep::{report, ulp_of, MaxErr};
 use super::super::Math;
@@ -8,7 +11,7 @@ use super::Fast;
 
 /// Every float x with |x| ≤ 1e4 (2.35e9 values): sin and cos within the 2e-7 target.
 #[test]
-#[ignore = "exhaustive, ~1 min in release"]
+#[ignore = "exhaustive: minutes in release"]
 fn exhaustive_sin_cos_up_to_1e4() {
     let mut e = MaxErr::default();
     let end = 1.0e4f32.to_bits();
@@ -26,7 +29,7 @@ fn exhaustive_sin_cos_up_to_1e4() {
 
 /// Every positive float (normal and subnormal): within 0.501 ulp (see `sqrt_error_sweep`).
 #[test]
-#[ignore = "exhaustive, ~20 s in release"]
+#[ignore = "exhaustive: about a minute in release"]
 fn exhaustive_sqrt() {
     let mut e = MaxErr::default();
     for bits in 1..0x7f80_0000u32 {
@@ -41,7 +44,7 @@ fn exhaustive_sqrt() {
 /// atan2(y, ±1) for every finite y of both signs: crosses all three octant formulas; within 1e-6
 /// absolute and relative.
 #[test]
-#[ignore = "exhaustive, ~1 min in release"]
+#[ignore = "exhaustive: minutes in release"]
 fn exhaustive_atan2_unit_x() {
     let (mut abs, mut rel) = (MaxErr::default(), MaxErr::default());
     for bits in 0..0x7f80_0000u32 {

@@ -1,15 +1,17 @@
 //! Range reduction by π/2 for the trigonometric kernels, in f32 and integer arithmetic only.
 //!
-//! Every finite `x` is written as `x = k·π/2 + r` with `k` an integer and `|r| ≲ π/4`; the result is
-//! the reduced argument `r` (radians) and the quadrant `k mod 4`.
+//! Every finite `x` is written as `x = k·π/2 + r` with `k` an integer and `|r| ≲ π/4`; the result
+//! is the reduced argument `r` (radians) and the quadrant `k mod 4`.
 //!
-//! - `|x| < 2^16` (the only range the controller ever uses): three-part Cody-Waite reduction. π/2 is
-//!   split into `C1 + C2 + C3`, where `C1` and `C2` have 8 significant bits each, so `k·C1` and `k·C2`
-//!   are exact for `|k| < 2^16` and the first subtraction is exact (Sterbenz). The error of `r` is at
-//!   most about 1 ulp of `r` plus `|k|·5.4e-15` (the representation error of `C1 + C2 + C3`).
-//! - `2^16 ≤ |x| < ∞`: Payne-Hanek reduction in integer arithmetic: the 24-bit significand of `x` is
-//!   multiplied by a 96-bit window of the bits of 2/π (`u64` products), which gives `x·2/π mod 4` with
-//!   62 fraction bits (86 when the fraction is tiny). Rare and slower, but just as accurate.
+//! - `|x| < 2^16` (the only range the controller ever uses): three-part Cody-Waite reduction. π/2
+//!   is split into `C1 + C2 + C3`, where `C1` and `C2` have 8 significant bits each, so `k·C1` and
+//!   `k·C2` are exact for `|k| < 2^16` and the first subtraction is exact (Sterbenz). The error of
+//!   `r` is at most about 1 ulp of `r`, plus half an ulp of `k·C3` (≤ 9e-10), plus `|k|·5.4e-15`
+//!   (the representation error of the split).
+//! - `2^16 ≤ |x| < ∞`: Payne-Hanek reduction in integer arithmetic: the 24-bit significand of `x`
+//!   is multiplied by a 96-bit window of the bits of 2/π (`u64` products), which gives
+//!   `x·2/π mod 4` with 62 fraction bits (86 when the fraction is tiny). Rare and slower (it calls
+//!   the integer routine `__aeabi_l2f` once), but just as accurate.
 
 /// 2/π rounded to f32.
 const FRAC_2_PI: f32 = 0.636_619_75;
@@ -27,9 +29,9 @@ const INF_BITS: u32 = 0x7f80_0000;
 
 /// Reduces `x` (radians) by π/2.
 ///
-/// Returns `Some((r, q))` with `x ≈ k·π/2 + r`, `q = k mod 4` and `|r| ≤ π/4 + 0.002` (the slack comes
-/// from rounding `x·2/π` in f32 before rounding to an integer; the polynomials are accurate there too).
-/// Returns `None` for ±∞ and NaN.
+/// Returns `Some((r, q))` with `x ≈ k·π/2 + r`, `q = k mod 4` and `|r| ≤ π/4 + 0.002` (the slack
+/// comes from rounding `x·2/π` in f32 before rounding to an integer; the polynomials are accurate
+/// there too). Returns `None` for ±∞ and NaN.
 #[inline(always)]
 pub(super) fn reduce_pio2(x: f32) -> Option<(f32, u32)> {
     let ix = x.to_bits() & 0x7fff_ffff;
@@ -46,8 +48,8 @@ pub(super) fn reduce_pio2(x: f32) -> Option<(f32, u32)> {
 }
 
 /// The bits of 2/π after the binary point, preceded by `PAD` zero bits, as big-endian 32-bit words:
-/// bit `b_i` of 2/π (weight 2^-i) sits at bit position `i + PAD - 1` counted from the most significant
-/// bit of word 0.
+/// bit `b_i` of 2/π (weight 2^-i) sits at bit position `i + PAD - 1` counted from the most
+/// significant bit of word 0.
 const TWO_OVER_PI_BITS: [u32; 9] = [
     0x0051_7CC1,
     0xB727_220A,
@@ -59,7 +61,8 @@ const TWO_OVER_PI_BITS: [u32; 9] = [
     0xD5EF_5DE2,
     0xB0DB_9237,
 ];
-/// Leading zero bits in [`TWO_OVER_PI_BITS`]; enough for the smallest `x` that takes the large path.
+/// Leading zero bits in [`TWO_OVER_PI_BITS`]; enough for the smallest `x` that takes the large
+/// path.
 const PAD: u32 = 9;
 /// π/2·2^-62: converts a fraction of a quarter turn in units of 2^-62 to radians.
 const PIO2_2M62: f32 = 3.406_121_7e-19;
@@ -84,13 +87,15 @@ fn reduce_large(x: f32) -> (f32, u32) {
     let biased_exp = (bits >> 23) & 0xff;
     // |x| = m·2^e with e = biased_exp - 150, m a 24-bit integer.
     let m = u64::from((bits & 0x007f_ffff) | 0x0080_0000);
-    // Bits b_i of 2/π with i ≤ e - 2 only add multiples of 4 to m·2^e·(2/π); the 96-bit window starts
-    // at i = e - 1, i.e. at bit position e - 1 + PAD - 1 = biased_exp - 143 (≥ 0 since biased_exp ≥ 143).
+    // Bits b_i of 2/π with i ≤ e - 2 only add multiples of 4 to m·2^e·(2/π); the 96-bit window
+    // starts at i = e - 1, i.e. at bit position e - 1 + PAD - 1 = biased_exp - 143 (≥ 0 since
+    // biased_exp ≥ 143).
     let p0 = biased_exp.saturating_sub(150 + 2 - PAD);
     let w0 = u64::from(window32(p0));
     let w1 = u64::from(window32(p0 + 32));
     let w2 = u64::from(window32(p0 + 64));
-    // m·W mod 2^96 = y mod 4 in fixed point with 94 fraction bits (y = |x|·2/π); words r0 (high)..r2.
+    // m·W mod 2^96 = y mod 4 in fixed point with 94 fraction bits (y = |x|·2/π), in 32-bit words
+    // r0 (most significant), r1, r2.
     let p2 = m * w2;
     let t1 = m * w1 + (p2 >> 32);
     let r0 = (m * w0 + (t1 >> 32)) & 0xffff_ffff;
@@ -120,9 +125,9 @@ mod tests {
     use super::*;
     use core::f64::consts::FRAC_PI_2;
 
-    /// Exact `x mod π/2` is not available in f64 for huge `x`, but `sin` and `cos` are (the host libm
-    /// reduces exactly), so the reduction is checked through them: sin(x) must equal ±sin(r) or
-    /// ±cos(r) as selected by `q`. With `r` exact to about 1 ulp (≤ 6e-8 for |r| ≤ π/4), the
+    /// Exact `x mod π/2` is not available in f64 for huge `x`, but `sin` and `cos` are (the host
+    /// libm reduces exactly), so the reduction is checked through them: sin(x) must equal ±sin(r)
+    /// or ±cos(r) as selected by `q`. With `r` exact to about 1 ulp (≤ 6e-8 for |r| ≤ π/4), the
     /// reconstructed value may differ from sin(x) by at most |Δr| ≤ 1e-7.
     fn check(x: f32) {
         let Some((r, q)) = reduce_pio2(x) else {

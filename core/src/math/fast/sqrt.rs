@@ -1,11 +1,13 @@
-//! Square root in f32 without the FPU's `VSQRT` (not reachable from stable, safe `no_std` Rust 1.95:
-//! `core::f32::math::sqrt` is unstable, `libm::sqrtf` is a bit-by-bit integer routine on this target,
-//! and inline assembly needs `unsafe`).
+//! Square root in f32 without the FPU's `VSQRT`, which is not reachable from stable, safe
+//! `no_std` Rust 1.95 on `thumbv7em-none-eabihf`: `f32::sqrt` is std-only, `core::f32::math::sqrt`
+//! is unstable (`core_float_math`; on nightly it compiles to a single `vsqrt.f32`),
+//! `core::intrinsics::sqrtf32` is unstable, `libm::sqrtf` has no ARM arch path and runs an integer
+//! fixed-point routine (table + Goldschmidt iterations), and inline assembly needs `unsafe`.
 //!
-//! Method: bit-pattern estimate of 1/√x (magic constant 0x5f375a86, ≤ 3.5 % error), two Newton steps
-//! for 1/√x (error ≤ 5e-6), `s = x·y`, and one Newton step for √x whose residual `x - s²` is computed
-//! exactly with a Dekker split of `s`, so the result is correctly rounded except within a tiny
-//! distance of a rounding midpoint.
+//! Method: bit-pattern estimate of 1/√x (magic constant 0x5f375a86, ≤ 3.5 % error), two Newton
+//! steps for 1/√x (error ≤ 5e-6), `s = x·y`, and one Newton step for √x whose residual `x - s²` is
+//! computed exactly with a Dekker split of `s`, so the result is correctly rounded except within a
+//! tiny distance of a rounding midpoint.
 
 /// 2^-100 and 2^124: inside [2^-100, 2^124) no intermediate overflows, and the residual
 /// `x - s²` (≈ x·2^-24) stays a normal float with full precision.
@@ -44,7 +46,8 @@ pub(super) fn sqrt(x: f32) -> f32 {
     }
 }
 
-/// Everything outside [2^-100, 2^124): scaled by an even power of two into range, or a defined value.
+/// Everything outside [2^-100, 2^124): scaled by an even power of two into range, or a defined
+/// value.
 #[cold]
 #[inline(never)]
 fn sqrt_edge(x: f32) -> f32 {

@@ -79,9 +79,9 @@ mod tests {
     use super::*;
     use core::f64::consts::FRAC_PI_4;
 
-    /// The polynomials alone (no reduction) against f64 on every 509th f32 in [0, π/4 + 0.002] (2 million).
-    /// Bound: 1 ulp of the result: the minimax error is ≤ 6.5e-9 relative (0.1 ulp), and the
-    /// evaluation order (leading term added last, rounding error of 1 - r²/2 carried) keeps the
+    /// The polynomials alone (no reduction) against f64 on every 509th f32 in [0, π/4 + 0.002] (2
+    /// million). Bound: 1 ulp of the result: the minimax error is ≤ 6.5e-9 relative (0.1 ulp), and
+    /// the evaluation order (leading term added last, rounding error of 1 - r²/2 carried) keeps the
     /// f32 roundings near the final half ulp.
     #[test]
     fn polynomials_are_within_one_ulp_on_the_reduced_interval() {
