@@ -13,6 +13,9 @@ use core::ops::Mul;
 /// neglected terms are below f32 resolution there (relative error < 1e-9).
 const SERIES_THRESHOLD: f32 = 1.0e-4;
 
+/// |‖q‖² − 1| up to which [`Quat::normalized_checked`] takes its Newton path (no square root).
+const NEAR_UNIT_N2: f32 = 1.9e-3;
+
 /// Tolerance on |‖q‖ - 1| before [`Quat::normalized_checked`] raises [`Flags::NON_UNIT_QUAT`].
 pub const UNIT_TOLERANCE: f32 = 1.0e-3;
 
@@ -80,6 +83,14 @@ impl Quat {
         if n2 < 1.0e-30 {
             return (Quat::IDENTITY, Flags::ZERO_AXIS);
         }
+        let d = n2 - 1.0;
+        if d.abs() <= NEAR_UNIT_N2 {
+            // Near unit (then |‖q‖ − 1| = |d|/(‖q‖ + 1) < 1e-3: no flag): two Newton steps for
+            // 1/√n2 from 1: r₁ = 1 − d/2 leaves a relative error ≤ (3/8)d² ≤ 1.4e-6, r₂ ≤ 1e-11.
+            let r1 = 1.0 - 0.5 * d;
+            let r2 = r1 * (1.5 - 0.5 * n2 * r1 * r1);
+            return (self.scale(r2), Flags::NONE);
+        }
         let n = M::sqrt(n2);
         let flags = if (n - 1.0).abs() > UNIT_TOLERANCE {
             Flags::NON_UNIT_QUAT
@@ -124,12 +135,27 @@ impl Quat {
     /// Logarithm map: the rotation vector (axis × angle, angle in [0, π]) of a unit quaternion.
     ///
     /// Well conditioned over the whole range: angle = 2·atan2(|v|, |w|) never loses precision near
-    /// 0 or π, and q and -q give the same answer. Input is assumed finite and unit.
+    /// 0 or π, and q and -q give the same answer. Input is assumed finite.
+    ///
+    /// Fast path, for angles up to 2·atan(0.2) = 0.39 rad (every per-step increment of a control
+    /// loop at 100 Hz or faster short of 39 rad/s): 2·atan2(s, w)/s = (2/w)·P(u) with
+    /// u = s²/w² ≤ 0.04 and P(u) = atan(√u)/√u = 1 − u/3 + u²/5 − u³/7 + u⁴/9 − u⁵/11, whose
+    /// truncation error is below u⁶/13 = 3.2e-10 relative: no square root and no arctangent, and
+    /// the result does not depend on the quaternion's scale (v/w is scale-free).
     pub fn to_rotation_vector<M: Math>(self) -> Vec3 {
         // Take the hemisphere w >= 0 so the angle is in [0, π].
         let q = if self.w < 0.0 { self.scale(-1.0) } else { self };
         let v = q.vector();
         let s2 = v.norm_squared();
+        let w2 = q.w * q.w;
+        if s2 <= 0.04 * w2 && q.w > 0.0 {
+            let inv_w = 1.0 / q.w;
+            let u = s2 * inv_w * inv_w;
+            let p = 1.0
+                + u * (-1.0 / 3.0
+                    + u * (1.0 / 5.0 + u * (-1.0 / 7.0 + u * (1.0 / 9.0 - u * (1.0 / 11.0)))));
+            return v * (2.0 * inv_w * p);
+        }
         let s = M::sqrt(s2);
         let k = if s < SERIES_THRESHOLD {
             // 2·atan2(s, w)/s = (2/w)(1 - s²/(3w²) + ...); w ≈ 1 here.
@@ -206,6 +232,62 @@ mod tests {
         assert_eq!((q, f), (Quat::IDENTITY, Flags::NONE));
         let (_, f) = Quat::new(3e38, 3e38, 0.0, 0.0).normalized_checked::<Libm>();
         assert_eq!(f, Flags::NON_FINITE_INPUT);
+    }
+
+    /// The fast log path (angles ≤ 0.39 rad) against nalgebra f64 over a dense sweep of angles and
+    /// axes, including scaled (non-unit) inputs: 2e-7 absolute + 3e-7 relative, the same f32
+    /// budget as the atan2 path (the series itself is exact to 3.2e-10 relative).
+    #[test]
+    fn fast_log_path_matches_nalgebra_and_is_scale_free() {
+        use nalgebra::{Unit, UnitQuaternion, Vector3};
+        for k in 0..2000 {
+            let angle = 0.39 * (k as f64 / 2000.0);
+            let a = Vector3::new(
+                (k as f64 * 0.37).sin(),
+                (k as f64 * 0.11).cos(),
+                0.3 + (k as f64 * 0.05).sin(),
+            );
+            let q64 = UnitQuaternion::from_axis_angle(&Unit::new_normalize(a), angle);
+            let w_ref = q64.scaled_axis();
+            for scale in [1.0f32, 1.0009, 0.7] {
+                let q = Quat::new(
+                    q64.w as f32 * scale,
+                    q64.i as f32 * scale,
+                    q64.j as f32 * scale,
+                    q64.k as f32 * scale,
+                );
+                let w = q.to_rotation_vector::<Libm>();
+                let err = ((w.x as f64 - w_ref.x).powi(2)
+                    + (w.y as f64 - w_ref.y).powi(2)
+                    + (w.z as f64 - w_ref.z).powi(2))
+                .sqrt();
+                assert!(
+                    err <= 2e-7 + 3e-7 * angle,
+                    "angle {angle} scale {scale}: {err:e}"
+                );
+            }
+        }
+    }
+
+    /// The Newton normalisation agrees with the exact one to f32 rounding.
+    #[test]
+    fn near_unit_normalisation_is_exact_to_rounding() {
+        for k in 0..1000 {
+            let e = -9.4e-4 + 1.88e-3 * k as f32 / 1000.0;
+            let q = Quat::new(
+                0.5 * (1.0 + e),
+                0.5 * (1.0 + e),
+                -0.5 * (1.0 + e),
+                0.5 * (1.0 + e),
+            );
+            let (n, f) = q.normalized_checked::<Libm>();
+            assert!(f.is_empty());
+            assert!(
+                (n.norm_squared() - 1.0).abs() < 3e-7,
+                "e {e}: |n|² − 1 = {}",
+                n.norm_squared() - 1.0
+            );
+        }
     }
 
     #[test]
