@@ -16,6 +16,9 @@ pub struct Cli {
 pub enum Command {
     /// Replay recorded fingertip orientations through the core (for tuning from bench logs).
     Replay(crate::replay::Args),
+    /// Where the decompositions fail, f32 drift, virtual-wall stability and state chatter:
+    /// charts (SVG) and tables.
+    Stability(crate::stability::Args),
 }
 
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
@@ -34,6 +37,7 @@ where
     };
     let result = match cli.command {
         Some(Command::Replay(args)) => crate::replay::main(&args),
+        Some(Command::Stability(args)) => crate::stability::main(&args),
         None => Err("the closed-loop run is not wired yet; try `host-sim --help`".to_string()),
     };
     match result {

@@ -4,3 +4,4 @@
 pub mod atomic_file;
 pub mod cli;
 pub mod replay;
+pub mod stability;
