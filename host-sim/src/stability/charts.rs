@@ -124,18 +124,29 @@ where
             // One element type for every style: a dot (invisible unless markers) and two strokes
             // (joined for a solid line, apart for dashes, absent for markers).
             let l = ShapeStyle::from(&c).stroke_width(2);
-            let (dot, a, b): (RGBAColor, Vec<(i32, i32)>, Vec<(i32, i32)>) = match style {
-                Style::Markers => (c.to_rgba(), vec![], vec![]),
-                Style::Dashed | Style::Dotted => {
-                    (c.mix(0.0), vec![(0, 0), (6, 0)], vec![(10, 0), (16, 0)])
-                }
-                Style::LineMarkers => (c.to_rgba(), vec![(0, 0), (16, 0)], vec![]),
-                Style::Line => (c.mix(0.0), vec![(0, 0), (16, 0)], vec![]),
+            type Seg = Vec<(i32, i32)>;
+            let (dot, a, b, d): (RGBAColor, Seg, Seg, Seg) = match style {
+                Style::Markers => (c.to_rgba(), vec![], vec![], vec![]),
+                Style::Dashed => (
+                    c.mix(0.0),
+                    vec![(0, 0), (6, 0)],
+                    vec![(10, 0), (16, 0)],
+                    vec![],
+                ),
+                Style::Dotted => (
+                    c.mix(0.0),
+                    vec![(0, 0), (2, 0)],
+                    vec![(7, 0), (9, 0)],
+                    vec![(14, 0), (16, 0)],
+                ),
+                Style::LineMarkers => (c.to_rgba(), vec![(0, 0), (16, 0)], vec![], vec![]),
+                Style::Line => (c.mix(0.0), vec![(0, 0), (16, 0)], vec![], vec![]),
             };
             EmptyElement::at((lx, ly))
                 + Circle::new((8, 0), 4, dot.filled())
                 + PathElement::new(a, l)
                 + PathElement::new(b, l)
+                + PathElement::new(d, l)
         });
     }
     chart
@@ -318,9 +329,10 @@ pub fn heatmap(
     let mut cb = ChartBuilder::on(&bar)
         .margin_top(40)
         .margin_bottom(60)
-        .margin_right(70)
+        .margin_left(10)
+        .margin_right(10)
         .y_label_area_size(0)
-        .right_y_label_area_size(40)
+        .right_y_label_area_size(90)
         .build_cartesian_2d(0.0..1.0, vmin..vmax)
         .map_err(&e)?;
     cb.configure_mesh()
@@ -341,8 +353,7 @@ pub fn heatmap(
         )
     }))
     .map_err(&e)?;
-    let (bw, bh) = bar.dim_in_pixel();
-    let _ = bw;
+    let (_, bh) = bar.dim_in_pixel();
     bar.draw(&Rectangle::new(
         [(10, bh as i32 - 40), (26, bh as i32 - 24)],
         FAIL_COLOR.filled(),
@@ -421,14 +432,17 @@ pub fn bar_chart(
                 } else {
                     y_range.0 * 1.3
                 };
-                Text::new(fmt_num(v), (x0, y), (FONT, 10).into_font())
+                let t = if v >= 10.0 {
+                    format!("{v:.0}")
+                } else {
+                    fmt_num(v)
+                };
+                Text::new(t, (x0, y), (FONT, 10).into_font())
             })
             .collect();
         chart.draw_series(texts).map_err(&e)?;
     }
     // Category labels under the axis, centred on each group of bars.
-    let (w, h) = root.dim_in_pixel();
-    let _ = w;
     for (i, c) in categories.iter().enumerate() {
         let px = chart.backend_coord(&(i as f64 + 0.5, y_range.0));
         root.draw(&Text::new(
@@ -438,7 +452,6 @@ pub fn bar_chart(
         ))
         .map_err(&e)?;
     }
-    let _ = h;
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.85))

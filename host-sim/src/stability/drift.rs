@@ -117,8 +117,9 @@ pub fn run<M: Math>(
     out
 }
 
-/// The backends of the drift runs (f32 on the MCU: libm and our kernels).
-pub const DRIFT_BACKENDS: [&str; 2] = ["libm", "fast"];
+/// The backends of the drift runs: libm and our kernels (the MCU candidates), and micromath,
+/// whose atan2 reads small angles 6.3 % short (measured in part 1), to show what that does.
+pub const DRIFT_BACKENDS: [&str; 3] = ["libm", "fast", "micromath"];
 
 /// Every method × {libm, fast}, spread over the available cores.
 pub fn run_all(steps: u64, progress: Option<&ProgressBar>) -> Vec<DriftRun> {
@@ -138,6 +139,7 @@ pub fn run_all(steps: u64, progress: Option<&ProgressBar>) -> Vec<DriftRun> {
                 let Some(&(m, b)) = jobs.get(i) else { break };
                 let r = match b {
                     "fast" => run::<softfinger_core::Fast>(m, b, steps, progress),
+                    "micromath" => run::<softfinger_core::Micromath>(m, b, steps, progress),
                     _ => run::<softfinger_core::Libm>(m, b, steps, progress),
                 };
                 results

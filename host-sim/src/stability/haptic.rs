@@ -127,6 +127,8 @@ pub struct Loop {
 /// What one simulated contact did.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Outcome {
+    /// Oscillation energy at the hit (½·m·v₀² + U(0) − U(x_eq)), J.
+    pub hit_j: f64,
     /// Largest oscillation energy over [40 %, 50 %) of the run, J.
     pub early_j: f64,
     /// Largest oscillation energy over the last 10 % of the run, J.
@@ -189,6 +191,7 @@ pub fn simulate(l: &Loop, k: f64, duration_s: f64) -> Outcome {
         }
         if !e.is_finite() {
             return Outcome {
+                hit_j: e_hit,
                 early_j: early,
                 late_j: f64::INFINITY,
                 stable: false,
@@ -196,6 +199,7 @@ pub fn simulate(l: &Loop, k: f64, duration_s: f64) -> Outcome {
         }
     }
     Outcome {
+        hit_j: e_hit,
         early_j: early,
         late_j: late,
         stable: late < 0.5 * early || late < ENERGY_FLOOR * e_hit,

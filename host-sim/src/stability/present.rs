@@ -291,7 +291,6 @@ pub fn drift_table(runs: &[DriftRun]) -> Table {
 // ---------------------------------------------------------------- part 3
 
 pub fn haptic_charts(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), String> {
-    let rates: Vec<f64> = rows.iter().map(|r| r.rate_hz).collect();
     let fine: Vec<f64> = (0..=40)
         .map(|i| 1_000.0 * 20f64.powf(i as f64 / 40.0))
         .collect();
@@ -351,7 +350,6 @@ pub fn haptic_charts(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), Str
             r.measured_delay
         }),
     ];
-    let _ = rates;
     charts::line_chart(
         &out.join("haptic_kmax.svg"),
         1000,
@@ -384,7 +382,10 @@ pub fn haptic_charts(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), Str
                 points: r.sweeps[delay]
                     .iter()
                     .map(|(k, o)| {
-                        let ratio = if o.early_j > 0.0 {
+                        // Decayed to rounding (both windows may then hold noise): the floor.
+                        let ratio = if o.late_j < haptic::ENERGY_FLOOR * o.hit_j {
+                            1e-12
+                        } else if o.early_j > 0.0 {
                             o.late_j / o.early_j
                         } else {
                             f64::NAN
@@ -405,7 +406,7 @@ pub fn haptic_charts(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), Str
                     }
                 ),
                 x_label: "wall stiffness K (N/m)".into(),
-                y_label: "oscillation energy ratio (< 0.5: stable)".into(),
+                y_label: "energy ratio late/early (< 0.5 stable; 1e-12: decayed)".into(),
                 x: (haptic::K_SWEEP.0, haptic::K_SWEEP.1),
                 y: (1e-12, 1e6),
                 x_log: true,
@@ -536,7 +537,7 @@ pub fn chatter_chart(out: &Path, runs: &[ChatterRun]) -> Result<(), String> {
         &cats,
         &groups,
         &values,
-        (0.05, 5e4),
+        (0.05, 1e6),
     )
 }
 
