@@ -11,6 +11,11 @@
 //! fingertip point = q[k]⁻¹·(0, 0, −ρ). Under test: the core's [`Rolling`] on a [`Plane`], in f32,
 //! fed q[k] rounded to f32. Error: Euclidean distance between the core's and the reference
 //! points, m.
+//!
+//! What the exact method's residual drift is made of (measured once, libm, 10⁷ steps): the plane
+//! error grows linearly to 1.1 µm; summing the same f32 angles in f64 instead of the f32 plane
+//! point gives 0.72 µm, so about two thirds come from the f32 increments themselves (rounding of q
+//! and of dq = q·q_prev*, not zero-mean) and one third from the f32 accumulator.
 
 use indicatif::ProgressBar;
 use nalgebra::{UnitQuaternion, Vector3};
