@@ -18,6 +18,9 @@ pub enum Command {
     Run(crate::run::Args),
     /// Replay recorded fingertip orientations through the core (for tuning from bench logs).
     Replay(crate::replay::Args),
+    /// Where the decompositions fail, f32 drift, virtual-wall stability and state chatter:
+    /// charts (SVG) and tables.
+    Stability(crate::stability::Args),
 }
 
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
@@ -37,6 +40,7 @@ where
     let result = match cli.command {
         Some(Command::Run(args)) => crate::run::main(&args),
         Some(Command::Replay(args)) => crate::replay::main(&args),
+        Some(Command::Stability(args)) => crate::stability::main(&args),
         None => crate::run::main(&crate::run::Args::default()),
     };
     match result {

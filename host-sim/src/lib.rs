@@ -9,4 +9,5 @@ pub mod reference;
 pub mod replay;
 pub mod run;
 pub mod scene;
+pub mod stability;
 pub mod svg_chart;
