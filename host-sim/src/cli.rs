@@ -16,6 +16,9 @@ pub struct Cli {
 pub enum Command {
     /// Replay recorded fingertip orientations through the core (for tuning from bench logs).
     Replay(crate::replay::Args),
+    /// The paper's §3.1 validation: every method x backend against the classical rolling equations
+    /// (RK45), accuracy and time per step, with the paper's figures beside ours.
+    Validate(crate::validate::Args),
 }
 
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
@@ -34,6 +37,7 @@ where
     };
     let result = match cli.command {
         Some(Command::Replay(args)) => crate::replay::main(&args),
+        Some(Command::Validate(args)) => crate::validate::main(&args),
         None => Err("the closed-loop run is not wired yet; try `host-sim --help`".to_string()),
     };
     match result {

@@ -5,3 +5,4 @@ pub mod atomic_file;
 pub mod cli;
 pub mod reference;
 pub mod replay;
+pub mod validate;
