@@ -19,6 +19,9 @@ pub enum Command {
     /// The paper's §3.1 validation: every method x backend against the classical rolling equations
     /// (RK45), accuracy and time per step, with the paper's figures beside ours.
     Validate(crate::validate::Args),
+    /// Speed against accuracy as SVG charts (per method x backend x sampling rate, RK45 at several
+    /// tolerances, Pareto front), the paper's Fig. 3, and the MCU instruction counts against accuracy.
+    Chart(crate::chart::Args),
 }
 
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
@@ -38,6 +41,7 @@ where
     let result = match cli.command {
         Some(Command::Replay(args)) => crate::replay::main(&args),
         Some(Command::Validate(args)) => crate::validate::main(&args),
+        Some(Command::Chart(args)) => crate::chart::main(&args),
         None => Err("the closed-loop run is not wired yet; try `host-sim --help`".to_string()),
     };
     match result {

@@ -2,6 +2,7 @@
 //! tests in `tests/` run them in-process.
 
 pub mod atomic_file;
+pub mod chart;
 pub mod cli;
 pub mod reference;
 pub mod replay;

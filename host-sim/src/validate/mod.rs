@@ -287,3 +287,67 @@ pub fn main(args: &Args) -> Result<(), String> {
     println!("{out}");
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::reference::ReferenceStats;
+    use ours::Backend;
+    use softfinger_core::decompose::Method;
+
+    fn our(method: Method, err: f64, ns: f64) -> OurRun {
+        OurRun {
+            variant: Variant {
+                method,
+                backend: Backend::Libm,
+            },
+            errors: PathErrors {
+                plane_mm: [err, 0.0, 0.0],
+                sphere_mm: [0.0; 3],
+            },
+            ns_per_step: ns,
+        }
+    }
+
+    #[test]
+    fn best_is_the_fastest_within_the_target_else_the_most_accurate() {
+        // Within 0.001 mm: index 1 (50 ns) and 2 (40 ns); index 0 is faster but misses the target.
+        let runs = [
+            our(Method::Rpy, 0.5, 10.0),
+            our(Method::Exact, 1e-5, 50.0),
+            our(Method::Exact, 1e-4, 40.0),
+        ];
+        assert_eq!(pick_best(&runs), 2);
+        // None within: the most accurate.
+        let runs = [our(Method::Rpy, 0.5, 10.0), our(Method::Rpy, 0.2, 90.0)];
+        assert_eq!(pick_best(&runs), 1);
+    }
+
+    fn rk(call: Rk45Call, rtol: f64, err: f64) -> Rk45Run {
+        Rk45Run {
+            call,
+            rtol,
+            atol: rtol * 1e-3,
+            errors: PathErrors {
+                plane_mm: [err, 0.0, 0.0],
+                sphere_mm: [0.0; 3],
+            },
+            ns_per_step: Some(1.0),
+            stats: ReferenceStats::default(),
+        }
+    }
+
+    #[test]
+    fn matched_keeps_the_loosest_tolerance_within_the_target_per_call() {
+        let runs = vec![
+            rk(Rk45Call::SingleCall, 1e-7, 5e-6),
+            rk(Rk45Call::SingleCall, 1e-6, 2e-5),
+            rk(Rk45Call::SingleCall, 1e-8, 4e-7),
+            rk(Rk45Call::Restart, 1e-3, 6e-9),
+        ];
+        let m = select_matched(runs, 1e-5);
+        assert_eq!(m.len(), 2);
+        assert_eq!((m[0].call, m[0].rtol), (Rk45Call::SingleCall, 1e-7));
+        assert_eq!((m[1].call, m[1].rtol), (Rk45Call::Restart, 1e-3));
+    }
+}
