@@ -2,8 +2,8 @@
 //!
 //! A [`Case`] is one complete pass over a scene (e.g. the 100 steps of the paper's scene). Each case is
 //! calibrated so that one batch of passes lasts at least [`Timing::min_batch`]; then [`Timing::batches`]
-//! rounds are timed with [`std::time::Instant`], each round running one batch of every case in turn, and
-//! each case's median batch gives its figure. Interleaving the cases spreads any disturbance from other
+//! rounds are timed with [`std::time::Instant`], each round running one batch of every case in turn (each
+//! round starting one case further on), and each case's median batch gives its figure. Interleaving the cases spreads any disturbance from other
 //! processes on a shared machine over all of them, and the median discards the disturbed batches. Pass
 //! results go through [`std::hint::black_box`] so the optimiser cannot drop the work.
 
@@ -69,9 +69,14 @@ pub fn measure(cases: &mut [Case<'_>], timing: Timing) -> Vec<f64> {
         .map(|c| calibrate(c, timing.min_batch))
         .collect();
     let mut per_pass: Vec<Vec<f64>> = vec![Vec::new(); cases.len()];
-    for _ in 0..timing.batches.max(1) {
-        for ((case, &n), samples) in cases.iter_mut().zip(&reps).zip(&mut per_pass) {
-            samples.push(time_batch(n, case).as_nanos() as f64 / n as f64);
+    let n_cases = cases.len();
+    for round in 0..timing.batches.max(1) as usize {
+        // Each round starts with a different case, so no case is always first (or always after the same
+        // neighbour).
+        for k in 0..n_cases {
+            let i = (round + k) % n_cases;
+            let t = time_batch(reps[i], &mut cases[i]);
+            per_pass[i].push(t.as_nanos() as f64 / reps[i] as f64);
         }
     }
     per_pass
