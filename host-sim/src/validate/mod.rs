@@ -38,7 +38,7 @@ pub struct Args {
     /// Print JSON instead of the table.
     #[arg(long)]
     pub json: bool,
-    /// One short timing batch per row instead of nine (fast; the times are then rough).
+    /// One short timing batch per row instead of 41 (fast; the times are then rough).
     #[arg(long)]
     pub quick: bool,
 }

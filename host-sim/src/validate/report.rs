@@ -211,7 +211,8 @@ pub fn table(v: &Validation) -> String {
 
     let _ = writeln!(
         out,
-        "\nClassical: Montana + RK45 in f64; errors against the closed form:"
+        "\nClassical: Montana + RK45 in f64; errors against the closed form; ns/step = one whole integration \
+         over the scene / {steps} samples:"
     );
     header(&mut out, "run", "   rtol     atol   steps  f-evals  call");
     let classical = |out: &mut String, kind: &str, r: &Rk45Run| {
