@@ -21,6 +21,12 @@ pub enum Command {
     /// Where the decompositions fail, f32 drift, virtual-wall stability and state chatter:
     /// charts (SVG) and tables.
     Stability(crate::stability::Args),
+    /// The paper's §3.1 validation: every method x backend against the classical rolling equations
+    /// (RK45), accuracy and time per step, with the paper's figures beside ours.
+    Validate(crate::validate::Args),
+    /// Speed against accuracy as SVG charts (per method x backend x sampling rate, RK45 at several
+    /// tolerances, Pareto front), the paper's Fig. 3, and the MCU instruction counts against accuracy.
+    Chart(crate::chart::Args),
 }
 
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
@@ -40,6 +46,8 @@ where
     let result = match cli.command {
         Some(Command::Run(args)) => crate::run::main(&args),
         Some(Command::Replay(args)) => crate::replay::main(&args),
+        Some(Command::Validate(args)) => crate::validate::main(&args),
+        Some(Command::Chart(args)) => crate::chart::main(&args),
         Some(Command::Stability(args)) => crate::stability::main(&args),
         None => crate::run::main(&crate::run::Args::default()),
     };

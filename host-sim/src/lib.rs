@@ -2,6 +2,7 @@
 //! tests in `tests/` run them in-process.
 
 pub mod atomic_file;
+pub mod chart;
 pub mod cli;
 pub mod closed_loop;
 pub mod plant;
@@ -11,3 +12,4 @@ pub mod run;
 pub mod scene;
 pub mod stability;
 pub mod svg_chart;
+pub mod validate;
