@@ -115,7 +115,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
     #[inline]
     fn anchor(&self) -> Vec3 {
         let s = &self.rolling.surface;
-        s.contact_point() + s.normal() * self.params.fingertip_radius_m
+        s.contact_point() + s.along_normal(self.params.fingertip_radius_m)
     }
 
     /// Move the contact under the probe and restart rolling from orientation `q`.
@@ -166,14 +166,12 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         let mut flags = roll.flags;
 
         // 2. Normal geometry and kinematics.
-        let n = self.rolling.surface.normal();
         let pen = self.rolling.surface.penetration::<M>(probe, r);
-        let v_n = vel.dot(n);
-        let v_t = vel - n * v_n;
+        let surface = self.rolling.surface;
+        let (v_n, v_t) = surface.split(vel);
         let accel = (vel - self.prev_vel) * inv_dt;
         self.prev_vel = vel;
-        let a_n = accel.dot(n);
-        let a_t = accel - n * a_n;
+        let (a_n, a_t) = surface.split(accel);
         let f_n = if pen > 0.0 {
             let f = p.normal_stiffness * pen - p.normal_damping * v_n;
             if f > 0.0 {
@@ -191,7 +189,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         self.prev_anchor = anchor;
         let couple = |e: Vec3, v_rel: Vec3| {
             let f = e * p.tangential_stiffness + v_rel * p.tangential_damping;
-            f - n * f.dot(n)
+            surface.split(f).1
         };
         let f_couple = couple(anchor - probe, anchor_vel - vel);
         let tilt2 = roll.angles.theta * roll.angles.theta + roll.angles.psi * roll.angles.psi;
@@ -202,7 +200,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             tangential_force_n: -f_couple,
             tangential_accel: a_t,
             tangential_velocity: if self.state == ContactState::Rolling {
-                v_t - (anchor_vel - n * anchor_vel.dot(n))
+                v_t - surface.split(anchor_vel).1
             } else {
                 v_t
             },
@@ -232,7 +230,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             // The spring slips: drag the anchor so it stays within μ_k·f_N/K_t of the probe.
             let p = &self.params;
             let e = anchor - probe;
-            let e_t = e - n * e.dot(n);
+            let (_, e_t) = surface.split(e);
             let d = e_t.norm::<M>();
             let reach = if p.tangential_stiffness > 0.0 {
                 p.mu_k * f_n / p.tangential_stiffness
@@ -256,9 +254,9 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
                 } else {
                     f_couple
                 };
-                n * f_n + f_t
+                surface.along_normal(f_n) + f_t
             }
-            ContactState::Sliding => n * f_n + slide_force,
+            ContactState::Sliding => surface.along_normal(f_n) + slide_force,
         };
         let tau_n_nm = if state == ContactState::Broken {
             0.0

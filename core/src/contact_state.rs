@@ -152,13 +152,17 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             if f_n <= p.force_eps_n {
                 return (ContactState::Rolling, Reason::Kept);
             }
+            // Predicates are evaluated lazily, cheapest and most often false first: on the
+            // common path (inside the cone) only |f_T|² is computed.
             let cone = p.mu_s * f_n * (1.0 + p.hysteresis);
-            let rolling_now = i.roll_disp_m.norm_squared() > p.roll_eps_m * p.roll_eps_m;
-            let agrees = !rolling_now || i.tangential_force_n.dot(i.roll_disp_m) >= 0.0;
-            let accelerating = i.tangential_accel.norm_squared() > p.accel_eps * p.accel_eps;
-            let slipping = i.tangential_velocity.norm_squared() > p.stick_speed * p.stick_speed;
-            if normal_steady && ft2 > cone * cone && (accelerating || slipping) && agrees {
-                return (ContactState::Sliding, Reason::ConeExceeded);
+            if normal_steady && ft2 > cone * cone {
+                let moving = i.tangential_accel.norm_squared() > p.accel_eps * p.accel_eps
+                    || i.tangential_velocity.norm_squared() > p.stick_speed * p.stick_speed;
+                let agrees = i.roll_disp_m.norm_squared() <= p.roll_eps_m * p.roll_eps_m
+                    || i.tangential_force_n.dot(i.roll_disp_m) >= 0.0;
+                if moving && agrees {
+                    return (ContactState::Sliding, Reason::ConeExceeded);
+                }
             }
             // Δθ > f_N·μ_s/(k_τ·r)  ⇔  Δθ²·(k_τ·r)² > (f_N·μ_s)² (both sides ≥ 0; no division or
             // square root).

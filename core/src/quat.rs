@@ -58,7 +58,7 @@ impl Quat {
     }
     #[inline]
     pub fn is_finite(self) -> bool {
-        self.w.is_finite() && self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
+        crate::flags::all_finite(&[self.w, self.x, self.y, self.z])
     }
     #[inline]
     fn scale(self, s: f32) -> Quat {

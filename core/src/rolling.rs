@@ -113,7 +113,12 @@ impl<S: Surface> Rolling<S> {
             };
         }
         let dq = self.surface.to_contact_frame(q * self.q_prev.conjugate());
-        let (angles, dflags) = decompose::<M>(self.method, dq);
+        // q and q_prev are finite unit quaternions here, so dq is finite: the exact method skips
+        // `decompose`'s own finiteness check.
+        let (angles, dflags) = match self.method {
+            Method::Exact => (crate::decompose::exact::<M>(dq), Flags::NONE),
+            m => decompose::<M>(m, dq),
+        };
         let flags = qflags | dflags;
         let w = Vec3::new(angles.psi, angles.theta, angles.phi);
 

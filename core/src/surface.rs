@@ -29,6 +29,18 @@ pub trait Surface: Copy + core::fmt::Debug {
     /// Penetration depth of a fingertip of radius `r` centred at `center_m` (object frame), m.
     /// Positive when the surfaces overlap.
     fn penetration<M: Math>(&self, center_m: Vec3, r: f32) -> f32;
+    /// Split an object-frame vector into its component along the normal and its tangential part.
+    #[inline]
+    fn split(&self, v: Vec3) -> (f32, Vec3) {
+        let n = self.normal();
+        let vn = v.dot(n);
+        (vn, v - n * vn)
+    }
+    /// The object-frame vector of length `s` along the normal.
+    #[inline]
+    fn along_normal(&self, s: f32) -> Vec3 {
+        self.normal() * s
+    }
 }
 
 /// The plane z = 0 of the object frame, normal +z. The contact frame is the object frame
@@ -102,6 +114,15 @@ impl Surface for Plane {
     #[inline]
     fn penetration<M: Math>(&self, c: Vec3, r: f32) -> f32 {
         r - c.z
+    }
+    /// The normal is +z: no products with 0 and 1 (IEEE arithmetic cannot drop them itself).
+    #[inline]
+    fn split(&self, v: Vec3) -> (f32, Vec3) {
+        (v.z, Vec3::new(v.x, v.y, 0.0))
+    }
+    #[inline]
+    fn along_normal(&self, s: f32) -> Vec3 {
+        Vec3::new(0.0, 0.0, s)
     }
 }
 

@@ -75,7 +75,10 @@ fn bench_nalgebra(c: &mut Criterion, samples: &[Quat]) {
             let (psi, theta, _phi) = rot.euler_angles();
             p += Vector3::new(0.01 * theta, -0.01 * psi, 0.0);
             prev = q;
-            k = (k + 1) % q64.len();
+            k += 1;
+            if k == q64.len() {
+                k = 0;
+            }
             black_box(p)
         });
     });
@@ -97,7 +100,10 @@ fn bench_nalgebra(c: &mut Criterion, samples: &[Quat]) {
             let (psi, theta, _phi) = rot.euler_angles();
             p += Vector3::new(0.01 * theta, -0.01 * psi, 0.0);
             prev = q;
-            k = (k + 1) % q32.len();
+            k += 1;
+            if k == q32.len() {
+                k = 0;
+            }
             black_box(p)
         });
     });
@@ -110,7 +116,10 @@ fn bench_nalgebra(c: &mut Criterion, samples: &[Quat]) {
             let w = (q * prev.inverse()).scaled_axis();
             p += Vector3::new(0.01 * w.y, -0.01 * w.x, 0.0);
             prev = q;
-            k = (k + 1) % q64.len();
+            k += 1;
+            if k == q64.len() {
+                k = 0;
+            }
             black_box(p)
         });
     });
