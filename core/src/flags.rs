@@ -90,6 +90,22 @@ pub fn all_finite(values: &[f32]) -> bool {
     values.iter().fold(0.0f32, |acc, v| acc + v * 0.0) == 0.0
 }
 
+impl core::ops::BitAnd for Flags {
+    type Output = Flags;
+    #[inline]
+    fn bitand(self, rhs: Flags) -> Flags {
+        Flags(self.0 & rhs.0)
+    }
+}
+
+impl core::ops::Not for Flags {
+    type Output = Flags;
+    #[inline]
+    fn not(self) -> Flags {
+        Flags(!self.0)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -120,21 +136,5 @@ mod tests {
             }
         }
         assert!(all_finite(&[]));
-    }
-}
-
-impl core::ops::BitAnd for Flags {
-    type Output = Flags;
-    #[inline]
-    fn bitand(self, rhs: Flags) -> Flags {
-        Flags(self.0 & rhs.0)
-    }
-}
-
-impl core::ops::Not for Flags {
-    type Output = Flags;
-    #[inline]
-    fn not(self) -> Flags {
-        Flags(!self.0)
     }
 }
