@@ -132,6 +132,10 @@ pub struct StateParams {
 }
 
 /// The state after one step, and why. Pure function: no state of its own.
+///
+/// Inlined into the contact step so the inputs only its rare branches read (accelerations, slip
+/// velocity, rolling displacement) are computed only when those branches run.
+#[inline(always)]
 pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (ContactState, Reason) {
     let f_n = i.normal_force_n;
     let separated = f_n <= p.force_eps_n && (i.normal_accel > p.accel_eps || i.gap_m > p.gap_eps_m);

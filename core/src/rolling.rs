@@ -104,6 +104,7 @@ impl<S: Surface> Rolling<S> {
     /// Bad samples (non-finite, zero) leave the state unchanged and are flagged; a sample off unit
     /// norm by more than 1e-3 is normalised, used and flagged. A failed decomposition (paper's
     /// singularity) moves nothing but still advances `q_prev`, and is flagged.
+    #[inline(always)]
     pub fn step<M: Math>(&mut self, q: Quat) -> RollStep {
         let (q, qflags) = q.normalized_checked::<M>();
         if qflags.intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS) {
