@@ -71,25 +71,25 @@ impl Quat {
     /// - zero (or subnormal-small) norm: identity, [`Flags::ZERO_AXIS`];
     /// - |‖q‖ - 1| > [`UNIT_TOLERANCE`]: normalised, [`Flags::NON_UNIT_QUAT`];
     /// - otherwise normalised silently.
+    #[inline(always)]
     pub fn normalized_checked<M: Math>(self) -> (Quat, Flags) {
-        if !self.is_finite() {
-            return (Quat::IDENTITY, Flags::NON_FINITE_INPUT);
-        }
         let n2 = self.norm_squared();
-        // n2 can overflow to inf for huge finite components; treat like non-finite.
-        if !n2.is_finite() {
-            return (Quat::IDENTITY, Flags::NON_FINITE_INPUT);
-        }
-        if n2 < 1.0e-30 {
-            return (Quat::IDENTITY, Flags::ZERO_AXIS);
-        }
         let d = n2 - 1.0;
+        // The common case first. A NaN or infinite component makes `d` NaN or inf, which fails
+        // this comparison and is handled below.
         if d.abs() <= NEAR_UNIT_N2 {
             // Near unit (then |‖q‖ − 1| = |d|/(‖q‖ + 1) < 1e-3: no flag): two Newton steps for
             // 1/√n2 from 1: r₁ = 1 − d/2 leaves a relative error ≤ (3/8)d² ≤ 1.4e-6, r₂ ≤ 1e-11.
             let r1 = 1.0 - 0.5 * d;
             let r2 = r1 * (1.5 - 0.5 * n2 * r1 * r1);
             return (self.scale(r2), Flags::NONE);
+        }
+        // n2 also overflows to inf for huge finite components; treat those like non-finite.
+        if !self.is_finite() || !n2.is_finite() {
+            return (Quat::IDENTITY, Flags::NON_FINITE_INPUT);
+        }
+        if n2 < 1.0e-30 {
+            return (Quat::IDENTITY, Flags::ZERO_AXIS);
         }
         let n = M::sqrt(n2);
         let flags = if (n - 1.0).abs() > UNIT_TOLERANCE {
@@ -142,6 +142,7 @@ impl Quat {
     /// u = s²/w² ≤ 0.04 and P(u) = atan(√u)/√u = 1 − u/3 + u²/5 − u³/7 + u⁴/9 − u⁵/11, whose
     /// truncation error is below u⁶/13 = 3.2e-10 relative: no square root and no arctangent, and
     /// the result does not depend on the quaternion's scale (v/w is scale-free).
+    #[inline(always)]
     pub fn to_rotation_vector<M: Math>(self) -> Vec3 {
         // Take the hemisphere w >= 0 so the angle is in [0, π].
         let q = if self.w < 0.0 { self.scale(-1.0) } else { self };

@@ -123,9 +123,7 @@ impl<S: Surface> Rolling<S> {
         let flags = qflags | dflags;
         let w = Vec3::new(angles.psi, angles.theta, angles.phi);
 
-        let before = self.surface.contact_point();
-        self.surface.roll::<M>(w, self.radius_m);
-        let object_disp_m = self.surface.contact_point() - before;
+        let object_disp_m = self.surface.roll::<M>(w, self.radius_m);
 
         if self.method != Method::Exact {
             // The same arc on the fingertip, mapped with the start-of-step orientation.

@@ -18,8 +18,9 @@ pub trait Surface: Copy + core::fmt::Debug {
     /// Map a contact-frame vector to the object frame.
     fn contact_to_object(&self, v_contact: Vec3) -> Vec3;
     /// Move the contact point by rolling. `w_contact` is the fingertip's rotation increment
-    /// (rad, contact frame: x = δψ, y = δθ, z = δφ) and `fingertip_radius_m` its radius.
-    fn roll<M: Math>(&mut self, w_contact: Vec3, fingertip_radius_m: f32);
+    /// (rad, contact frame: x = δψ, y = δθ, z = δφ) and `fingertip_radius_m` its radius. Returns
+    /// the displacement of the contact point on the object (object frame, m).
+    fn roll<M: Math>(&mut self, w_contact: Vec3, fingertip_radius_m: f32) -> Vec3;
     /// The contact point on the object, object frame, m.
     fn contact_point(&self) -> Vec3;
     /// The outward unit normal at the contact point, object frame.
@@ -95,9 +96,11 @@ impl Surface for Plane {
     /// Eqs. (2)-(3) for k_γ = 1/ρ: the contact point moves by ρ·(δθ, −δψ). For the rotation vector
     /// of a constant-angular-velocity step this is the exact sphere-on-plane rolling displacement.
     #[inline]
-    fn roll<M: Math>(&mut self, w: Vec3, rho: f32) {
-        kahan_add(&mut self.point.x, &mut self.carry[0], rho * w.y);
-        kahan_add(&mut self.point.y, &mut self.carry[1], -rho * w.x);
+    fn roll<M: Math>(&mut self, w: Vec3, rho: f32) -> Vec3 {
+        let d = Vec3::new(rho * w.y, -rho * w.x, 0.0);
+        kahan_add(&mut self.point.x, &mut self.carry[0], d.x);
+        kahan_add(&mut self.point.y, &mut self.carry[1], d.y);
+        d
     }
     #[inline]
     fn contact_point(&self) -> Vec3 {
@@ -165,13 +168,15 @@ impl Surface for Sphere {
     /// step (the centre moves on the sphere of radius R + r with velocity r·ω × n); its tangential
     /// part is the paper's arc δs = δξ/k_γ with k_γ = 1/r + 1/R. Here the whole contact frame is
     /// rotated, which keeps its tangent axes transported with the contact.
-    fn roll<M: Math>(&mut self, w: Vec3, r: f32) {
+    fn roll<M: Math>(&mut self, w: Vec3, r: f32) -> Vec3 {
+        let before = self.contact_point();
         let kappa = r / (self.radius_m + r);
         let (dq, _) = Quat::from_rotation_vector::<M>(w * kappa);
         // Rotation given in the contact frame: right-multiply.
         let f = self.frame * dq;
         let (f, _) = f.normalized_checked::<M>();
         self.frame = f;
+        self.contact_point() - before
     }
     #[inline]
     fn contact_point(&self) -> Vec3 {
