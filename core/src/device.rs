@@ -27,7 +27,7 @@
 
 use crate::delta::DeltaGeometry;
 use crate::flags::{all_finite, Flags};
-use crate::math::{Libm, Math};
+use crate::math::{Fast, Math};
 use crate::quat::Quat;
 use core::f32::consts::TAU;
 
@@ -177,8 +177,9 @@ impl DeviceParams {
             return Err(DeviceParamError::NonFinite(F::ArmAngleAtZeroCount));
         }
         let theta = [self.arm_angle_at_zero_count_rad; 3];
-        let (p, flags) = self.delta.forward::<Libm>(theta);
-        let (_, jflags) = self.delta.jacobian::<Libm>(theta, p);
+        // Fast, not Libm: validation runs on the MCU too, and libm's sincosf would add ~7 KB.
+        let (p, flags) = self.delta.forward::<Fast>(theta);
+        let (_, jflags) = self.delta.jacobian::<Fast>(theta, p);
         if !flags.is_empty() || !jflags.is_empty() {
             return Err(DeviceParamError::CalibrationPoseUnreachable);
         }
