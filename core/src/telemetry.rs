@@ -483,7 +483,6 @@ mod tests {
             force_n: Vec3::new(1.0, 2.0, 3.0),
             tau_n_nm: 0.01,
             state: ContactState::Sliding,
-            ..TickOutput::default()
         };
         let r = TelemetryRecord::new(
             7,
