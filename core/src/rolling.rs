@@ -81,7 +81,11 @@ impl<S: Surface> Rolling<S> {
     /// pay for it); for the Euler methods it is the dead-reckoned point.
     pub fn finger_point(&self) -> Vec3 {
         match self.method {
-            Method::Exact => self.exact_finger_point(self.q_prev),
+            Method::Exact => {
+                // q_prev is within 1e-3 of unit norm but not normalised (see `step`).
+                let (q, _) = self.q_prev.normalized_checked::<crate::math::Fast>();
+                self.exact_finger_point(q)
+            }
             Method::Rpy | Method::PaperVerbatim => self.dead_reckoned,
         }
     }
@@ -106,7 +110,12 @@ impl<S: Surface> Rolling<S> {
     /// singularity) moves nothing but still advances `q_prev`, and is flagged.
     #[inline(always)]
     pub fn step<M: Math>(&mut self, q: Quat) -> RollStep {
-        let (q, qflags) = q.normalized_checked::<M>();
+        // The exact method's log map is scale-free: a near-unit sample is used as it is (see
+        // `Quat::unit_checked`). The Euler methods build a rotation matrix, which is not.
+        let (q, qflags) = match self.method {
+            Method::Exact => q.unit_checked::<M>(),
+            Method::Rpy | Method::PaperVerbatim => q.normalized_checked::<M>(),
+        };
         if qflags.intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS) {
             return RollStep {
                 flags: qflags,
