@@ -8,10 +8,10 @@
 //! | from | to | condition (all must hold) |
 //! | --- | --- | --- |
 //! | any contact | broken | f_N ≤ ε_f and (a_N > ε_a or gap > ε_gap) — the paper's "f_N = 0, a_N > 0"; the gap test is ours, so a probe lifted off at constant speed also breaks contact |
-//! | broken | rolling | f_N > ε_f (contact made; the paper gives no rule for it) |
+//! | broken | rolling | f_N > f_make (contact made; the paper gives no rule for it). f_make > ε_f is a hysteresis band: encoder quantisation makes the penetration of a grazing probe flicker around zero, and without the band the state chatters broken ↔ rolling ↔ sliding; and at least t_broken since the break (a probe lifted off fast re-crosses zero penetration for single ticks) |
 //! | rolling | sliding | |a_N| ≤ tol_a, \|f_T\| > μ_s·f_N·(1 + h), relative tangential motion (\|a_T\| > ε_a or \|v_T\| > v_stick), and the haptic rule: f_T·d_roll ≥ 0 (the user's tangential force agrees with the rolling displacement d_roll) or no rolling this step |
 //! | rolling | sliding | the twist threshold: Δθ > Δθ_max = f_N·μ_s/(k_τ·r), with Δθ the tilt rate δξ/T (see below) |
-//! | sliding | rolling | |a_N| ≤ tol_a, \|f_T\| ≤ μ_k·f_N, \|v_T\| ≤ v_stick |
+//! | sliding | rolling | |a_N| ≤ tol_a, \|f_T\| ≤ μ_k·f_N, \|v_T\| ≤ v_stick, and at least t_slide in sliding (a dwell: at the onset of a slide the probe has not picked up speed yet) |
 //! | otherwise | unchanged | rolling kept inside the cone; sliding kept while moving or pushed |
 //!
 //! The paper asks for a_T ≠ 0 to leave rolling; a probe dragged at constant speed has a_T = 0 yet
@@ -91,8 +91,10 @@ pub struct StateInputs {
     pub tangential_velocity: Vec3,
     /// d_roll: the contact point's rolling displacement this step, m.
     pub roll_disp_m: Vec3,
-    /// Δθ: tilt rate δξ/T, rad/s.
-    pub tilt_rate: f32,
+    /// Δθ²: the square of the tilt rate δξ/T, rad²/s² (squared so no square root is needed).
+    pub tilt_rate_sq: f32,
+    /// Time spent in the current state, s.
+    pub time_in_state_s: f32,
 }
 
 /// Thresholds and friction (validated by [`crate::params`]).
@@ -121,9 +123,19 @@ pub struct StateParams {
     pub hysteresis: f32,
     /// A rolling displacement shorter than this is "no rolling" for the haptic rule, m.
     pub roll_eps_m: f32,
+    /// f_make: the normal force that makes contact from broken, N (≥ ε_f).
+    pub make_force_n: f32,
+    /// t_slide: least time in sliding before sticking again, s.
+    pub min_slide_s: f32,
+    /// t_broken: least time in broken before contact can be made again, s.
+    pub min_broken_s: f32,
 }
 
 /// The state after one step, and why. Pure function: no state of its own.
+///
+/// Inlined into the contact step so the inputs only its rare branches read (accelerations, slip
+/// velocity, rolling displacement) are computed only when those branches run.
+#[inline(always)]
 pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (ContactState, Reason) {
     let f_n = i.normal_force_n;
     let separated = f_n <= p.force_eps_n && (i.normal_accel > p.accel_eps || i.gap_m > p.gap_eps_m);
@@ -131,7 +143,7 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
     let ft2 = i.tangential_force_n.norm_squared();
     match state {
         ContactState::Broken => {
-            if f_n > p.force_eps_n {
+            if f_n > p.make_force_n && i.time_in_state_s >= p.min_broken_s {
                 (ContactState::Rolling, Reason::MadeContact)
             } else {
                 (ContactState::Broken, Reason::Kept)
@@ -144,16 +156,23 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             if f_n <= p.force_eps_n {
                 return (ContactState::Rolling, Reason::Kept);
             }
+            // Predicates are evaluated lazily, cheapest and most often false first: on the
+            // common path (inside the cone) only |f_T|² is computed.
             let cone = p.mu_s * f_n * (1.0 + p.hysteresis);
-            let rolling_now = i.roll_disp_m.norm_squared() > p.roll_eps_m * p.roll_eps_m;
-            let agrees = !rolling_now || i.tangential_force_n.dot(i.roll_disp_m) >= 0.0;
-            let accelerating = i.tangential_accel.norm_squared() > p.accel_eps * p.accel_eps;
-            let slipping = i.tangential_velocity.norm_squared() > p.stick_speed * p.stick_speed;
-            if normal_steady && ft2 > cone * cone && (accelerating || slipping) && agrees {
-                return (ContactState::Sliding, Reason::ConeExceeded);
+            if normal_steady && ft2 > cone * cone {
+                let moving = i.tangential_accel.norm_squared() > p.accel_eps * p.accel_eps
+                    || i.tangential_velocity.norm_squared() > p.stick_speed * p.stick_speed;
+                let agrees = i.roll_disp_m.norm_squared() <= p.roll_eps_m * p.roll_eps_m
+                    || i.tangential_force_n.dot(i.roll_disp_m) >= 0.0;
+                if moving && agrees {
+                    return (ContactState::Sliding, Reason::ConeExceeded);
+                }
             }
-            // Δθ > f_N·μ_s/(k_τ·r)  ⇔  Δθ·k_τ·r > f_N·μ_s (no division).
-            if i.tilt_rate * p.k_tau * p.radius_m > f_n * p.mu_s {
+            // Δθ > f_N·μ_s/(k_τ·r)  ⇔  Δθ²·(k_τ·r)² > (f_N·μ_s)² (both sides ≥ 0; no division or
+            // square root).
+            let kr = p.k_tau * p.radius_m;
+            let fm = f_n * p.mu_s;
+            if i.tilt_rate_sq * kr * kr > fm * fm {
                 return (ContactState::Sliding, Reason::TwistExceeded);
             }
             (ContactState::Rolling, Reason::Kept)
@@ -164,7 +183,9 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             }
             let kinetic = p.mu_k * f_n;
             let stopped = i.tangential_velocity.norm_squared() <= p.stick_speed * p.stick_speed;
-            if f_n > p.force_eps_n && normal_steady && ft2 <= kinetic * kinetic && stopped {
+            let dwelt = i.time_in_state_s >= p.min_slide_s;
+            if f_n > p.force_eps_n && normal_steady && ft2 <= kinetic * kinetic && stopped && dwelt
+            {
                 return (ContactState::Rolling, Reason::Stuck);
             }
             (ContactState::Sliding, Reason::Kept)

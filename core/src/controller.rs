@@ -338,7 +338,8 @@ impl<M: Math, S: Surface> Controller<M, S> {
             dev.wrist_counts_to_angle_rad(input.counts[4]),
             dev.wrist_counts_to_angle_rad(input.counts[5]),
         ];
-        let (probe_dev, mut kflags) = dev.delta.forward::<M>(angles);
+        let (pose, mut kflags) = dev.delta.pose::<M>(angles);
+        let probe_dev = pose.effector_m;
         let [lo, hi] = lim.arm_angle_range_rad;
         if angles.iter().any(|a| !(lo..=hi).contains(a)) {
             kflags |= Flags::OUT_OF_RANGE;
@@ -382,9 +383,7 @@ impl<M: Math, S: Surface> Controller<M, S> {
         }
 
         // Motor torques and duties.
-        let (torques, jflags) = dev
-            .delta
-            .joint_torques::<M>(angles, probe_dev, contact.force_n);
+        let (torques, jflags) = dev.delta.torques_at(&pose, contact.force_n);
         flags |= jflags;
         let mut duties = [0.0f32; 3];
         for i in 0..3 {

@@ -77,6 +77,31 @@ pub struct DeltaGeometry {
     pub forearm_m: f32,
 }
 
+/// The linkage at one configuration: the effector position and the velocity terms of the
+/// Jacobian (see [`DeltaGeometry::pose`]). `det == 0` marks a pose without valid torques.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct DeltaPose {
+    /// Effector centre, frame `B`, m.
+    pub effector_m: Vec3,
+    /// Forearm vectors sᵢ = p − cᵢ, m.
+    forearms: [Vec3; 3],
+    /// dᵢ = L_a·sᵢ·duᵢ/dθ, m².
+    d: [f32; 3],
+    /// det J_x = s₀·(s₁×s₂), m³ (0: no valid torques).
+    det: f32,
+}
+
+impl DeltaPose {
+    /// A pose with no valid position or torques.
+    pub const INVALID: DeltaPose = DeltaPose {
+        effector_m: Vec3::ZERO,
+        forearms: [Vec3::ZERO; 3],
+        d: [0.0; 3],
+        det: 0.0,
+    };
+}
+
 /// The jacobian ṗ = J·θ̇ (m/rad), row-major: `j[row][col]`, row = Cartesian axis x, y, z of `B`,
 /// column = motor.
 pub type Jacobian = [[f32; 3]; 3];
@@ -150,7 +175,12 @@ impl DeltaGeometry {
         if !all_finite(&angles_rad) {
             return (Vec3::ZERO, Flags::NON_FINITE_INPUT);
         }
-        let ([c0, c1, c2], _) = self.chains::<M>(angles_rad);
+        let (centres, _) = self.chains::<M>(angles_rad);
+        self.forward_from_centres::<M>(centres)
+    }
+
+    /// [`Self::forward`] from the sphere centres.
+    fn forward_from_centres<M: Math>(&self, [c0, c1, c2]: [Vec3; 3]) -> (Vec3, Flags) {
         let a = c1 - c0;
         let b = c2 - c0;
         let n = a.cross(b);
@@ -233,6 +263,16 @@ impl DeltaGeometry {
         effector_m: Vec3,
     ) -> Option<([Vec3; 3], [f32; 3], f32)> {
         let (centres, dus) = self.chains::<M>(angles_rad);
+        self.velocity_terms_from(centres, dus, effector_m)
+    }
+
+    /// [`Self::velocity_terms`] from the sphere centres and arm derivative directions.
+    fn velocity_terms_from(
+        &self,
+        centres: [Vec3; 3],
+        dus: [Vec3; 3],
+        effector_m: Vec3,
+    ) -> Option<([Vec3; 3], [f32; 3], f32)> {
         let s = [
             effector_m - centres[0],
             effector_m - centres[1],
@@ -306,6 +346,56 @@ impl DeltaGeometry {
         let Some((s, d, det)) = self.velocity_terms::<M>(angles_rad, effector_m) else {
             return ([0.0; 3], Flags::KINEMATICS_SINGULAR);
         };
+        Self::torques_from(s, d, det, force_n)
+    }
+
+    /// Forward kinematics and everything [`Self::torques_at`] needs, from one evaluation of the
+    /// arms' sines and cosines (a control tick needs both; computing them once saves three
+    /// `sin_cos`). Flags as [`Self::forward`]; a configuration whose forearm volume is below
+    /// [`MIN_FOREARM_VOLUME`] has a valid position but is flagged `KINEMATICS_SINGULAR` and gives
+    /// zero torques.
+    pub fn pose<M: Math>(&self, angles_rad: [f32; 3]) -> (DeltaPose, Flags) {
+        if !all_finite(&angles_rad) {
+            return (DeltaPose::INVALID, Flags::NON_FINITE_INPUT);
+        }
+        let (centres, dus) = self.chains::<M>(angles_rad);
+        let (p, flags) = self.forward_from_centres::<M>(centres);
+        if !flags.is_empty() {
+            return (DeltaPose::INVALID, flags);
+        }
+        match self.velocity_terms_from(centres, dus, p) {
+            Some((s, d, det)) => (
+                DeltaPose {
+                    effector_m: p,
+                    forearms: s,
+                    d,
+                    det,
+                },
+                Flags::NONE,
+            ),
+            None => (
+                DeltaPose {
+                    effector_m: p,
+                    ..DeltaPose::INVALID
+                },
+                Flags::KINEMATICS_SINGULAR,
+            ),
+        }
+    }
+
+    /// Jacobian-transpose torques (as [`Self::joint_torques`]) at a pose from [`Self::pose`].
+    pub fn torques_at(&self, pose: &DeltaPose, force_n: Vec3) -> ([f32; 3], Flags) {
+        if !force_n.is_finite() {
+            return ([0.0; 3], Flags::NON_FINITE_INPUT);
+        }
+        if pose.det == 0.0 {
+            return ([0.0; 3], Flags::KINEMATICS_SINGULAR);
+        }
+        Self::torques_from(pose.forearms, pose.d, pose.det, force_n)
+    }
+
+    /// τᵢ = dᵢ·(sⱼ×sₖ)·F / det J_x, (i, j, k) cyclic.
+    fn torques_from(s: [Vec3; 3], d: [f32; 3], det: f32, force_n: Vec3) -> ([f32; 3], Flags) {
         let inv_det = 1.0 / det;
         let tau = [
             d[0] * s[1].cross(s[2]).dot(force_n) * inv_det,

@@ -27,9 +27,8 @@
 
 use crate::delta::DeltaGeometry;
 use crate::flags::{all_finite, Flags};
-use crate::math::{Libm, Math};
+use crate::math::{Fast, Math};
 use crate::quat::Quat;
-use crate::vec3::Vec3;
 use core::f32::consts::TAU;
 
 /// One motor with its capstan drive. The three axes use identical drives.
@@ -178,8 +177,9 @@ impl DeviceParams {
             return Err(DeviceParamError::NonFinite(F::ArmAngleAtZeroCount));
         }
         let theta = [self.arm_angle_at_zero_count_rad; 3];
-        let (p, flags) = self.delta.forward::<Libm>(theta);
-        let (_, jflags) = self.delta.jacobian::<Libm>(theta, p);
+        // Fast, not Libm: validation runs on the MCU too, and libm's sincosf would add ~7 KB.
+        let (p, flags) = self.delta.forward::<Fast>(theta);
+        let (_, jflags) = self.delta.jacobian::<Fast>(theta, p);
         if !flags.is_empty() || !jflags.is_empty() {
             return Err(DeviceParamError::CalibrationPoseUnreachable);
         }
@@ -287,9 +287,18 @@ impl DeviceParams {
             return Quat::IDENTITY;
         }
         let [a0, a1, a2] = angles_rad;
-        Quat::from_axis_angle::<M>(Vec3::Z, a0)
-            * Quat::from_axis_angle::<M>(Vec3::Y, a1)
-            * Quat::from_axis_angle::<M>(Vec3::X, a2)
+        // Rz(a₀)·Ry(a₁)·Rx(a₂) multiplied out with half-angle sines and cosines (the general
+        // products would spend 32 multiplications on terms that are zero).
+        let (s0, c0) = M::sin_cos(0.5 * a0);
+        let (s1, c1) = M::sin_cos(0.5 * a1);
+        let (s2, c2) = M::sin_cos(0.5 * a2);
+        let (cc, ss, cs, sc) = (c0 * c1, s0 * s1, c0 * s1, s0 * c1);
+        Quat::new(
+            cc * c2 + ss * s2,
+            cc * s2 - ss * c2,
+            cs * c2 + sc * s2,
+            sc * c2 - cs * s2,
+        )
     }
 }
 

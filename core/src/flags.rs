@@ -81,9 +81,13 @@ impl core::ops::BitOrAssign for Flags {
 }
 
 /// True when every value is finite (not NaN, not ±inf).
+///
+/// Branch-free: x·0 is ±0 for every finite x and NaN for NaN and ±inf, and a sum of signed zeros
+/// is a zero, so Σ xᵢ·0 == 0 exactly when all xᵢ are finite. One multiply-add per value instead
+/// of a bit test and a branch each (this runs on every input of every control tick).
 #[inline]
 pub fn all_finite(values: &[f32]) -> bool {
-    values.iter().all(|v| v.is_finite())
+    values.iter().fold(0.0f32, |acc, v| acc + v * 0.0) == 0.0
 }
 
 impl core::ops::BitAnd for Flags {
@@ -99,5 +103,38 @@ impl core::ops::Not for Flags {
     #[inline]
     fn not(self) -> Flags {
         Flags(!self.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn all_finite_agrees_with_is_finite_on_every_class() {
+        let classes = [
+            0.0f32,
+            -0.0,
+            1.0,
+            -1.0,
+            f32::MIN_POSITIVE,
+            1e-45,
+            -1e-45,
+            f32::MAX,
+            f32::MIN,
+            f32::NAN,
+            -f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ];
+        for &a in &classes {
+            for &b in &classes {
+                for &c in &classes {
+                    let want = a.is_finite() && b.is_finite() && c.is_finite();
+                    assert_eq!(all_finite(&[a, b, c]), want, "{a} {b} {c}");
+                }
+            }
+        }
+        assert!(all_finite(&[]));
     }
 }

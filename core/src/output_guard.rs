@@ -170,7 +170,17 @@ impl OutputGuard {
             };
         }
         let max = self.config.max_duty;
-        let duties = finite_duties.map(|d| d.clamp(-max, max));
+        // Not `f32::clamp`: its min > max assertion would link the float formatting machinery
+        // (~17 KB) into the firmware for the panic message. `max` is validated in (0, 1].
+        let duties = finite_duties.map(|d| {
+            if d > max {
+                max
+            } else if d < -max {
+                -max
+            } else {
+                d
+            }
+        });
         if duties != finite_duties {
             flags |= Flags::OUTPUT_LIMITED;
         }

@@ -94,8 +94,6 @@ pub struct ContactParams {
     pub patch_radius_m: f32,
     /// k_τ: twist stiffness of the rolling→sliding threshold, N·m·s/rad.
     pub k_tau: f32,
-    /// Below this tangential speed the kinetic friction force ramps linearly to zero, m/s.
-    pub slide_smoothing_speed: f32,
     /// Largest force the model may ask for, N (the device's limit; also enforced after it).
     pub max_force_n: f32,
     /// Tolerances of the state machine (see [`StateParams`]); `mu_s`, `mu_k`, `k_tau` and the
@@ -111,6 +109,12 @@ pub struct ContactParams {
     pub stick_speed: f32,
     /// See [`StateParams::hysteresis`], fraction in [0, 1).
     pub hysteresis: f32,
+    /// See [`StateParams::make_force_n`] (≥ `force_eps_n`).
+    pub make_force_n: f32,
+    /// See [`StateParams::min_slide_s`].
+    pub min_slide_s: f32,
+    /// See [`StateParams::min_broken_s`].
+    pub min_broken_s: f32,
 }
 
 impl ContactParams {
@@ -130,7 +134,6 @@ impl ContactParams {
         spin_stiffness: 0.01,
         patch_radius_m: 0.005,
         k_tau: 4.0,
-        slide_smoothing_speed: 0.005,
         max_force_n: 12.0,
         force_eps_n: 0.01,
         accel_eps: 0.05,
@@ -138,6 +141,11 @@ impl ContactParams {
         gap_eps_m: 1e-4,
         stick_speed: 0.002,
         hysteresis: 0.05,
+        // 0.05 N is 25 µm of penetration at 2 N/mm: about two counts of the default encoders'
+        // quantisation at the effector (~13 µm), the noise a grazing probe sees.
+        make_force_n: 0.05,
+        min_slide_s: 0.02,
+        min_broken_s: 0.002,
     };
 
     /// Largest accepted value of each field (see [`Self::validate`]): far beyond any device or
@@ -155,7 +163,6 @@ impl ContactParams {
         spin_stiffness: 1.0e3,
         patch_radius_m: 1.0,
         k_tau: 1.0e6,
-        slide_smoothing_speed: 100.0,
         max_force_n: 1.0e4,
         force_eps_n: 1.0e4,
         accel_eps: 1.0e6,
@@ -163,6 +170,9 @@ impl ContactParams {
         gap_eps_m: 1.0,
         stick_speed: 100.0,
         hysteresis: 1.0,
+        make_force_n: 1.0e4,
+        min_slide_s: 1.0e3,
+        min_broken_s: 1.0e3,
     };
 
     /// Smallest accepted fingertip radius, m (0.1 mm): 1/ρ stays finite and meaningful.
@@ -217,12 +227,6 @@ impl ContactParams {
         at_most("patch_radius_m", self.patch_radius_m, m.patch_radius_m)?;
         positive("k_tau", self.k_tau)?;
         at_most("k_tau", self.k_tau, m.k_tau)?;
-        positive("slide_smoothing_speed", self.slide_smoothing_speed)?;
-        at_most(
-            "slide_smoothing_speed",
-            self.slide_smoothing_speed,
-            m.slide_smoothing_speed,
-        )?;
         positive("max_force_n", self.max_force_n)?;
         if self.max_force_n < Self::MIN_MAX_FORCE_N {
             return Err(ParamError::OutOfRange("max_force_n"));
@@ -246,6 +250,15 @@ impl ContactParams {
         if self.hysteresis >= 1.0 {
             return Err(ParamError::OutOfRange("hysteresis"));
         }
+        non_negative("make_force_n", self.make_force_n)?;
+        at_most("make_force_n", self.make_force_n, m.make_force_n)?;
+        if self.make_force_n < self.force_eps_n {
+            return Err(ParamError::OutOfRange("make_force_n"));
+        }
+        non_negative("min_slide_s", self.min_slide_s)?;
+        at_most("min_slide_s", self.min_slide_s, m.min_slide_s)?;
+        non_negative("min_broken_s", self.min_broken_s)?;
+        at_most("min_broken_s", self.min_broken_s, m.min_broken_s)?;
         Ok(())
     }
 
@@ -263,6 +276,9 @@ impl ContactParams {
             stick_speed: self.stick_speed,
             hysteresis: self.hysteresis,
             roll_eps_m: 1e-9,
+            make_force_n: self.make_force_n,
+            min_slide_s: self.min_slide_s,
+            min_broken_s: self.min_broken_s,
         }
     }
 }

@@ -40,8 +40,9 @@ pub struct Rolling<S: Surface> {
     pub surface: S,
     /// Fingertip sphere radius ρ, m.
     pub radius_m: f32,
-    /// Contact point on the fingertip, fingertip frame, m (|p| = ρ).
-    pub finger_point: Vec3,
+    /// The Euler methods' dead-reckoned contact point on the fingertip, fingertip frame, m. Unused
+    /// by the exact method, whose point follows from the orientation (see [`Rolling::finger_point`]).
+    dead_reckoned: Vec3,
     /// The previous orientation sample (fingertip → object), unit.
     pub q_prev: Quat,
     /// Decomposition method.
@@ -67,12 +68,26 @@ impl<S: Surface> Rolling<S> {
         let mut r = Rolling {
             surface,
             radius_m,
-            finger_point: Vec3::ZERO,
+            dead_reckoned: Vec3::ZERO,
             q_prev: q0,
             method,
         };
-        r.finger_point = r.exact_finger_point(q0);
+        r.dead_reckoned = r.exact_finger_point(q0);
         r
+    }
+
+    /// The contact point on the fingertip, fingertip frame, m (|p| = ρ). For the exact method it is
+    /// computed here from the last orientation (so a control tick that does not need it does not
+    /// pay for it); for the Euler methods it is the dead-reckoned point.
+    pub fn finger_point(&self) -> Vec3 {
+        match self.method {
+            Method::Exact => {
+                // q_prev is within 1e-3 of unit norm but not normalised (see `step`).
+                let (q, _) = self.q_prev.normalized_checked::<crate::math::Fast>();
+                self.exact_finger_point(q)
+            }
+            Method::Rpy | Method::PaperVerbatim => self.dead_reckoned,
+        }
     }
 
     /// The exact contact point on the fingertip for orientation q: q*·(−ρ·n).
@@ -85,7 +100,7 @@ impl<S: Surface> Rolling<S> {
     /// fingertip is recomputed from the geometry.
     pub fn restart(&mut self, q: Quat) {
         self.q_prev = q;
-        self.finger_point = self.exact_finger_point(q);
+        self.dead_reckoned = self.exact_finger_point(q);
     }
 
     /// One step with the new orientation sample `q` (fingertip → object; normalised here).
@@ -93,8 +108,14 @@ impl<S: Surface> Rolling<S> {
     /// Bad samples (non-finite, zero) leave the state unchanged and are flagged; a sample off unit
     /// norm by more than 1e-3 is normalised, used and flagged. A failed decomposition (paper's
     /// singularity) moves nothing but still advances `q_prev`, and is flagged.
+    #[inline(always)]
     pub fn step<M: Math>(&mut self, q: Quat) -> RollStep {
-        let (q, qflags) = q.normalized_checked::<M>();
+        // The exact method's log map is scale-free: a near-unit sample is used as it is (see
+        // `Quat::unit_checked`). The Euler methods build a rotation matrix, which is not.
+        let (q, qflags) = match self.method {
+            Method::Exact => q.unit_checked::<M>(),
+            Method::Rpy | Method::PaperVerbatim => q.normalized_checked::<M>(),
+        };
         if qflags.intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS) {
             return RollStep {
                 flags: qflags,
@@ -102,30 +123,30 @@ impl<S: Surface> Rolling<S> {
             };
         }
         let dq = self.surface.to_contact_frame(q * self.q_prev.conjugate());
-        let (angles, dflags) = decompose::<M>(self.method, dq);
+        // q and q_prev are finite unit quaternions here, so dq is finite: the exact method skips
+        // `decompose`'s own finiteness check.
+        let (angles, dflags) = match self.method {
+            Method::Exact => (crate::decompose::exact::<M>(dq), Flags::NONE),
+            m => decompose::<M>(m, dq),
+        };
         let flags = qflags | dflags;
         let w = Vec3::new(angles.psi, angles.theta, angles.phi);
 
-        let before = self.surface.contact_point();
-        self.surface.roll::<M>(w, self.radius_m);
-        let object_disp_m = self.surface.contact_point() - before;
+        let object_disp_m = self.surface.roll::<M>(w, self.radius_m);
 
-        self.finger_point = match self.method {
-            Method::Exact => self.exact_finger_point(q),
-            Method::Rpy | Method::PaperVerbatim => {
-                // The same arc on the fingertip, mapped with the start-of-step orientation.
-                let k_gamma = relative_curvature(self.radius_m, self.surface.curvature());
-                let d_contact = Vec3::new(angles.theta, -angles.psi, 0.0) * (1.0 / k_gamma);
-                let d_object = self.surface.contact_to_object(d_contact);
-                let p = self.finger_point + self.q_prev.conjugate().rotate(d_object);
-                let n = p.norm::<M>();
-                if n > 0.5 * self.radius_m && n.is_finite() {
-                    p * (self.radius_m / n)
-                } else {
-                    self.exact_finger_point(q)
-                }
-            }
-        };
+        if self.method != Method::Exact {
+            // The same arc on the fingertip, mapped with the start-of-step orientation.
+            let k_gamma = relative_curvature(self.radius_m, self.surface.curvature());
+            let d_contact = Vec3::new(angles.theta, -angles.psi, 0.0) * (1.0 / k_gamma);
+            let d_object = self.surface.contact_to_object(d_contact);
+            let p = self.dead_reckoned + self.q_prev.conjugate().rotate(d_object);
+            let n = p.norm::<M>();
+            self.dead_reckoned = if n > 0.5 * self.radius_m && n.is_finite() {
+                p * (self.radius_m / n)
+            } else {
+                self.exact_finger_point(q)
+            };
+        }
         self.q_prev = q;
         RollStep {
             angles,

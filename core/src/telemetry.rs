@@ -6,6 +6,7 @@
 //! never waits. Every tick's cost (CPU cycles) goes into [`TickStats`], which yields a
 //! [`TickSummary`] once per reporting window (one second).
 
+use crate::contact_state::ContactState;
 use crate::controller::{TickInput, TickOutput};
 use crate::flags::Flags;
 use crate::vec3::Vec3;
@@ -139,6 +140,8 @@ pub struct TelemetryRecord {
     pub force_n: Vec3,
     /// Spin torque about the contact normal, N·m.
     pub tau_n_nm: f32,
+    /// Contact state after this tick.
+    pub state: ContactState,
     /// Duties actually written to the drivers (after the output guard), in [-1, 1].
     pub duties: [f32; 3],
     /// Driver enable as written.
@@ -167,6 +170,7 @@ impl TelemetryRecord {
             probe_m: output.probe_m,
             force_n: output.force_n,
             tau_n_nm: output.tau_n_nm,
+            state: output.state,
             duties: written.0,
             enable: written.1,
             flags: written.2,
@@ -478,7 +482,7 @@ mod tests {
             probe_m: Vec3::new(0.0, 0.0, 0.1),
             force_n: Vec3::new(1.0, 2.0, 3.0),
             tau_n_nm: 0.01,
-            ..TickOutput::default()
+            state: ContactState::Sliding,
         };
         let r = TelemetryRecord::new(
             7,
@@ -491,6 +495,7 @@ mod tests {
         assert_eq!(r.force_n, output.force_n);
         assert_eq!(r.probe_m, output.probe_m);
         assert_eq!(r.tau_n_nm, 0.01);
+        assert_eq!(r.state, ContactState::Sliding);
         assert_eq!(r.duties, [0.0; 3]);
         assert!(!r.enable);
         assert_eq!(r.flags, Flags::DRIVER_FAULT);

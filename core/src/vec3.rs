@@ -46,7 +46,7 @@ impl Vec3 {
     /// True when all three components are finite.
     #[inline]
     pub fn is_finite(self) -> bool {
-        self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
+        crate::flags::all_finite(&[self.x, self.y, self.z])
     }
     #[inline]
     pub fn to_array(self) -> [f32; 3] {

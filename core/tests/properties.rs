@@ -109,9 +109,14 @@ fn from_axis_angle_contract<M: Math>(axis: Vec3, angle: f32) -> Result<(), TestC
     if !finite_in {
         prop_assert!(f.contains(Flags::NON_FINITE_INPUT));
         prop_assert_eq!(r, Rot3::IDENTITY);
-    } else if !f.intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS) {
+    } else if !f.intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS)
+        && (M::NAME != "micromath" || angle.abs() <= 1.0e4)
+    {
         // A rotation: orthonormal. f32 Rodrigues gives ~1e-6 per entry; micromath's ~5 %
-        // sqrt (axis normalisation) and ~0.002 trig put it at ~0.2.
+        // sqrt (axis normalisation) and ~0.002 trig put it at ~0.2. Micromath's sin/cos are
+        // specified for |x| ≤ 1e4 only (beyond, sin² + cos² drifts from 1: 0.014 at 1e5, 1 at
+        // 1e8, and the wrapper returns 0 for both beyond 2^33), so larger angles are only
+        // required to give finite entries.
         let tol = if M::NAME == "micromath" { 0.25 } else { 1e-5 };
         prop_assert!(orthonormal(&r, tol), "{axis:?} {angle} -> {r:?}");
     }
@@ -141,8 +146,8 @@ fn rolling_contract<M: Math>(q_seq: &[Quat]) -> Result<(), TestCaseError> {
             let a = plane.step::<M>(q);
             let b = sphere.step::<M>(q);
             for (s, fp, cp) in [
-                (a, plane.finger_point, plane.surface.contact_point()),
-                (b, sphere.finger_point, sphere.surface.contact_point()),
+                (a, plane.finger_point(), plane.surface.contact_point()),
+                (b, sphere.finger_point(), sphere.surface.contact_point()),
             ] {
                 let finite = s.angles.phi.is_finite()
                     && s.angles.theta.is_finite()
@@ -231,7 +236,7 @@ proptest! {
             let before = m.state();
             let out = m.contact_step(&input);
             prop_assert!(out.force_n.is_finite() && out.tau_n_nm.is_finite(), "{out:?}");
-            prop_assert!(out.object_point_m.is_finite() && out.finger_point_m.is_finite());
+            prop_assert!(out.object_point_m.is_finite() && m.rolling.finger_point().is_finite());
             let f = out.force_n;
             let n = ((f.x as f64).powi(2) + (f.y as f64).powi(2) + (f.z as f64).powi(2)).sqrt();
             // The limit is applied by a rescale: a few ulps of rounding (see the harness).

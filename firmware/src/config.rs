@@ -51,3 +51,6 @@ pub const WATCHDOG_TIMEOUT_US: u32 = 5_000;
 
 /// User-button debounce, ms.
 pub const BUTTON_DEBOUNCE_MS: u64 = 30;
+
+/// A press of B1 held at least this long is a long press (next stiffness preset), ms.
+pub const LONG_PRESS_MS: u64 = 1_000;

@@ -9,7 +9,7 @@
 //! telemetry producers) is moved into [`CONTROL`] once at start-up and afterwards touched only by
 //! the interrupt. Tasks talk to it through atomics: [`CLEAR_REQUEST`] in, [`LATCHED`] out.
 
-use core::cell::RefCell;
+use core::cell::{Cell, RefCell};
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 use cortex_m::peripheral::DWT;
@@ -22,6 +22,7 @@ use heapless::spsc::Producer;
 use softfinger_core::controller::{Controller, TickInput};
 use softfinger_core::encoder::EncoderBank;
 use softfinger_core::output_guard::OutputGuard;
+use softfinger_core::params::ContactParams;
 use softfinger_core::telemetry::{Decimator, DropCounter, TelemetryRecord, TickStats, TickSummary};
 use softfinger_core::{Fast, Flags};
 
@@ -30,6 +31,18 @@ use crate::config;
 
 /// Set by a task to ask the next tick to clear latched faults (controller and guard).
 pub static CLEAR_REQUEST: AtomicBool = AtomicBool::new(false);
+
+/// Contact parameters waiting to be applied by the next control tick (set by a low-priority task).
+/// The controller validates them: an invalid set is rejected and the old one stays in force.
+pub static PARAM_REQUEST: Mutex<Cell<Option<ContactParams>>> = Mutex::new(Cell::new(None));
+
+/// Outcome of the last parameter request, for the supervisor to log: 0 none yet, then
+/// `PARAM_APPLIED` or `PARAM_REJECTED` in the low bits and a sequence number above them.
+pub static PARAM_RESULT: AtomicU32 = AtomicU32::new(0);
+/// [`PARAM_RESULT`] low bits: the request was applied.
+pub const PARAM_APPLIED: u32 = 1;
+/// [`PARAM_RESULT`] low bits: the request was rejected.
+pub const PARAM_REJECTED: u32 = 2;
 
 /// The guard's latched faults as of the last tick ([`Flags`] bits), for the supervisor task.
 pub static LATCHED: AtomicU32 = AtomicU32::new(0);
@@ -81,6 +94,15 @@ impl ControlLoop {
             driver_fault,
             overrun: self.overran,
         };
+
+        if let Some(params) = critical_section::with(|cs| PARAM_REQUEST.borrow(cs).take()) {
+            let outcome = match self.controller.set_contact_params(params) {
+                Ok(()) => PARAM_APPLIED,
+                Err(_) => PARAM_REJECTED,
+            };
+            let seq = (PARAM_RESULT.load(Ordering::Relaxed) >> 2).wrapping_add(1);
+            PARAM_RESULT.store(seq << 2 | outcome, Ordering::Relaxed);
+        }
 
         if CLEAR_REQUEST.swap(false, Ordering::Relaxed) {
             self.controller.clear_faults();

@@ -9,7 +9,7 @@ use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use softfinger_core::decompose::Method;
 use softfinger_core::rolling::Rolling;
 use softfinger_core::surface::Plane;
-use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Vec3};
+use softfinger_core::{Fast, Libm, Math, Micromath, Quat};
 use std::hint::black_box;
 
 /// The paper's per-sample increment Rz(0.05)·Ry(0.02)·Rx(0.03), applied body-fixed.
@@ -50,9 +50,62 @@ fn bench_rolling<M: Math>(c: &mut Criterion, samples: &[Quat]) {
 }
 
 /// The peer: what a user of nalgebra would write for the paper's algorithm: the relative rotation
-/// as a `Rotation3` from axis and angle (Rodrigues), `euler_angles`, then eqs. (2)-(3).
+/// as a `Rotation3` from axis and angle (Rodrigues), `euler_angles`, then eqs. (2)-(3). Generic over
+/// the scalar so f64 and f32 run the same code.
+fn nalgebra_rpy<T: nalgebra::RealField + Copy>(
+    c: &mut Criterion,
+    name: &str,
+    qs: &[UnitQuaternion<T>],
+) {
+    let radius: T = nalgebra::convert(0.01);
+    c.benchmark_group("rolling_step")
+        .bench_function(BenchmarkId::new("nalgebra-rpy", name), |b| {
+            let mut prev = UnitQuaternion::<T>::identity();
+            let mut p = Vector3::<T>::zeros();
+            let mut k = 0usize;
+            b.iter(|| {
+                let q = black_box(qs[k]);
+                let dq = q * prev.inverse();
+                let rot = match dq.axis_angle() {
+                    Some((axis, angle)) => Rotation3::from_axis_angle(&axis, angle),
+                    None => Rotation3::identity(),
+                };
+                let (psi, theta, _phi) = rot.euler_angles();
+                p += Vector3::new(radius * theta, -radius * psi, T::zero());
+                prev = q;
+                k += 1;
+                if k == qs.len() {
+                    k = 0;
+                }
+                black_box(p)
+            });
+        });
+}
+
+/// The exact method written with nalgebra in f64: `scaled_axis` of the increment.
+fn nalgebra_exact(c: &mut Criterion, q64: &[UnitQuaternion<f64>]) {
+    c.benchmark_group("rolling_step").bench_function(
+        BenchmarkId::new("nalgebra-exact", "f64"),
+        |b| {
+            let mut prev = UnitQuaternion::identity();
+            let mut p = Vector3::<f64>::zeros();
+            let mut k = 0usize;
+            b.iter(|| {
+                let q = black_box(q64[k]);
+                let w = (q * prev.inverse()).scaled_axis();
+                p += Vector3::new(0.01 * w.y, -0.01 * w.x, 0.0);
+                prev = q;
+                k += 1;
+                if k == q64.len() {
+                    k = 0;
+                }
+                black_box(p)
+            });
+        },
+    );
+}
+
 fn bench_nalgebra(c: &mut Criterion, samples: &[Quat]) {
-    let mut group = c.benchmark_group("rolling_step");
     let q64: Vec<UnitQuaternion<f64>> = samples
         .iter()
         .map(|q| {
@@ -61,60 +114,13 @@ fn bench_nalgebra(c: &mut Criterion, samples: &[Quat]) {
             ))
         })
         .collect();
-    group.bench_function(BenchmarkId::new("nalgebra-rpy", "f64"), |b| {
-        let mut prev = UnitQuaternion::identity();
-        let mut p = Vector3::<f64>::zeros();
-        let mut k = 0usize;
-        b.iter(|| {
-            let q = black_box(q64[k]);
-            let dq = q * prev.inverse();
-            let rot = match dq.axis_angle() {
-                Some((axis, angle)) => Rotation3::from_axis_angle(&axis, angle),
-                None => Rotation3::identity(),
-            };
-            let (psi, theta, _phi) = rot.euler_angles();
-            p += Vector3::new(0.01 * theta, -0.01 * psi, 0.0);
-            prev = q;
-            k = (k + 1) % q64.len();
-            black_box(p)
-        });
-    });
     let q32: Vec<UnitQuaternion<f32>> = samples
         .iter()
         .map(|q| UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q.w, q.x, q.y, q.z)))
         .collect();
-    group.bench_function(BenchmarkId::new("nalgebra-rpy", "f32"), |b| {
-        let mut prev = UnitQuaternion::<f32>::identity();
-        let mut p = Vector3::<f32>::zeros();
-        let mut k = 0usize;
-        b.iter(|| {
-            let q = black_box(q32[k]);
-            let dq = q * prev.inverse();
-            let rot = match dq.axis_angle() {
-                Some((axis, angle)) => Rotation3::from_axis_angle(&axis, angle),
-                None => Rotation3::identity(),
-            };
-            let (psi, theta, _phi) = rot.euler_angles();
-            p += Vector3::new(0.01 * theta, -0.01 * psi, 0.0);
-            prev = q;
-            k = (k + 1) % q32.len();
-            black_box(p)
-        });
-    });
-    group.bench_function(BenchmarkId::new("nalgebra-exact", "f64"), |b| {
-        let mut prev = UnitQuaternion::identity();
-        let mut p = Vector3::<f64>::zeros();
-        let mut k = 0usize;
-        b.iter(|| {
-            let q = black_box(q64[k]);
-            let w = (q * prev.inverse()).scaled_axis();
-            p += Vector3::new(0.01 * w.y, -0.01 * w.x, 0.0);
-            prev = q;
-            k = (k + 1) % q64.len();
-            black_box(p)
-        });
-    });
-    group.finish();
+    nalgebra_rpy(c, "f64", &q64);
+    nalgebra_rpy(c, "f32", &q32);
+    nalgebra_exact(c, &q64);
 }
 
 fn benches(c: &mut Criterion) {
@@ -123,7 +129,6 @@ fn benches(c: &mut Criterion) {
     bench_rolling::<Fast>(c, &samples);
     bench_rolling::<Micromath>(c, &samples);
     bench_nalgebra(c, &samples);
-    let _ = Vec3::ZERO;
 }
 
 criterion_group!(step, benches);

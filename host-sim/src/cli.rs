@@ -14,12 +14,23 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Run a scene in closed loop with the plant (the default): summary, CSV and SVG charts.
+    Run(crate::run::Args),
     /// Replay recorded fingertip orientations through the core (for tuning from bench logs).
     Replay(crate::replay::Args),
     /// Fault-injection campaign, closed loop with the plant: table, or JSON with --json.
     Faults(crate::faults::Args),
     /// Long closed-loop run repeating the touch script (release build; 10^8 ticks ~ 20 min).
     Soak(crate::faults::soak::Args),
+    /// Where the decompositions fail, f32 drift, virtual-wall stability and state chatter:
+    /// charts (SVG) and tables.
+    Stability(crate::stability::Args),
+    /// The paper's §3.1 validation: every method x backend against the classical rolling equations
+    /// (RK45), accuracy and time per step, with the paper's figures beside ours.
+    Validate(crate::validate::Args),
+    /// Speed against accuracy as SVG charts (per method x backend x sampling rate, RK45 at several
+    /// tolerances, Pareto front), the paper's Fig. 3, and the MCU instruction counts against accuracy.
+    Chart(crate::chart::Args),
 }
 
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
@@ -37,10 +48,14 @@ where
         }
     };
     let result = match cli.command {
+        Some(Command::Run(args)) => crate::run::main(&args),
         Some(Command::Replay(args)) => crate::replay::main(&args),
         Some(Command::Faults(args)) => crate::faults::main(&args),
         Some(Command::Soak(args)) => crate::faults::soak::main(&args),
-        None => Err("the closed-loop run is not wired yet; try `host-sim --help`".to_string()),
+        Some(Command::Validate(args)) => crate::validate::main(&args),
+        Some(Command::Chart(args)) => crate::chart::main(&args),
+        Some(Command::Stability(args)) => crate::stability::main(&args),
+        None => crate::run::main(&crate::run::Args::default()),
     };
     match result {
         Ok(()) => 0,

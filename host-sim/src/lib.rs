@@ -2,8 +2,15 @@
 //! tests in `tests/` run them in-process.
 
 pub mod atomic_file;
+pub mod chart;
 pub mod cli;
+pub mod closed_loop;
 pub mod faults;
 pub mod plant;
 pub mod reference;
 pub mod replay;
+pub mod run;
+pub mod scene;
+pub mod stability;
+pub mod svg_chart;
+pub mod validate;

@@ -174,7 +174,7 @@ pub fn replay(samples: &[Sample], method: Method, radius_m: f32, normal_force_n:
     let mut rows = Vec::with_capacity(samples.len());
     let mut push = |t_s: f64, r: &Rolling<Plane>, spin: &SpinSpring, tau: f32, state| {
         let p = r.surface.point;
-        let f = r.finger_point;
+        let f = r.finger_point();
         rows.push(Row {
             t_s,
             plane: [p.x, p.y],

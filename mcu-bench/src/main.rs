@@ -174,7 +174,8 @@ fn state_machine(b: &mut Bencher) {
         tangential_accel: Vec3::new(0.01, 0.0, 0.0),
         tangential_velocity: Vec3::new(0.0005, 0.0, 0.0),
         roll_disp_m: Vec3::new(2.0e-6, -3.0e-6, 0.0),
-        tilt_rate: 0.36,
+        tilt_rate_sq: 0.36 * 0.36,
+        time_in_state_s: 1.0,
     };
     let (state, _) = next_state(ContactState::Rolling, &inputs, &params);
     if state != ContactState::Rolling {

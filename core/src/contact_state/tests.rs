@@ -14,6 +14,9 @@ const P: StateParams = StateParams {
     stick_speed: 0.002,
     hysteresis: 0.05,
     roll_eps_m: 1e-9,
+    make_force_n: 0.05,
+    min_slide_s: 0.02,
+    min_broken_s: 0.002,
 };
 
 /// Pressing with 2 N, at rest, nothing else.
@@ -21,6 +24,7 @@ fn pressed() -> StateInputs {
     StateInputs {
         normal_force_n: 2.0,
         gap_m: -0.001,
+        time_in_state_s: 1.0,
         ..StateInputs::default()
     }
 }
@@ -52,6 +56,26 @@ fn every_transition_and_non_transition() {
             StateInputs {
                 normal_force_n: 0.01,
                 ..Default::default()
+            },
+            Broken,
+            Reason::Kept,
+        ),
+        (
+            "broken, force inside the make band",
+            Broken,
+            StateInputs {
+                normal_force_n: 0.04,
+                ..Default::default()
+            },
+            Broken,
+            Reason::Kept,
+        ),
+        (
+            "broken, pressed right after a break",
+            Broken,
+            StateInputs {
+                time_in_state_s: 0.001,
+                ..pressed()
             },
             Broken,
             Reason::Kept,
@@ -190,7 +214,7 @@ fn every_transition_and_non_transition() {
             "rolling, tilt rate below Δθ_max",
             Rolling,
             StateInputs {
-                tilt_rate: 39.0,
+                tilt_rate_sq: 39.0 * 39.0,
                 ..pressed()
             },
             Rolling,
@@ -200,7 +224,7 @@ fn every_transition_and_non_transition() {
             "rolling, tilt rate above Δθ_max",
             Rolling,
             StateInputs {
-                tilt_rate: 41.0,
+                tilt_rate_sq: 41.0 * 41.0,
                 ..pressed()
             },
             Sliding,
@@ -224,10 +248,23 @@ fn every_transition_and_non_transition() {
             StateInputs {
                 tangential_velocity: x(0.001),
                 tangential_force_n: x(1.1),
+                time_in_state_s: 0.5,
                 ..pressed()
             },
             Rolling,
             Reason::Stuck,
+        ),
+        (
+            "sliding, stopped but only just started sliding",
+            Sliding,
+            StateInputs {
+                tangential_velocity: x(0.001),
+                tangential_force_n: x(1.1),
+                time_in_state_s: 0.01,
+                ..pressed()
+            },
+            Sliding,
+            Reason::Kept,
         ),
         (
             "sliding, stopped but pushed past kinetic cone",
@@ -235,6 +272,7 @@ fn every_transition_and_non_transition() {
             StateInputs {
                 tangential_velocity: x(0.001),
                 tangential_force_n: x(1.3),
+                time_in_state_s: 0.5,
                 ..pressed()
             },
             Sliding,
@@ -246,6 +284,7 @@ fn every_transition_and_non_transition() {
             StateInputs {
                 tangential_velocity: x(0.0),
                 normal_accel: 50.0,
+                time_in_state_s: 0.5,
                 ..pressed()
             },
             Sliding,

@@ -416,3 +416,35 @@ fn arm_grid_edges_stay_finite_for_every_backend() {
         }
     }
 }
+
+/// `pose` + `torques_at` (one evaluation of the arms' trigonometry) give exactly what `forward` and
+/// `joint_torques` give separately, over the workspace, and agree on singular configurations.
+#[test]
+fn pose_matches_forward_and_joint_torques() {
+    let g = DeltaGeometry::OMEGA_LIKE;
+    let f = Vec3::new(1.0, -2.0, 3.0);
+    let mut compared = 0;
+    for i in 0..11 {
+        for j in 0..11 {
+            for k in 0..11 {
+                let a = [
+                    -0.6 + 0.2 * i as f32,
+                    -0.6 + 0.2 * j as f32,
+                    -0.6 + 0.2 * k as f32,
+                ];
+                let (p, pf) = g.forward::<Libm>(a);
+                let (pose, flags) = g.pose::<Libm>(a);
+                if !pf.is_empty() {
+                    assert_eq!(flags, pf, "{a:?}");
+                    continue;
+                }
+                assert_eq!(pose.effector_m, p);
+                let (t1, f1) = g.joint_torques::<Libm>(a, p, f);
+                let (t2, f2) = g.torques_at(&pose, f);
+                assert_eq!((t1, f1), (t2, f2), "{a:?}");
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared > 500, "{compared}");
+}

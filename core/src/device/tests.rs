@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::math::{Fast, Libm};
+use crate::vec3::Vec3;
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 
 const D: DeviceParams = DeviceParams::OMEGA_LIKE;

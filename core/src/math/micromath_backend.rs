@@ -1,147 +1,209 @@
-//! The micromath backend: fast approximations from the `micromath` crate.
+//! The micromath backend: fast low-accuracy approximations from the `micromath` crate, wrapped so
+//! that they meet the [`Math`] contract.
 
 use super::Math;
 use micromath::F32Ext;
 
-/// micromath's approximations. Documented errors: sin/cos/atan2 about 0.002 rad; sqrt about 5 %
-/// average deviation (no Newton step). Measured figures are in this module's tests.
+/// micromath's approximations. Documented by micromath: sin/cos/atan2 max error 0.002 (atan2
+/// 0.162° = 0.0028 rad), sqrt ~5 % average deviation (one bit-pattern step, no Newton iteration).
+/// Measured figures are on each function.
 ///
-/// Two guards keep the [`Math`] contract (finite in, finite out) where micromath alone does not:
-/// - sin/cos reduce the argument in f32 (and with an `i32` cast, which saturates beyond |x| ≈
-///   2π·2³¹ ≈ 1.35e10, where the result grows without bound, to ±inf by 1e18); well before that
-///   the reduction loses the angle: measured worst |sin²x + cos²x − 1| is 0.002 up to |x| = 1e3,
-///   0.003 at 1e4, 0.014 at 1e5, 0.10 at 1e6, 0.5 at 1e7 and 1 at 1e8. Arguments with
-///   |x| ≥ [`TRIG_LIMIT`] go to libm instead (a cold path; control angles are never near it).
-/// - atan2 forms x², y² and x·y: all overflow-prone terms meet in one quotient, which is NaN (inf/inf
-///   or 0/0) when max(|x|, |y|) ≳ 1.8e19 or ≲ 1e-23 and correct otherwise. So a NaN result from
-///   finite inputs is recomputed with both arguments scaled by the same power of two (exact; atan2 is
-///   invariant to a common positive scale), and (0, 0) gives 0. The hot path pays one NaN test.
+/// Wrapping (micromath itself returns NaN or out-of-range values in these cases):
+/// - sin/cos: micromath's reduction `floor(x/2π)` saturates for |x| ≳ 1.35e10 and the result then
+///   grows without bound (up to ∞, NaN for ∞ input); for |x| ≥ 2^33 and non-finite x the wrapper
+///   returns 0. (From |x| ≈ 1e6 on micromath's results are already meaningless, since x/2π keeps
+///   too few fraction bits, but they stay within [-1, 1].)
+/// - atan2: micromath squares its inputs, so |x|, |y| both ≳ 1.8e19 (overflow) or both ≲ 1e-19
+///   (underflow to 0/0) give NaN; the wrapper then divides both by max(|x|, |y|) first. Infinities
+///   are mapped to the IEEE limits, NaN and (±0, ±0) give 0. For y = -0, x < 0 micromath returns +π
+///   (IEEE: -π).
+/// - sqrt: x ≤ 0 and NaN give 0 (micromath: NaN for negative x), +∞ gives `f32::MAX`. Subnormal x
+///   are NOT fixed: micromath's result is then far too large, by up to a factor 2170 (sqrt(1.4e-45)
+///   gives 8.1e-20 instead of 3.7e-23).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Micromath;
 
-/// sin/cos arguments at or beyond this magnitude (rad) are computed with libm.
-pub const TRIG_LIMIT: f32 = 1.0e4;
+/// 2^33: beyond this the wrapper returns 0 for sin/cos (see [`Micromath`]).
+const TRIG_LIMIT: f32 = 8_589_934_592.0;
+/// With |x| + |y| inside [2^-60, 2^60] micromath's atan2 neither overflows nor underflows to 0/0
+/// (the larger magnitude is then in [2^-61, 2^60], its square a normal float).
+const ATAN2_SAFE_MIN: f32 = 8.673_617_4e-19;
+const ATAN2_SAFE_MAX: f32 = 1.152_921_5e18;
 
 impl Math for Micromath {
     const NAME: &'static str = "micromath";
+
+    /// micromath `sin`. Max abs error 1.1e-3 over |x| ≤ 6.3 (test `trig_error_sweep_one_period`),
+    /// 2.3e-3 over |x| ≤ 1e4 (test `sin_error_sweep`: the f32 reduction x/2π adds error as |x|
+    /// grows, beyond micromath's documented 0.002); meaningless beyond |x| ≈ 1e6 (see the type's
+    /// docs).
     #[inline]
     fn sin(x: f32) -> f32 {
         if x.abs() < TRIG_LIMIT {
             F32Ext::sin(x)
         } else {
-            libm::sinf(x)
+            0.0
         }
     }
+
+    /// micromath `cos`. Max abs error 1.1e-3 over |x| ≤ 6.3 (test `trig_error_sweep_one_period`),
+    /// 1.9e-3 over |x| ≤ 1e4 (test `cos_error_sweep`). `sin_cos` is (`sin`, `cos`): max 2.3e-3
+    /// over |x| ≤ 1e4 (test `sin_cos_error_sweep`).
     #[inline]
     fn cos(x: f32) -> f32 {
         if x.abs() < TRIG_LIMIT {
             F32Ext::cos(x)
         } else {
-            libm::cosf(x)
+            0.0
         }
     }
+
+    /// micromath `atan2`. Max abs error 2.8e-3 rad over all finite inputs (test
+    /// `atan2_error_sweep`, counting +π and -π as the same angle). Relative error for small
+    /// angles: 6.3 % for y > 0, x = 1 (its slope at 0 is 0.937 instead of 1), and 100 % (result 0)
+    /// for y < 0 < x with |y/x| ≲ 4e-7 or for |x·y| ≲ 1e-45 (test
+    /// `atan2_small_angle_error_sweep`). Unsuitable where relative accuracy near 0 matters (e.g.
+    /// `2·atan2(s, w)/s`).
     #[inline]
     fn atan2(y: f32, x: f32) -> f32 {
-        let r = F32Ext::atan2(y, x);
-        if r.is_nan() {
-            atan2_rescaled(y, x)
+        // NaN or ∞ in either argument makes the sum fail the range test.
+        let sum = x.abs() + y.abs();
+        if (ATAN2_SAFE_MIN..=ATAN2_SAFE_MAX).contains(&sum) {
+            F32Ext::atan2(y, x)
         } else {
-            r
+            atan2_edge(y, x)
         }
     }
+
+    /// micromath `sqrt`. Max relative error 6.07 % for normal x (test `sqrt_error_sweep`); for
+    /// subnormal x up to a factor 2170 too large (see the type's docs).
     #[inline]
     fn sqrt(x: f32) -> f32 {
         if x > 0.0 {
-            F32Ext::sqrt(x)
+            if x < f32::INFINITY {
+                F32Ext::sqrt(x)
+            } else {
+                f32::MAX
+            }
         } else {
             0.0
         }
     }
 }
 
-/// The cold path of [`Micromath::atan2`]: bring max(|x|, |y|) into a range where micromath's
-/// squares neither overflow nor all underflow. (0, 0) gives 0 (the contract); non-finite input
-/// gives libm's answer.
+/// atan2 outside micromath's safe magnitude range, for NaN and for infinities.
 #[cold]
 #[inline(never)]
-fn atan2_rescaled(y: f32, x: f32) -> f32 {
-    let m = if x.abs() > y.abs() { x.abs() } else { y.abs() };
-    if m == 0.0 {
+fn atan2_edge(y: f32, x: f32) -> f32 {
+    let m = x.abs().max(y.abs());
+    if y.is_nan() || x.is_nan() || m == 0.0 {
         0.0
-    } else if !m.is_finite() || m.is_nan() {
-        libm::atan2f(y, x)
-    } else {
-        // 2^100 or 2^-100: max(|x|, |y|) moves into [1.8e-15, 1.3] or [7.9e-13, 2.7e8], where the
-        // squares stay normal and finite.
-        let scale = if m < 1.0 {
-            1.267_650_6e30
-        } else {
-            7.888_609e-31
+    } else if m == f32::INFINITY {
+        let squash = |v: f32| {
+            let unit = if v.abs() == f32::INFINITY { 1.0 } else { 0.0 };
+            if v.is_sign_negative() {
+                -unit
+            } else {
+                unit
+            }
         };
-        F32Ext::atan2(y * scale, x * scale)
+        let (sy, sx) = (squash(y), squash(x));
+        if sy == 0.0 && sx == 0.0 {
+            0.0
+        } else {
+            F32Ext::atan2(sy, sx)
+        }
+    } else {
+        // One component is now ±1 exactly; the other may underflow to ±0, which is harmless.
+        F32Ext::atan2(y / m, x / m)
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::sweep::{self, report, TRIG_RANGE};
     use super::*;
 
-    /// The contract at the ends of the f32 range: every finite input gives a finite output.
     #[test]
-    fn finite_in_finite_out_over_the_whole_range() {
-        let xs = [
-            0.0f32,
-            1.0e-45,
-            f32::MIN_POSITIVE,
-            1.0e-30,
-            1.0e-19,
-            1.0,
-            1.0e10,
-            1.4e10,
-            1.0e19,
-            1.0e30,
-            f32::MAX,
-        ];
-        for &a in &xs {
-            for x in [a, -a] {
-                assert!(Micromath::sin(x).is_finite(), "sin({x:e})");
-                assert!(Micromath::cos(x).is_finite(), "cos({x:e})");
-                assert!(Micromath::sqrt(x).is_finite(), "sqrt({x:e})");
-                for &b in &xs {
-                    for y in [b, -b] {
-                        let r = Micromath::atan2(y, x);
-                        assert!(
-                            r.is_finite() && r.abs() <= core::f32::consts::PI + 1e-6,
-                            "atan2({y:e}, {x:e}) = {r}"
-                        );
-                    }
-                }
-            }
-        }
+    fn safe_range_constants_are_powers_of_two() {
+        assert_eq!(TRIG_LIMIT, f32::from_bits((127 + 33) << 23));
+        assert_eq!(ATAN2_SAFE_MIN, f32::from_bits((127 - 60) << 23));
+        assert_eq!(ATAN2_SAFE_MAX, f32::from_bits((127 + 60) << 23));
     }
 
-    /// Scaling keeps the angle: atan2 of (t·y, t·x) for tiny and huge t equals atan2(y, x) within
-    /// micromath's documented 0.1620° = 0.00283 rad of the true angle (both calls are within it of
-    /// the same true value, so within twice that of each other; in fact the scale is exact, so they
-    /// agree to rounding). True angle of (y, x) = (1, −2): π − atan(1/2) = 2.677945.
+    /// micromath documents 0.002 for sin/cos; that is the error of its approximation after an exact
+    /// reduction, checked here over one period and a bit more.
     #[test]
-    fn atan2_is_scale_invariant_at_the_extremes() {
-        let truth = 2.677_945f32;
-        for t in [1.0e-30f32, 1.0e-20, 1.0, 1.0e20, 1.0e30] {
-            let r = Micromath::atan2(1.0 * t, -2.0 * t);
-            assert!((r - truth).abs() <= 0.002_83, "scale {t:e}: {r}");
-        }
+    fn trig_error_sweep_one_period() {
+        let xs = sweep::trig_samples(6.3);
+        let e = sweep::sin_cos_abs::<Micromath>(&xs);
+        report("micromath", "sin_cos abs |x|<=6.3", &e);
+        assert!(e.max <= 2e-3, "{e:?}");
     }
 
-    /// Beyond the micromath range sin/cos come from libm: sin² + cos² = 1 to f32 rounding there.
+    /// Over |x| ≤ 1e4 the f32 reduction x·(1/2π) adds up to half an ulp of x/2π (6.1e-5 turns =
+    /// 3.8e-4 rad at |x| = 1e4) plus the 2^-25 relative error of the f32 constant times x
+    /// (3e-4 rad): bound 0.002 + 7e-4.
+    const TRIG_BOUND: f64 = 2.7e-3;
+
     #[test]
-    fn large_arguments_use_an_accurate_reduction() {
-        for x in [1.0e4f32, 1.0e5, 1.0e8, 1.0e9, 1.0e12, 1.0e30, f32::MAX] {
-            let (s, c) = (Micromath::sin(x), Micromath::cos(x));
-            assert!(
-                (s * s + c * c - 1.0).abs() < 1e-6,
-                "x = {x:e}: sin {s}, cos {c}"
-            );
-        }
+    fn sin_error_sweep() {
+        let e = sweep::sin_abs::<Micromath>(&sweep::trig_samples(TRIG_RANGE));
+        report("micromath", "sin abs |x|<=1e4", &e);
+        assert!(e.max <= TRIG_BOUND, "{e:?}");
+    }
+
+    #[test]
+    fn cos_error_sweep() {
+        let e = sweep::cos_abs::<Micromath>(&sweep::trig_samples(TRIG_RANGE));
+        report("micromath", "cos abs |x|<=1e4", &e);
+        assert!(e.max <= TRIG_BOUND, "{e:?}");
+    }
+
+    #[test]
+    fn sin_cos_error_sweep() {
+        let e = sweep::sin_cos_abs::<Micromath>(&sweep::trig_samples(TRIG_RANGE));
+        report("micromath", "sin_cos abs |x|<=1e4", &e);
+        assert!(e.max <= TRIG_BOUND, "{e:?}");
+    }
+
+    /// Bound: micromath documents 0.1620° = 2.83e-3 rad for its normalized atan2.
+    #[test]
+    fn atan2_error_sweep() {
+        let (abs, rel) = sweep::atan2_abs_rel::<Micromath>(&sweep::atan2_samples());
+        report("micromath", "atan2 abs", &abs);
+        report("micromath", "atan2 rel", &rel);
+        assert!(abs.max <= 2.83e-3, "{abs:?}");
+    }
+
+    /// micromath's first-octant formula tends to (π/2)·0.596227·t for small t = y/x, i.e. a
+    /// relative error of 1 - 0.93655 = 6.35 % for small angles (bound 6.4 %): unusable for
+    /// `2·atan2(s, w)/s`.
+    #[test]
+    fn atan2_small_angle_error_sweep() {
+        let (first, all) = sweep::atan2_small_angle_rel::<Micromath>();
+        report("micromath", "atan2 rel, small y/x, y > 0, x = 1", &first);
+        report("micromath", "atan2 rel, small y/x, any signs", &all);
+        assert!(first.max <= 0.064, "{first:?}");
+        // For y < 0 < x micromath forms 4 + n (n ≈ -0.6·|y/x|) in f32 before subtracting 4, so
+        // angles below ulp(4)/2·π/2 ≈ 3.7e-7 rad come out as 0; and 0.596·|x·y| underflows to 0
+        // for |x·y| ≲ 1e-45. Both give 0 instead of a tiny angle: 100 % relative error (more
+        // than 100 % would mean a wrong sign or quadrant).
+        assert!(all.max <= 1.0, "{all:?}");
+    }
+
+    /// Bound for normal x: the bit-pattern estimate is linear in the significand between powers of
+    /// two; for x = 4^k·(1 + f), f in [0, 1), it returns 2^k·(1 + f/2), whose relative error
+    /// 1.5/√2 - 1 = 6.07 % is reached as x → 2·4^k; so 6.1 %.
+    #[test]
+    fn sqrt_error_sweep() {
+        let (normal, sub) = sweep::sqrt_rel::<Micromath>(&sweep::sqrt_samples());
+        report("micromath", "sqrt rel, normal x", &normal);
+        report("micromath", "sqrt rel, subnormal x", &sub);
+        assert!(normal.max <= 0.061, "{normal:?}");
+        // Subnormal x: micromath's result never drops below 1.5·2^-64 (bits (1 + 0x3f80_0000) >> 1
+        // for the smallest subnormal 2^-149), against √(2^-149) = 2^-74.5: a ratio of
+        // 1.5·2^10.5 = 2172, i.e. a relative error of 2171, reached at x = 2^-149.
+        assert!(sub.max <= 2172.0, "{sub:?}");
     }
 }

@@ -187,7 +187,6 @@ pub fn contact_params(b: &mut Bytes) -> ContactParams {
         spin_stiffness: b.param(d.spin_stiffness),
         patch_radius_m: b.param(d.patch_radius_m),
         k_tau: b.param(d.k_tau),
-        slide_smoothing_speed: b.param(d.slide_smoothing_speed),
         max_force_n: b.param(d.max_force_n),
         force_eps_n: b.param(d.force_eps_n),
         accel_eps: b.param(d.accel_eps),
@@ -195,6 +194,9 @@ pub fn contact_params(b: &mut Bytes) -> ContactParams {
         gap_eps_m: b.param(d.gap_eps_m),
         stick_speed: b.param(d.stick_speed),
         hysteresis: b.param(d.hysteresis),
+        make_force_n: b.param(d.make_force_n),
+        min_slide_s: b.param(d.min_slide_s),
+        min_broken_s: b.param(d.min_broken_s),
     }
 }
 
@@ -272,7 +274,10 @@ pub fn contact_params_valid(p: &ContactParams) -> bool {
         && pos(p.mu_k)
         && p.mu_k <= p.mu_s
         && positive_within(p.k_tau, m.k_tau)
-        && positive_within(p.slide_smoothing_speed, m.slide_smoothing_speed)
+        && within(p.make_force_n, m.make_force_n)
+        && p.make_force_n >= p.force_eps_n
+        && within(p.min_slide_s, m.min_slide_s)
+        && within(p.min_broken_s, m.min_broken_s)
         && positive_within(p.max_force_n, m.max_force_n)
         && p.max_force_n >= ContactParams::MIN_MAX_FORCE_N
         && nonneg(p.hysteresis)
@@ -427,7 +432,7 @@ fn run_contact<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary
             && out.tau_n_nm.is_finite()
             && out.spin_rad.is_finite()
             && finite3(out.object_point_m)
-            && finite3(out.finger_point_m)
+            && finite3(model.rolling.finger_point())
             && [out.angles.phi, out.angles.theta, out.angles.psi]
                 .iter()
                 .all(|a| a.is_finite());

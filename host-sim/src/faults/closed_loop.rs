@@ -1,12 +1,13 @@
-//! A minimal closed loop for the fault campaign and the soak: the plant and the controller
-//! stepped together exactly as on the MCU, with a hook that may corrupt what the controller sees
-//! (counts, fault inputs) or act on either side before each tick.
+//! The fault campaign's view of the closed loop ([`crate::closed_loop::simulate`], one tick at a
+//! time): before each tick an `act` hook may change the controller or the plant (parameter
+//! changes, the hand letting go), and an `inject` hook may corrupt what the controller sees
+//! (counts, fault inputs); each tick is recorded with the force the motors actually exert.
 //!
-//! Per tick k (period dt = 1/rate):
+//! Per tick k (period dt = 1/rate), as on the MCU:
 //!
 //! ```text
-//! input = TickInput { counts: plant.counts(), .. }   // sampled at t_k
-//! hook(k, &mut input, &mut controller, &mut plant)   // the injected fault, if any
+//! act(k, &mut controller, &mut plant)
+//! input = TickInput { counts: plant.counts(), .. }; inject(k, &mut input)   // sampled at t_k
 //! out = controller.tick(&input)
 //! plant.step_with_enable(out.duties, out.enable, dt) // acts during tick k+1 (one-tick delay)
 //! ```
@@ -107,35 +108,39 @@ impl ClosedLoop {
         self.k as f64 * self.dt_s
     }
 
-    /// One tick with the injection `hook`.
+    /// One tick: `act` on the controller or plant, then the tick with `inject` on its input.
     pub fn tick(
         &mut self,
-        hook: &mut dyn FnMut(u64, &mut TickInput, &mut Ctrl, &mut Plant),
+        act: &mut dyn FnMut(u64, &mut Ctrl, &mut Plant),
+        inject: &mut dyn FnMut(u64, &mut TickInput),
     ) -> TickRecord {
-        let mut input = TickInput {
-            counts: self.plant.counts(),
-            driver_fault: false,
-            overrun: false,
-        };
-        hook(self.k, &mut input, &mut self.ctrl, &mut self.plant);
-        let out = self.ctrl.tick(&input);
-        self.plant
-            .step_with_enable(out.duties, out.enable, self.dt_s);
-        let f = out.force_n;
-        let nan = !(f.is_finite()
-            && out.probe_m.is_finite()
-            && out.tau_n_nm.is_finite()
-            && out.duties.iter().all(|d| d.is_finite()));
-        let rec = TickRecord {
-            k: self.k,
-            input,
-            out,
-            rendered_n: norm([f.x as f64, f.y as f64, f.z as f64]),
-            plant_n: motor_force_n(&self.device, &self.plant).map_or(0.0, norm),
-            nan,
-        };
+        let k = self.k;
+        act(k, &mut self.ctrl, &mut self.plant);
+        let device = self.device;
+        let mut rec = None;
+        crate::closed_loop::simulate(
+            &mut self.ctrl,
+            &mut self.plant,
+            1,
+            |_, input| inject(k, input),
+            |_, input, out, _, plant| {
+                let f = out.force_n;
+                let nan = !(f.is_finite()
+                    && out.probe_m.is_finite()
+                    && out.tau_n_nm.is_finite()
+                    && out.duties.iter().all(|d| d.is_finite()));
+                rec = Some(TickRecord {
+                    k,
+                    input: *input,
+                    out: *out,
+                    rendered_n: norm([f.x as f64, f.y as f64, f.z as f64]),
+                    plant_n: motor_force_n(&device, plant).map_or(0.0, norm),
+                    nan,
+                });
+            },
+        );
         self.k += 1;
-        rec
+        rec.expect("simulate ran one tick")
     }
 }
 

@@ -61,7 +61,16 @@ pub struct Outcome {
     pub states: Vec<&'static str>,
 }
 
-type Hook = Box<dyn FnMut(u64, &mut TickInput, &mut Ctrl, &mut Plant)>;
+type Act = Box<dyn FnMut(u64, &mut Ctrl, &mut Plant)>;
+type Inject = Box<dyn FnMut(u64, &mut TickInput)>;
+
+fn no_act() -> Act {
+    Box::new(|_, _, _| {})
+}
+
+fn no_inject() -> Inject {
+    Box::new(|_, _| {})
+}
 
 /// The scene's touch script with its phase durations as parameters.
 fn touch_script(t: &TouchScript, roll_s: f64, twist_s: f64) -> HandScript {
@@ -131,16 +140,17 @@ struct Setup {
     plant: PlantParams,
     script: HandScript,
     ticks: u64,
-    hook: Hook,
+    act: Act,
+    inject: Inject,
 }
 
 fn run(s: Setup) -> Result<(Trace, ClosedLoop), String> {
     let mut lp = ClosedLoop::new(s.config, s.plant, s.script)?;
-    let mut hook = s.hook;
+    let (mut act, mut inject) = (s.act, s.inject);
     let mut trace = Trace::default();
     trace.records.reserve(s.ticks as usize);
     for _ in 0..s.ticks {
-        let r = lp.tick(&mut *hook);
+        let r = lp.tick(&mut *act, &mut *inject);
         trace.records.push(r);
     }
     Ok((trace, lp))
@@ -319,7 +329,8 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             plant,
             script: nominal_script.clone(),
             ticks: full,
-            hook: Box::new(|_, _, _, _| {}),
+            act: no_act(),
+            inject: no_inject(),
         },
         &|t, _| {
             let mut f = no_latch(t);
@@ -345,7 +356,8 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             plant,
             script: nominal_script.clone(),
             ticks: short,
-            hook: Box::new(|k, i, _, _| {
+            act: no_act(),
+            inject: Box::new(|k, i| {
                 if k >= K_INJECT {
                     i.counts[1] = i.counts[1].wrapping_add(5000);
                 }
@@ -380,9 +392,10 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
                 plant,
                 script: hard.script(),
                 ticks: K_INJECT + 2 * lim.stuck_ticks as u64 + 3_000,
-                hook: {
+                act: no_act(),
+                inject: {
                     let mut frozen = None;
-                    Box::new(move |k, i, _, _| {
+                    Box::new(move |k, i| {
                         if k >= K_INJECT {
                             let v = *frozen.get_or_insert(i.counts[0]);
                             i.counts[0] = v;
@@ -405,7 +418,8 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             plant,
             script: hard.script(),
             ticks: K_INJECT + 2 * base.limits.stuck_ticks as u64 + 3_000,
-            hook: Box::new(|_, _, _, _| {}),
+            act: no_act(),
+            inject: no_inject(),
         },
         &|t, _| {
             judged(
@@ -428,7 +442,8 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             plant,
             script: nominal_script.clone(),
             ticks: short,
-            hook: Box::new(|k, i, _, _| {
+            act: no_act(),
+            inject: Box::new(|k, i| {
                 i.driver_fault = (K_INJECT..K_INJECT + 10).contains(&k);
             }),
         },
@@ -450,7 +465,8 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             plant,
             script: nominal_script.clone(),
             ticks: short,
-            hook: Box::new(move |k, i, _, _| {
+            act: no_act(),
+            inject: Box::new(move |k, i| {
                 let pair = (K_INJECT - 1000..K_INJECT).contains(&k) && k % 100 < streak - 1;
                 i.overrun = pair || k >= K_INJECT;
             }),
@@ -473,7 +489,8 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             plant,
             script: nominal_script.clone(),
             ticks: short,
-            hook: Box::new(|k, _, c, _| {
+            inject: no_inject(),
+            act: Box::new(|k, c, _| {
                 let d = c.config().contact;
                 let bad = match k.checked_sub(K_INJECT) {
                     Some(0) => Some(ContactParams { normal_stiffness: f32::NAN, ..d }),
@@ -533,7 +550,8 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             plant,
             script: nominal_script.clone(),
             ticks: K_INJECT + 10_000,
-            hook: Box::new(move |k, _, _, p| {
+            inject: no_inject(),
+            act: Box::new(move |k, _, p| {
                 if k == release_k {
                     p.release_hand();
                 }
@@ -568,7 +586,8 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             plant,
             script: break_script(&touch),
             ticks: K_INJECT + 3_000,
-            hook: Box::new(|_, _, _, _| {}),
+            act: no_act(),
+            inject: no_inject(),
         },
         &move |t, _| {
             let mut f = no_latch(t);
@@ -604,9 +623,10 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             plant,
             script: nominal_script.clone(),
             ticks: full,
-            hook: {
+            act: no_act(),
+            inject: {
                 let mut rng = XorShift(0x2545_f491);
-                Box::new(move |_, i, _, _| {
+                Box::new(move |_, i| {
                     for c in i.counts.iter_mut() {
                         *c = c.wrapping_add(rng.symmetric(3));
                     }
@@ -633,7 +653,8 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             plant,
             script: touch_script(&touch, 1.0, 0.1),
             ticks: ((touch_script(&touch, 1.0, 0.1).duration_s() + 0.2) * RATE_HZ) as u64,
-            hook: Box::new(|_, _, _, _| {}),
+            act: no_act(),
+            inject: no_inject(),
         },
         &|t, _| {
             let twist_slid = t.states().any(|s| s == ContactState::Sliding);
@@ -653,7 +674,8 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             plant,
             script: nominal_script,
             ticks: short,
-            hook: Box::new(move |k, i, _, _| {
+            act: no_act(),
+            inject: Box::new(move |k, i| {
                 if k >= K_INJECT {
                     i.counts[1] = i.counts[1].wrapping_add(sub);
                 }

@@ -86,7 +86,8 @@ pub fn soak(ticks: u64) -> Result<SoakReport, String> {
     let (mut max_r, mut max_p, mut nan, mut latched) = (0.0f64, 0.0f64, 0u64, 0u64);
     let (mut mismatches, mut max_shift, mut max_drift) = (0u64, 0u64, 0.0f64);
     let mut reps = 0u64;
-    let mut nothing = |_: u64, _: &mut _, _: &mut _, _: &mut _| {};
+    let mut no_act = |_: u64, _: &mut _, _: &mut _| {};
+    let mut no_inject = |_: u64, _: &mut _| {};
     let t0 = Instant::now();
     for k in 0..ticks {
         let within = k % per_rep;
@@ -119,7 +120,7 @@ pub fn soak(ticks: u64) -> Result<SoakReport, String> {
             lp.plant.restart_script();
             prev_state = None;
         }
-        let r = lp.tick(&mut nothing);
+        let r = lp.tick(&mut no_act, &mut no_inject);
         max_r = max_r.max(r.rendered_n);
         max_p = max_p.max(r.plant_n);
         nan += r.nan as u64;

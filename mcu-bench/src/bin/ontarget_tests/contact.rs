@@ -47,13 +47,24 @@ pub fn checks(c: &mut Checker) {
     let (t, _) = s.update(bb(f32::NAN), 0.01, 0.001);
     c.ok("spin spring, NaN twist ignored", t.is_finite());
 
-    // Broken → rolling when the normal force exceeds ε_f; kept broken otherwise.
+    // Broken → rolling when the normal force exceeds f_make after the re-contact dwell; kept
+    // broken right after a break.
     let p = ContactParams::DEFAULT.state_params();
     let touching = StateInputs {
         normal_force_n: 2.0,
         gap_m: -0.001,
+        time_in_state_s: 1.0,
         ..StateInputs::default()
     };
+    let just_broken = StateInputs {
+        time_in_state_s: 0.0,
+        ..touching
+    };
+    c.ok(
+        "state machine: no re-contact within the dwell",
+        next_state(bb(ContactState::Broken), &bb(just_broken), &p)
+            == (ContactState::Broken, Reason::Kept),
+    );
     c.ok(
         "state machine: broken -> rolling on contact",
         next_state(bb(ContactState::Broken), &bb(touching), &p)

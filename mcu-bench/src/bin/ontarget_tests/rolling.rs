@@ -54,7 +54,7 @@ pub fn checks<M: Accuracy>(c: &mut Checker) {
     let expected = rodrigues_reference(axis, -n * W_NORM, Vec3::new(0.0, 0.0, -RHO));
     c.close_all(
         "plane, exact: fingertip contact = q_n* (0, 0, -rho)",
-        &r.finger_point.to_array(),
+        &r.finger_point().to_array(),
         &expected.to_array(),
         2.0e-8 + 4.0 * RHO * M::SQRT_REL * 1.0e-3,
     );
@@ -107,7 +107,7 @@ pub fn checks<M: Accuracy>(c: &mut Checker) {
             s.flags.contains(flag)
                 && r.surface.contact_point() == before
                 && s.object_disp_m == Vec3::ZERO
-                && r.finger_point.is_finite(),
+                && r.finger_point().is_finite(),
         );
     }
 }

@@ -1,0 +1,127 @@
+//! The paper's speed comparison, in one run: the classical method (Montana's equations integrated by our
+//! f64 RK45) on the paper's §3.1 scene at Matlab's `ode45` defaults and at the tolerance that matches our
+//! exact method's accuracy, against our exact rolling step (Libm and Fast) over the same 100 steps.
+//!
+//! `cargo bench -p host-sim --bench reference`. Each case is one whole pass over the 100 samples
+//! (throughput in elements = steps). After criterion, the ratios are printed from one interleaved
+//! measurement (the same one `host-sim validate` uses), so they come from a single run.
+
+use criterion::{BenchmarkId, Criterion, Throughput};
+use softfinger_core::decompose::Method;
+use softfinger_core::rolling::Rolling;
+use softfinger_core::surface::Plane;
+use softfinger_core::{Fast, Libm, Math, Quat};
+use std::hint::black_box;
+use std::time::Duration;
+
+use host_sim::reference::scene::paper_scene;
+use host_sim::validate::classical::{self, Rk45Call, Rk45Run, SceneRef, ODE45_DEFAULTS};
+use host_sim::validate::ours::{self, Backend, Variant};
+use host_sim::validate::timing::{self, Timing};
+use host_sim::validate::{closed_form, reference_for, run_ours};
+
+fn pass<M: Math>(start: Rolling<Plane>, samples: &[Quat]) -> Rolling<Plane> {
+    let mut r = start;
+    for &q in &samples[1..] {
+        black_box(r.step::<M>(black_box(q)));
+    }
+    r
+}
+
+fn main() {
+    let scene = paper_scene();
+    let closed = closed_form(&scene).expect("closed form");
+    let reference = reference_for(&scene, &closed).expect("reference").paths;
+    let sref = SceneRef {
+        samples: &scene.samples,
+        dt: scene.dt,
+        radius: scene.radius,
+        closed: &closed,
+    };
+    let exact = Variant {
+        method: Method::Exact,
+        backend: Backend::Libm,
+    };
+    let target = run_ours(exact, &scene, &reference).errors.max_mm();
+    let (rtol, atol) = ODE45_DEFAULTS;
+    let mut runs: Vec<(String, Rk45Run)> = Vec::new();
+    for call in [Rk45Call::Restart, Rk45Call::SingleCall] {
+        let d = classical::run(sref, call, rtol, atol).expect("ode45 defaults");
+        runs.push((format!("ode45-defaults/{}", call.name()), d));
+        if let Some(m) = classical::matched(sref, call, target).expect("matched") {
+            runs.push((format!("matched/{}", call.name()), m));
+        }
+    }
+    eprintln!("exact/libm max error on the paper scene: {target:.2e} mm; classical runs:");
+    for (name, r) in &runs {
+        eprintln!(
+            "  {name}: rtol {:.1e}, atol {:.1e}, max error vs closed form {:.2e} mm",
+            r.rtol,
+            r.atol,
+            r.errors.max_mm()
+        );
+    }
+
+    let samples = ours::to_f32(&scene.samples);
+    let start = Rolling::new(
+        Plane::default(),
+        scene.radius as f32,
+        samples[0],
+        Method::Exact,
+    );
+    let mut c = Criterion::default()
+        .measurement_time(Duration::from_secs(2))
+        .warm_up_time(Duration::from_millis(500))
+        .configure_from_args();
+    {
+        let mut g = c.benchmark_group("paper_scene_100_steps");
+        g.throughput(Throughput::Elements((scene.samples.len() - 1) as u64));
+        for (name, r) in &runs {
+            let (call, rtol, atol) = (r.call, r.rtol, r.atol);
+            g.bench_function(BenchmarkId::new("rk45", name), |b| {
+                b.iter(|| {
+                    call.paths(
+                        black_box(&scene.samples),
+                        scene.dt,
+                        scene.radius,
+                        rtol,
+                        atol,
+                    )
+                })
+            });
+        }
+        g.bench_function(BenchmarkId::new("ours", "exact/libm"), |b| {
+            b.iter(|| pass::<Libm>(black_box(start), &samples))
+        });
+        g.bench_function(BenchmarkId::new("ours", "exact/fast"), |b| {
+            b.iter(|| pass::<Fast>(black_box(start), &samples))
+        });
+        g.finish();
+    }
+    c.final_summary();
+
+    // Ratios from one interleaved measurement (median of 41 rounds).
+    let mut cases: Vec<timing::Case<'_>> = runs.iter().map(|(_, r)| r.case(sref)).collect();
+    for backend in [Backend::Libm, Backend::Fast] {
+        cases.push(
+            Variant {
+                method: Method::Exact,
+                backend,
+            }
+            .case(&samples, scene.radius as f32),
+        );
+    }
+    let ns = timing::measure(&mut cases, Timing::STANDARD);
+    let (ours_ns, rk_ns) = (&ns[runs.len()..], &ns[..runs.len()]);
+    println!(
+        "\nns per step (interleaved median): exact/libm {:.1}, exact/fast {:.1}",
+        ours_ns[0], ours_ns[1]
+    );
+    for ((name, _), t) in runs.iter().zip(rk_ns) {
+        println!(
+            "  rk45 {name}: {t:.0} ns per step = {:.1}x exact/libm, {:.1}x exact/fast",
+            t / ours_ns[0],
+            t / ours_ns[1]
+        );
+    }
+}

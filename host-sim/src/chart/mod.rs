@@ -1,0 +1,232 @@
+//! `host-sim chart`: speed against accuracy, as SVG charts.
+//!
+//! - `speed-accuracy.svg`: time per step (ns, log) against the largest contact-path error (mm, log) for
+//!   every method × math backend × sampling rate ([`points::RATES_HZ`], the paper's motion for 1 s), and
+//!   the classical RK45 at `rtol` 1e-3 … 1e-12 as its own curves; the Pareto front drawn as a staircase.
+//! - `fig3-trajectories.svg`: the paper's Fig. 3, contact paths on the plane and on the sphere, classical
+//!   against ours (exact, rpy), as x-y and x-z projections.
+//! - `mcu-speed-accuracy.svg`: instructions per step on the emulated Cortex-M4F (from `scripts/mcu-bench
+//!   --json`, see [`mcu`]) against the same errors; skipped with a note when no such JSON exists.
+//!
+//! Errors: ours against the RK45 reference at `rtol` 1e-12, the classical points against the closed form
+//! (the two references agree within ~1e-11 mm, see `validate`).
+
+pub mod mcu;
+pub mod pareto;
+pub mod points;
+pub mod speed_accuracy;
+pub mod style;
+pub mod trajectories;
+
+use std::fmt::Write;
+use std::path::PathBuf;
+
+use crate::reference::scene::paper_scene;
+use crate::validate::ours::{self, Backend, Variant};
+use crate::validate::timing::Timing;
+use crate::validate::{closed_form, reference_for};
+use points::{Point, Series};
+use softfinger_core::decompose::Method;
+
+/// Where `chart` looks for the MCU figures when `--mcu-json` is not given.
+pub const DEFAULT_MCU_JSON: &str = "out/mcu-bench.json";
+
+/// Command-line arguments.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Output folder (created if missing).
+    #[arg(long, default_value = "out/charts")]
+    pub out: PathBuf,
+    /// `scripts/mcu-bench --json` output for the MCU chart (default: out/mcu-bench.json if it exists).
+    #[arg(long)]
+    pub mcu_json: Option<PathBuf>,
+    /// One short timing batch per point instead of 41 (fast; the times are then rough).
+    #[arg(long)]
+    pub quick: bool,
+    /// Sampling rates for our points, Hz (default 100, 1000, 4000, 10000, 20000).
+    #[arg(long, value_delimiter = ',')]
+    pub rates_hz: Option<Vec<f64>>,
+}
+
+/// What `chart` produced.
+#[derive(Clone, Debug)]
+pub struct ChartReport {
+    /// SVG files written.
+    pub files: Vec<PathBuf>,
+    /// The speed–accuracy points.
+    pub points: Vec<Point>,
+    /// Indices of `points` on the Pareto front, by increasing time.
+    pub front: Vec<usize>,
+    /// The MCU points, if an mcu-bench JSON was found.
+    pub mcu: Option<Vec<mcu::McuPoint>>,
+    /// Notes for the user (e.g. a skipped chart).
+    pub notes: Vec<String>,
+}
+
+/// Makes the charts.
+pub fn run(args: &Args) -> Result<ChartReport, String> {
+    let timing = if args.quick {
+        Timing::QUICK
+    } else {
+        Timing::STANDARD
+    };
+    let rates = args
+        .rates_hz
+        .clone()
+        .unwrap_or_else(|| points::RATES_HZ.to_vec());
+    if rates
+        .iter()
+        .any(|r| !(r.is_finite() && *r >= 1.0 && *r <= 1e6))
+    {
+        return Err("--rates-hz: every rate must be between 1 and 1e6 Hz".to_string());
+    }
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("{}: cannot create: {e}", args.out.display()))?;
+    let mut files = Vec::new();
+    let mut notes = Vec::new();
+
+    let pts = points::sweep(&rates, timing)?;
+    let front = speed_accuracy::front(&pts);
+    let path = args.out.join("speed-accuracy.svg");
+    style::write_svg(&path, &speed_accuracy::svg(&pts)?)?;
+    files.push(path);
+
+    let path = args.out.join("fig3-trajectories.svg");
+    style::write_svg(&path, &trajectories::svg(&fig3()?)?)?;
+    files.push(path);
+
+    let mcu_path = args
+        .mcu_json
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(DEFAULT_MCU_JSON));
+    let mcu = if mcu_path.exists() {
+        let entries = mcu::read(&mcu_path)?;
+        let scene_rate = 1.0 / paper_scene().dt;
+        let mcu_points = mcu::points(&entries, |v| {
+            pts.iter()
+                .find(|p| p.series == Series::Ours(v) && p.rate_hz == scene_rate)
+                .map(|p| p.error_mm)
+        });
+        if mcu_points.is_empty() {
+            notes.push(format!(
+                "MCU chart skipped: {} has no rolling_plane_* / contact_step* entries for the 100 Hz scene",
+                mcu_path.display()
+            ));
+            None
+        } else {
+            let path = args.out.join("mcu-speed-accuracy.svg");
+            style::write_svg(&path, &mcu::svg(&mcu_points)?)?;
+            files.push(path);
+            Some(mcu_points)
+        }
+    } else {
+        notes.push(format!(
+            "MCU chart skipped: {} not found (make it with `scripts/mcu-bench --json > {}`, or pass --mcu-json FILE)",
+            mcu_path.display(),
+            DEFAULT_MCU_JSON
+        ));
+        None
+    };
+    Ok(ChartReport {
+        files,
+        points: pts,
+        front,
+        mcu,
+        notes,
+    })
+}
+
+/// The paper scene's paths for Fig. 3: the RK45 reference, ours exact/libm and rpy/libm.
+fn fig3() -> Result<trajectories::Trajectories, String> {
+    let scene = paper_scene();
+    let closed = closed_form(&scene)?;
+    let reference = reference_for(&scene, &closed)?.paths;
+    let samples = ours::to_f32(&scene.samples);
+    let mut runs = vec![trajectories::Run {
+        name: "classical: Montana's equations, RK45 (f64, rtol 1e-12)".to_string(),
+        plane: reference.plane,
+        sphere: reference.sphere,
+    }];
+    for method in [Method::Exact, Method::Rpy] {
+        let v = Variant {
+            method,
+            backend: Backend::Libm,
+        };
+        let p = v.paths(&samples, scene.radius as f32);
+        runs.push(trajectories::Run {
+            name: format!("ours: {} (f32)", v.name()),
+            plane: p.plane,
+            sphere: p.sphere,
+        });
+    }
+    Ok(trajectories::Trajectories { runs })
+}
+
+/// The printed summary: files, the plotted points (front marked), the MCU points, notes.
+pub fn summary(r: &ChartReport) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "Speed vs accuracy points (* = on the Pareto front):");
+    let _ = writeln!(
+        out,
+        "  {:<28} {:>9} {:>8} {:>10} {:>12}",
+        "series", "rate", "rtol", "ns/step", "max err (mm)"
+    );
+    for (i, p) in r.points.iter().enumerate() {
+        let mark = if r.front.contains(&i) { "*" } else { " " };
+        let _ = writeln!(
+            out,
+            "{mark} {:<28} {:>9} {:>8} {:>10.1} {:>12.2e}",
+            p.series.name(),
+            speed_accuracy::rate_label(p.rate_hz),
+            p.rtol.map_or("-".to_string(), |r| format!("{r:.0e}")),
+            p.ns_per_step,
+            p.error_mm
+        );
+    }
+    let _ = writeln!(out, "\nPareto front, by increasing time:");
+    for &i in &r.front {
+        let p = &r.points[i];
+        let _ = writeln!(
+            out,
+            "  {} @ {}{}: {:.1} ns/step, {:.2e} mm",
+            p.series.name(),
+            speed_accuracy::rate_label(p.rate_hz),
+            p.rtol.map_or(String::new(), |r| format!(", rtol {r:.0e}")),
+            p.ns_per_step,
+            p.error_mm
+        );
+    }
+    if let Some(m) = &r.mcu {
+        let front = mcu::front(m);
+        let _ = writeln!(
+            out,
+            "\nMCU points (instructions per call, error on the 100 Hz scene; * = rolling-step front):"
+        );
+        for (i, p) in m.iter().enumerate() {
+            let mark = if front.contains(&i) { "*" } else { " " };
+            let _ = writeln!(
+                out,
+                "{mark} {:<24} {:<10} {:>8.0} {:>12.2e}",
+                p.name,
+                p.variant.backend.name(),
+                p.instructions,
+                p.error_mm
+            );
+        }
+    }
+    for n in &r.notes {
+        let _ = writeln!(out, "\nnote: {n}");
+    }
+    let _ = writeln!(out, "\nWrote:");
+    for f in &r.files {
+        let _ = writeln!(out, "  {}", f.display());
+    }
+    out
+}
+
+/// The command.
+pub fn main(args: &Args) -> Result<(), String> {
+    let r = run(args)?;
+    print!("{}", summary(&r));
+    Ok(())
+}

@@ -1,0 +1,145 @@
+//! The paper's Fig. 3 reproduced: contact trajectories on the plane and on the sphere, classical
+//! (Montana + RK45) against ours (exact and rpy), as 2-D projections.
+
+use plotters::prelude::*;
+use plotters::style::full_palette::{BLUE_600, GREEN_700};
+
+use super::style::{draw_line, draw_markers, Shape};
+
+/// One run's paths, in metres, one row per sample.
+#[derive(Clone, Debug)]
+pub struct Run {
+    /// Legend name.
+    pub name: String,
+    /// Contact on the plane, plane frame.
+    pub plane: Vec<[f64; 3]>,
+    /// Contact on the sphere, fingertip frame.
+    pub sphere: Vec<[f64; 3]>,
+}
+
+/// The runs to draw; the first is the classical reference.
+#[derive(Clone, Debug)]
+pub struct Trajectories {
+    /// The runs.
+    pub runs: Vec<Run>,
+}
+
+/// One panel: which path and which two axes.
+struct Panel {
+    title: &'static str,
+    sphere: bool,
+    axes: (usize, usize),
+}
+
+const PANELS: [Panel; 3] = [
+    Panel {
+        title: "(a) contact on the plane, plane frame: x-y",
+        sphere: false,
+        axes: (0, 1),
+    },
+    Panel {
+        title: "(b) contact on the sphere, fingertip frame: x-y",
+        sphere: true,
+        axes: (0, 1),
+    },
+    Panel {
+        title: "(c) contact on the sphere, fingertip frame: x-z",
+        sphere: true,
+        axes: (0, 2),
+    },
+];
+
+const AXIS: [&str; 3] = ["x", "y", "z"];
+
+/// `(lo, hi)` covering `v` with 5 % margin, and `top` (a fraction of the span) more above.
+fn range(v: impl Iterator<Item = f64>, top: f64) -> (f64, f64) {
+    let (lo, hi) = v
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+    if lo > hi {
+        return (-1.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05).max(1e-3);
+    (lo - pad, hi + pad + (hi - lo) * top)
+}
+
+/// Renders the three panels as one SVG.
+pub fn svg(t: &Trajectories) -> Result<String, String> {
+    let mut buf = String::new();
+    {
+        let root = SVGBackend::with_string(&mut buf, (1500, 560)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| format!("{e:?}"))?;
+        let root = root
+            .titled(
+                "Paper Fig. 3 reproduced: contact trajectories, sphere R = 10 mm rolling on a plane \
+                 (δφ, δθ, δψ = 0.05, 0.02, 0.03 rad per 10 ms, 1 s)",
+                ("sans-serif", 18),
+            )
+            .map_err(|e| format!("{e:?}"))?;
+        let areas = root.split_evenly((1, 3));
+        let styles = [
+            (BLACK.mix(0.35).stroke_width(6), None),
+            (BLUE_600.filled(), Some(Shape::Circle)),
+            (GREEN_700.stroke_width(2), Some(Shape::Triangle)),
+        ];
+        for (area, panel) in areas.iter().zip(&PANELS) {
+            let (i, j) = panel.axes;
+            let pick = |r: &Run| -> Vec<(f64, f64)> {
+                let path = if panel.sphere { &r.sphere } else { &r.plane };
+                path.iter().map(|p| (p[i] * 1e3, p[j] * 1e3)).collect()
+            };
+            let all: Vec<(f64, f64)> = t.runs.iter().flat_map(pick).collect();
+            let (x0, x1) = range(all.iter().map(|p| p.0), 0.0);
+            // Room above the paths for the legend.
+            let (y0, y1) = range(all.iter().map(|p| p.1), 0.3);
+            let mut chart = ChartBuilder::on(area)
+                .caption(panel.title, ("sans-serif", 15))
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(55)
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(|e| format!("{e:?}"))?;
+            chart
+                .configure_mesh()
+                .x_desc(format!("{} (mm)", AXIS[i]))
+                .y_desc(format!("{} (mm)", AXIS[j]))
+                .draw()
+                .map_err(|e| format!("{e:?}"))?;
+            for (k, run) in t.runs.iter().enumerate() {
+                let pts = pick(run);
+                let (style, shape) = styles[k.min(styles.len() - 1)];
+                match shape {
+                    None => draw_line(&mut chart, &pts, style, Some(&run.name))?,
+                    Some(shape) => {
+                        if k > 1 {
+                            draw_line(&mut chart, &pts, style, None)?;
+                        }
+                        // Every 4th sample marked, so the reference line stays visible underneath;
+                        // each run starts at a different sample so coinciding runs stay visible.
+                        let marked: Vec<(f64, f64)> =
+                            pts.iter().copied().skip(2 * (k - 1)).step_by(4).collect();
+                        draw_markers(
+                            &mut chart,
+                            &marked,
+                            shape,
+                            style.color.filled(),
+                            Some(&run.name),
+                        )?;
+                    }
+                }
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 12))
+                .draw()
+                .map_err(|e| format!("{e:?}"))?;
+        }
+        root.present().map_err(|e| format!("{e:?}"))?;
+    }
+    Ok(buf)
+}

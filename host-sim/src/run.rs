@@ -1,0 +1,449 @@
+//! `host-sim run` (the default command): a scene in closed loop with the plant; a short summary,
+//! a CSV time series and SVG charts (contact paths, forces and torque, the state timeline).
+
+use crate::atomic_file::AtomicFile;
+use crate::closed_loop::{self, simulate};
+use crate::scene::{Scene, SurfaceSpec};
+use crate::svg_chart::{line_chart, Series, PALETTE};
+use softfinger_core::contact_state::ContactState;
+use softfinger_core::controller::Controller;
+use softfinger_core::surface::Surface;
+use softfinger_core::{Fast, Flags, Math};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Clone, clap::Args)]
+pub struct Args {
+    /// A built-in scene name (finger-on-plane, finger-on-sphere) or a scene TOML file.
+    #[arg(long, default_value = "finger-on-plane")]
+    pub scene: String,
+    /// Control rate, Hz (overrides the scene's).
+    #[arg(long)]
+    pub rate_hz: Option<f64>,
+    /// Duration, s (overrides the scene's).
+    #[arg(long)]
+    pub duration_s: Option<f64>,
+    /// Output folder for the CSV and the charts.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+}
+
+impl Default for Args {
+    fn default() -> Self {
+        Args {
+            scene: "finger-on-plane".into(),
+            rate_hz: None,
+            duration_s: None,
+            out: PathBuf::from("out"),
+        }
+    }
+}
+
+/// One recorded tick.
+#[derive(Debug, Clone, Copy)]
+pub struct Row {
+    pub t_s: f64,
+    pub phase: &'static str,
+    pub state: ContactState,
+    pub flags: Flags,
+    /// Probe position, base frame, m.
+    pub probe_m: [f32; 3],
+    /// Rendered force, base frame, N.
+    pub force_n: [f32; 3],
+    pub tau_n_nm: f32,
+    pub spin_rad: f32,
+    /// Contact point on the object, object frame, m.
+    pub object_point_m: [f32; 3],
+    /// Contact point on the fingertip, fingertip frame, m.
+    pub finger_point_m: [f32; 3],
+    pub duties: [f32; 3],
+    /// The hand's force on the handle (plant truth), N.
+    pub hand_force_n: [f64; 3],
+}
+
+/// What a run produced.
+#[derive(Debug, Clone)]
+pub struct RunResult {
+    pub scene: Scene,
+    pub rows: Vec<Row>,
+    pub ns_per_tick: f64,
+}
+
+/// The summary figures of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    /// Seconds spent in each state: broken, rolling, sliding.
+    pub time_in_state_s: [f64; 3],
+    pub transitions: usize,
+    pub max_force_n: f64,
+    pub max_abs_tau_n_nm: f64,
+    /// Length of the contact path on the object while touching, m.
+    pub object_path_m: f64,
+    /// Length of the contact path on the fingertip while touching, m.
+    pub finger_path_m: f64,
+    pub latched_fault_ticks: usize,
+    pub non_finite_values: usize,
+}
+
+fn state_index(s: ContactState) -> usize {
+    match s {
+        ContactState::Broken => 0,
+        ContactState::Rolling => 1,
+        ContactState::Sliding => 2,
+    }
+}
+
+fn dist(a: [f32; 3], b: [f32; 3]) -> f64 {
+    let d: f64 = (0..3).map(|i| (a[i] as f64 - b[i] as f64).powi(2)).sum();
+    d.sqrt()
+}
+
+pub fn summarize(rows: &[Row], dt_s: f64) -> Summary {
+    let mut s = Summary {
+        time_in_state_s: [0.0; 3],
+        transitions: 0,
+        max_force_n: 0.0,
+        max_abs_tau_n_nm: 0.0,
+        object_path_m: 0.0,
+        finger_path_m: 0.0,
+        latched_fault_ticks: 0,
+        non_finite_values: 0,
+    };
+    for (k, r) in rows.iter().enumerate() {
+        s.time_in_state_s[state_index(r.state)] += dt_s;
+        let values = r
+            .probe_m
+            .iter()
+            .chain(&r.force_n)
+            .chain(&r.duties)
+            .chain([&r.tau_n_nm, &r.spin_rad]);
+        s.non_finite_values += values.filter(|v| !v.is_finite()).count();
+        let f = dist(r.force_n, [0.0; 3]);
+        s.max_force_n = s.max_force_n.max(f);
+        s.max_abs_tau_n_nm = s.max_abs_tau_n_nm.max(r.tau_n_nm.abs() as f64);
+        if r.flags.intersects(softfinger_core::controller::LATCHING) {
+            s.latched_fault_ticks += 1;
+        }
+        if k > 0 {
+            let p = &rows[k - 1];
+            if p.state != r.state {
+                s.transitions += 1;
+            } else if r.state != ContactState::Broken {
+                s.object_path_m += dist(p.object_point_m, r.object_point_m);
+                s.finger_path_m += dist(p.finger_point_m, r.finger_point_m);
+            }
+        }
+    }
+    s
+}
+
+fn run_with<M: Math, S: Surface>(
+    scene: Scene,
+    config: softfinger_core::controller::ControllerConfig<S>,
+    ticks: u64,
+) -> Result<RunResult, String> {
+    let mut ctrl: Controller<M, S> = Controller::new(config)
+        .map_err(|e| format!("scene '{}': controller configuration: {e}", scene.name))?;
+    let mut plant = closed_loop::plant(&scene, &config.contact)
+        .map_err(|e| format!("scene '{}': plant: {e:?}", scene.name))?;
+    let dt = 1.0 / config.rate_hz as f64;
+    let mut rows = Vec::with_capacity(ticks as usize);
+    let bar = indicatif::ProgressBar::new(ticks);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ticks")
+            .map_err(|e| e.to_string())?,
+    );
+    bar.set_message(format!("run {}", scene.name));
+    let spent = simulate(
+        &mut ctrl,
+        &mut plant,
+        ticks,
+        |_, _| {},
+        |k, _inp, out, c, p| {
+            let contact = c.contact();
+            let truth = p.truth();
+            let o = contact.rolling.surface.contact_point();
+            let f = contact.rolling.finger_point();
+            rows.push(Row {
+                t_s: (k + 1) as f64 * dt,
+                phase: truth.hand_reference.phase.name(),
+                state: out.state,
+                flags: out.flags,
+                probe_m: out.probe_m.to_array(),
+                force_n: out.force_n.to_array(),
+                tau_n_nm: out.tau_n_nm,
+                spin_rad: contact.spin.accumulated_rad,
+                object_point_m: o.to_array(),
+                finger_point_m: f.to_array(),
+                duties: out.duties,
+                hand_force_n: truth.hand_force_n,
+            });
+            if k % 1000 == 0 {
+                bar.set_position(k);
+            }
+        },
+    );
+    bar.finish_and_clear();
+    Ok(RunResult {
+        scene,
+        rows,
+        ns_per_tick: spent.as_nanos() as f64 / ticks.max(1) as f64,
+    })
+}
+
+/// Run a scene (no files written).
+pub fn simulate_scene(args: &Args) -> Result<RunResult, String> {
+    let mut scene = Scene::load(&args.scene)?;
+    if let Some(r) = args.rate_hz {
+        scene.rate_hz = r;
+    }
+    if let Some(d) = args.duration_s {
+        scene.duration_s = d;
+    }
+    let scene = Scene::parse(&toml_of(&scene), &scene.name)?; // re-check the overrides
+    let contact = closed_loop::contact_params(&scene)?;
+    let ticks = (scene.duration_s * scene.rate_hz).round() as u64;
+    match scene.surface {
+        SurfaceSpec::Plane => {
+            let cfg = closed_loop::plane_config(&scene, contact);
+            run_with::<Fast, _>(scene, cfg, ticks)
+        }
+        SurfaceSpec::Sphere { radius_m } => {
+            let cfg = closed_loop::sphere_config(&scene, contact, radius_m);
+            run_with::<Fast, _>(scene, cfg, ticks)
+        }
+    }
+}
+
+/// Re-serialise the fields that the command line can override, for re-validation.
+fn toml_of(s: &Scene) -> String {
+    let surface = match s.surface {
+        SurfaceSpec::Plane => "kind = \"plane\"".to_string(),
+        SurfaceSpec::Sphere { radius_m } => format!("kind = \"sphere\"\nradius_m = {radius_m:?}"),
+    };
+    let mut t = format!("name = {:?}\ndescription = {:?}\nmethod = {:?}\nrate_hz = {:?}\nduration_s = {:?}\n[surface]\n{surface}\n", s.name, s.description, s.method, s.rate_hz, s.duration_s);
+    let sc = &s.script;
+    t += "[script]\n";
+    for (k, v) in [
+        ("press_depth_m", sc.press_depth_m),
+        ("roll_rad", sc.roll_rad),
+        ("twist_rad", sc.twist_rad),
+        ("slide_m", sc.slide_m),
+        ("clearance_m", sc.clearance_m),
+    ] {
+        if let Some(v) = v {
+            t += &format!("{k} = {v:?}\n");
+        }
+    }
+    let c = &s.contact;
+    t += "[contact]\n";
+    for (k, v) in [
+        ("fingertip_radius_m", c.fingertip_radius_m),
+        ("normal_stiffness", c.normal_stiffness),
+        ("normal_damping", c.normal_damping),
+        ("tangential_stiffness", c.tangential_stiffness),
+        ("tangential_damping", c.tangential_damping),
+        ("mu_s", c.mu_s),
+        ("mu_k", c.mu_k),
+        ("spin_stiffness", c.spin_stiffness),
+    ] {
+        if let Some(v) = v {
+            t += &format!("{k} = {:?}\n", v as f64);
+        }
+    }
+    t
+}
+
+fn write_csv(path: &Path, rows: &[Row]) -> Result<(), String> {
+    let name = path.display();
+    let mut f = AtomicFile::create(path).map_err(|e| format!("{name}: {e}"))?;
+    let w = f.writer();
+    let io = |e: std::io::Error| format!("{name}: {e}");
+    writeln!(w, "t_s,phase,state,flags,probe_x_m,probe_y_m,probe_z_m,force_x_n,force_y_n,force_z_n,tau_n_nm,spin_rad,object_x_m,object_y_m,object_z_m,finger_x_m,finger_y_m,finger_z_m,duty0,duty1,duty2,hand_fx_n,hand_fy_n,hand_fz_n").map_err(io)?;
+    for r in rows {
+        let v = |a: [f32; 3]| format!("{},{},{}", a[0], a[1], a[2]);
+        writeln!(
+            w,
+            "{:.6},{},{},{:#x},{},{},{},{},{},{},{},{},{},{}",
+            r.t_s,
+            r.phase,
+            r.state.name(),
+            r.flags.0,
+            v(r.probe_m),
+            v(r.force_n),
+            r.tau_n_nm,
+            r.spin_rad,
+            v(r.object_point_m),
+            v(r.finger_point_m),
+            v(r.duties),
+            r.hand_force_n[0],
+            r.hand_force_n[1],
+            r.hand_force_n[2]
+        )
+        .map_err(io)?;
+    }
+    f.commit().map_err(|e| format!("{name}: {e}"))
+}
+
+fn write_charts(dir: &Path, res: &RunResult) -> Result<Vec<PathBuf>, String> {
+    let rows = &res.rows;
+    let touching: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.state != ContactState::Broken)
+        .collect();
+    let mm = |v: f32| v as f64 * 1e3;
+    let mut out = Vec::new();
+    let p = dir.join("contact_path.svg");
+    line_chart(
+        &p,
+        &format!(
+            "{}: contact paths while touching (object frame / fingertip frame)",
+            res.scene.name
+        ),
+        "x [mm]",
+        "y [mm]",
+        &[
+            Series {
+                name: "on the object (object frame)".into(),
+                points: touching
+                    .iter()
+                    .map(|r| (mm(r.object_point_m[0]), mm(r.object_point_m[1])))
+                    .collect(),
+                color: PALETTE[0],
+            },
+            Series {
+                name: "on the fingertip (fingertip frame)".into(),
+                points: touching
+                    .iter()
+                    .map(|r| (mm(r.finger_point_m[0]), mm(r.finger_point_m[1])))
+                    .collect(),
+                color: PALETTE[1],
+            },
+        ],
+        true,
+    )?;
+    out.push(p);
+    let p = dir.join("forces.svg");
+    let step = (rows.len() / 4000).max(1);
+    let ts = |f: &dyn Fn(&Row) -> f64| {
+        rows.iter()
+            .step_by(step)
+            .map(|r| (r.t_s, f(r)))
+            .collect::<Vec<_>>()
+    };
+    line_chart(
+        &p,
+        &format!(
+            "{}: rendered force (base frame) and spin torque",
+            res.scene.name
+        ),
+        "time [s]",
+        "force [N]  /  spin torque [mN·m]",
+        &[
+            Series {
+                name: "Fx [N]".into(),
+                points: ts(&|r| r.force_n[0] as f64),
+                color: PALETTE[0],
+            },
+            Series {
+                name: "Fy [N]".into(),
+                points: ts(&|r| r.force_n[1] as f64),
+                color: PALETTE[1],
+            },
+            Series {
+                name: "Fz [N]".into(),
+                points: ts(&|r| r.force_n[2] as f64),
+                color: PALETTE[2],
+            },
+            Series {
+                name: "τn [mN·m]".into(),
+                points: ts(&|r| r.tau_n_nm as f64 * 1e3),
+                color: PALETTE[3],
+            },
+        ],
+        false,
+    )?;
+    out.push(p);
+    let p = dir.join("states.svg");
+    line_chart(
+        &p,
+        &format!(
+            "{}: contact state (0 broken, 1 rolling, 2 sliding)",
+            res.scene.name
+        ),
+        "time [s]",
+        "state",
+        &[Series {
+            name: "state".into(),
+            points: ts(&|r| state_index(r.state) as f64),
+            color: PALETTE[4],
+        }],
+        false,
+    )?;
+    out.push(p);
+    Ok(out)
+}
+
+pub fn main(args: &Args) -> Result<(), String> {
+    let res = simulate_scene(args)?;
+    let dt = 1.0 / res.scene.rate_hz;
+    let s = summarize(&res.rows, dt);
+    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    let csv = args.out.join("run.csv");
+    write_csv(&csv, &res.rows)?;
+    let charts = write_charts(&args.out, &res)?;
+    println!(
+        "scene {} ({}), {} ticks at {} Hz, method {}, backend {}",
+        res.scene.name,
+        res.scene.description,
+        res.rows.len(),
+        res.scene.rate_hz,
+        res.scene.method,
+        Fast::NAME
+    );
+    println!(
+        "  states: broken {:.2} s, rolling {:.2} s, sliding {:.2} s; {} transitions",
+        s.time_in_state_s[0], s.time_in_state_s[1], s.time_in_state_s[2], s.transitions
+    );
+    println!(
+        "  max force {:.2} N (limit {} N); max |spin torque| {:.2} mN·m",
+        s.max_force_n,
+        softfinger_core::params::ContactParams::DEFAULT.max_force_n,
+        s.max_abs_tau_n_nm * 1e3
+    );
+    println!(
+        "  contact path: {:.2} mm on the object, {:.2} mm on the fingertip",
+        s.object_path_m * 1e3,
+        s.finger_path_m * 1e3
+    );
+    println!(
+        "  tick cost on this PC: {:.0} ns per controller tick ({:.2} % of the {:.0} µs period)",
+        res.ns_per_tick,
+        res.ns_per_tick * 1e-9 / dt * 100.0,
+        dt * 1e6
+    );
+    println!(
+        "  faults latched: {} ticks; non-finite values: {}",
+        s.latched_fault_ticks, s.non_finite_values
+    );
+    println!("  wrote {}", csv.display());
+    for c in charts {
+        println!("  wrote {}", c.display());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overrides_are_rechecked() {
+        let a = Args {
+            rate_hz: Some(100.0),
+            ..Args::default()
+        };
+        let e = simulate_scene(&a).unwrap_err();
+        assert!(e.contains("rate_hz"), "{e}");
+    }
+}

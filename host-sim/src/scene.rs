@@ -1,0 +1,204 @@
+//! Scenes are data: TOML files under `host-sim/scenes/`, the same files built in by name.
+//!
+//! A scene declares the surface it needs; the run is then compiled for that surface only (a plane
+//! scene never computes sphere geometry).
+
+use serde::Deserialize;
+use softfinger_core::decompose::Method;
+use std::path::Path;
+
+/// The built-in scenes: (name, TOML text). The first is the default.
+pub const BUILT_IN: [(&str, &str); 2] = [
+    (
+        "finger-on-plane",
+        include_str!("../scenes/finger-on-plane.toml"),
+    ),
+    (
+        "finger-on-sphere",
+        include_str!("../scenes/finger-on-sphere.toml"),
+    ),
+];
+
+/// The object surface a scene declares.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum SurfaceSpec {
+    /// A horizontal plane.
+    Plane,
+    /// A fixed sphere of radius `radius_m` (m).
+    Sphere { radius_m: f64 },
+}
+
+/// Changes to the hand script (see `plant::TouchScript`); absent fields keep its defaults.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScriptSpec {
+    pub press_depth_m: Option<f64>,
+    pub roll_rad: Option<f64>,
+    pub twist_rad: Option<f64>,
+    pub slide_m: Option<f64>,
+    pub clearance_m: Option<f64>,
+}
+
+/// Changes to the contact parameters; absent fields keep `ContactParams::DEFAULT`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    pub fingertip_radius_m: Option<f32>,
+    pub normal_stiffness: Option<f32>,
+    pub normal_damping: Option<f32>,
+    pub tangential_stiffness: Option<f32>,
+    pub tangential_damping: Option<f32>,
+    pub mu_s: Option<f32>,
+    pub mu_k: Option<f32>,
+    pub spin_stiffness: Option<f32>,
+}
+
+/// A scene file.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    #[serde(default = "default_method")]
+    pub method: String,
+    #[serde(default = "default_rate")]
+    pub rate_hz: f64,
+    #[serde(default = "default_duration")]
+    pub duration_s: f64,
+    pub surface: SurfaceSpec,
+    #[serde(default)]
+    pub script: ScriptSpec,
+    #[serde(default)]
+    pub contact: ContactSpec,
+}
+
+fn default_method() -> String {
+    "exact".into()
+}
+fn default_rate() -> f64 {
+    10_000.0
+}
+fn default_duration() -> f64 {
+    4.3
+}
+
+impl Scene {
+    /// Parse TOML text; `origin` names the source in errors (which carry the line).
+    pub fn parse(text: &str, origin: &str) -> Result<Scene, String> {
+        let scene: Scene = toml::from_str(text).map_err(|e| {
+            // An unknown key's span covers its whole table; point at the key's own line instead.
+            let unknown_key_line = e
+                .message()
+                .strip_prefix("unknown field `")
+                .and_then(|rest| rest.split('`').next())
+                .and_then(|key| {
+                    text.lines()
+                        .position(|l| {
+                            let l = l.trim_start();
+                            l.starts_with(key) && l[key.len()..].trim_start().starts_with('=')
+                        })
+                        .map(|i| i + 1)
+                });
+            let line = unknown_key_line.or_else(|| {
+                e.span()
+                    .map(|s| text[..s.start.min(text.len())].lines().count().max(1))
+            });
+            match line {
+                Some(l) => format!("{origin} line {l}: {}", e.message()),
+                None => format!("{origin}: {}", e.message()),
+            }
+        })?;
+        scene.check().map_err(|e| format!("{origin}: {e}"))?;
+        Ok(scene)
+    }
+
+    /// A built-in scene by name, or a file path.
+    pub fn load(name_or_path: &str) -> Result<Scene, String> {
+        if let Some((name, text)) = BUILT_IN.iter().find(|(n, _)| *n == name_or_path) {
+            return Scene::parse(text, name);
+        }
+        let path = Path::new(name_or_path);
+        if !path.exists() {
+            let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
+            return Err(format!(
+                "no built-in scene or file named '{name_or_path}' (built-ins: {})",
+                names.join(", ")
+            ));
+        }
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        Scene::parse(&text, &path.display().to_string())
+    }
+
+    /// The default scene.
+    pub fn default_scene() -> Scene {
+        Scene::parse(BUILT_IN[0].1, BUILT_IN[0].0).expect("the built-in default scene parses")
+    }
+
+    /// The decomposition method.
+    pub fn method(&self) -> Result<Method, String> {
+        Method::from_name(&self.method).ok_or_else(|| {
+            format!(
+                "unknown method '{}' (exact, rpy, paper-verbatim)",
+                self.method
+            )
+        })
+    }
+
+    fn check(&self) -> Result<(), String> {
+        self.method()?;
+        if !(self.rate_hz.is_finite() && (1_000.0..=40_000.0).contains(&self.rate_hz)) {
+            return Err(format!(
+                "rate_hz must be within 1000..40000, got {}",
+                self.rate_hz
+            ));
+        }
+        if !(self.duration_s.is_finite() && self.duration_s > 0.0 && self.duration_s <= 3600.0) {
+            return Err(format!(
+                "duration_s must be within (0, 3600], got {}",
+                self.duration_s
+            ));
+        }
+        if let SurfaceSpec::Sphere { radius_m } = self.surface {
+            if !(radius_m.is_finite() && radius_m > 0.0) {
+                return Err(format!("surface.radius_m must be positive, got {radius_m}"));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn built_ins_parse() {
+        for (name, text) in BUILT_IN {
+            let s = Scene::parse(text, name).unwrap();
+            assert_eq!(s.name, name);
+        }
+        assert_eq!(Scene::default_scene().surface, SurfaceSpec::Plane);
+    }
+
+    #[test]
+    fn errors_name_the_line() {
+        let text = "name = \"x\"\n[surface]\nkind = \"cube\"\n";
+        let e = Scene::parse(text, "bad.toml").unwrap_err();
+        assert!(e.contains("bad.toml line 3"), "{e}");
+        let e = Scene::parse(
+            "name = \"x\"\nrate_hz = 5\n[surface]\nkind = \"plane\"\n",
+            "r.toml",
+        )
+        .unwrap_err();
+        assert!(e.contains("rate_hz"), "{e}");
+        let e = Scene::parse(
+            "name = \"x\"\nbogus = 1\n[surface]\nkind = \"plane\"\n",
+            "u.toml",
+        )
+        .unwrap_err();
+        assert!(e.contains("line 2"), "{e}");
+    }
+}

@@ -1,0 +1,121 @@
+//! `host-sim stability`: where the methods fail, and how stable the loop is.
+//!
+//! Four experiments, each with its charts (SVG in `--out`) and a printed table:
+//!
+//! 1. [`decomp_map`]: error and failure map of every decomposition method × math backend over
+//!    rotation magnitude and axis direction.
+//! 2. [`drift`]: long-run drift of the rolling contact points in f32 against the f64 closed form.
+//! 3. [`haptic`]: K_max of a sampled 1-DoF virtual wall against Colgate's passivity bound, with
+//!    and without the firmware's tick of delay.
+//! 4. [`chatter`]: state-machine transitions per second with a force on the friction cone.
+//!
+//! The tables are also written to `summary.txt` in the output folder.
+
+pub mod charts;
+pub mod chatter;
+pub mod decomp_map;
+pub mod drift;
+pub mod haptic;
+pub mod present;
+pub mod rng;
+pub mod table;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Output folder for the charts and summary.txt (created if missing).
+    #[arg(long, default_value = "out/stability")]
+    pub out: PathBuf,
+    /// Steps of the long-run drift experiment per method (10 kHz: 10⁷ steps = 1000 s).
+    #[arg(long, default_value_t = 10_000_000)]
+    pub drift_steps: u64,
+    /// Seconds simulated per wall contact in the haptic experiment (sets its resolution).
+    #[arg(long, default_value_t = haptic::RUN_SECONDS)]
+    pub haptic_seconds: f64,
+    /// State-machine steps per chatter configuration (10 kHz: 10⁵ steps = 10 s).
+    #[arg(long, default_value_t = (chatter::RATE_HZ * chatter::DURATION_S) as u64)]
+    pub chatter_steps: u64,
+}
+
+fn check(args: &Args) -> Result<(), String> {
+    if args.drift_steps == 0 {
+        return Err("--drift-steps must be at least 1".into());
+    }
+    if !(args.haptic_seconds.is_finite() && args.haptic_seconds >= 0.1) {
+        return Err("--haptic-seconds must be at least 0.1".into());
+    }
+    if args.chatter_steps == 0 {
+        return Err("--chatter-steps must be at least 1".into());
+    }
+    Ok(())
+}
+
+pub fn main(args: &Args) -> Result<(), String> {
+    check(args)?;
+    let out = &args.out;
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
+    let start = Instant::now();
+    let mut summary = String::new();
+    let mut emit = |s: String| {
+        println!("{s}");
+        summary += &s;
+        summary.push('\n');
+    };
+
+    let t = Instant::now();
+    let grid = decomp_map::Grid::DEFAULT;
+    let maps = decomp_map::sweep_all(&grid);
+    present::decomp_charts(out, &grid, &maps)?;
+    emit(present::decomp_table(&grid, &maps).render());
+    emit(present::decomp_failures(&grid, &maps));
+    emit(format!("(part 1: {:.1} s)\n", t.elapsed().as_secs_f64()));
+
+    let t = Instant::now();
+    let total = args.drift_steps * (decompose_methods() * drift::DRIFT_BACKENDS.len()) as u64;
+    let pb = indicatif::ProgressBar::new(total);
+    pb.set_style(
+        indicatif::ProgressStyle::with_template(
+            "drift {bar:40} {percent:>3}% {human_pos}/{human_len} steps, eta {eta}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let runs = drift::run_all(args.drift_steps, Some(&pb));
+    pb.finish_and_clear();
+    present::drift_charts(out, &runs)?;
+    emit(present::drift_table(&runs).render());
+    emit(format!("(part 2: {:.1} s)\n", t.elapsed().as_secs_f64()));
+
+    let t = Instant::now();
+    let device = haptic::Device::DEFAULT;
+    let rows = haptic::run_all(&device, 0.0, args.haptic_seconds);
+    present::haptic_charts(out, &device, &rows)?;
+    emit(present::haptic_table(&device, &rows, args.haptic_seconds).render());
+    emit(present::haptic_notes(&device, args.haptic_seconds));
+    emit(format!("(part 3: {:.1} s)\n", t.elapsed().as_secs_f64()));
+
+    let t = Instant::now();
+    let ch = chatter::run_all(args.chatter_steps);
+    present::chatter_chart(out, &ch)?;
+    emit(present::chatter_table(&ch, args.chatter_steps).render());
+    emit(format!("(part 4: {:.1} s)\n", t.elapsed().as_secs_f64()));
+
+    emit(format!(
+        "host-sim stability: total {:.1} s; charts and summary.txt in {}",
+        start.elapsed().as_secs_f64(),
+        out.display()
+    ));
+    let path = out.join("summary.txt");
+    let mut f = crate::atomic_file::AtomicFile::create(&path)
+        .map_err(|e| format!("{}: cannot create: {e}", path.display()))?;
+    std::io::Write::write_all(f.writer(), summary.as_bytes())
+        .map_err(|e| format!("{}: write failed: {e}", path.display()))?;
+    f.commit()
+        .map_err(|e| format!("{}: cannot publish: {e}", path.display()))?;
+    Ok(())
+}
+
+fn decompose_methods() -> usize {
+    softfinger_core::decompose::Method::ALL.len()
+}

@@ -1,0 +1,156 @@
+//! Wall-clock time per step, measured in the same run as the accuracy figures.
+//!
+//! A [`Case`] is one complete pass over a scene (e.g. the 100 steps of the paper's scene). Each case is
+//! calibrated so that one batch of passes lasts at least [`Timing::min_batch`]; then [`Timing::batches`]
+//! rounds are timed with [`std::time::Instant`], each round running one batch of every case in turn (each
+//! round starting one case further on), and each case's median batch gives its figure. Interleaving the cases spreads any disturbance from other
+//! processes on a shared machine over all of them, and the median discards the disturbed batches. Pass
+//! results go through [`std::hint::black_box`] so the optimiser cannot drop the work.
+
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+/// How hard to measure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Timing {
+    /// Number of timed rounds; the median is reported.
+    pub batches: u32,
+    /// Shortest duration of one batch (the number of passes per batch is calibrated to reach it).
+    pub min_batch: Duration,
+}
+
+impl Timing {
+    /// For the commands: 41 rounds, batches of ≥ 1 ms.
+    pub const STANDARD: Timing = Timing {
+        batches: 41,
+        min_batch: Duration::from_millis(1),
+    };
+    /// For tests (timings are not asserted there): one short batch.
+    pub const QUICK: Timing = Timing {
+        batches: 1,
+        min_batch: Duration::from_micros(200),
+    };
+}
+
+impl Default for Timing {
+    fn default() -> Self {
+        Timing::STANDARD
+    }
+}
+
+/// One thing to time: a pass of `steps` steps.
+pub struct Case<'a> {
+    steps: usize,
+    pass: Box<dyn FnMut() + 'a>,
+}
+
+impl std::fmt::Debug for Case<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Case").field("steps", &self.steps).finish()
+    }
+}
+
+impl<'a> Case<'a> {
+    /// A pass that runs `steps` steps and returns a value (fed to `black_box`).
+    pub fn new<R>(steps: usize, mut pass: impl FnMut() -> R + 'a) -> Case<'a> {
+        Case {
+            steps,
+            pass: Box::new(move || {
+                black_box(pass());
+            }),
+        }
+    }
+}
+
+/// Median time per step (ns) of every case, in order.
+pub fn measure(cases: &mut [Case<'_>], timing: Timing) -> Vec<f64> {
+    let reps: Vec<u64> = cases
+        .iter_mut()
+        .map(|c| calibrate(c, timing.min_batch))
+        .collect();
+    let mut per_pass: Vec<Vec<f64>> = vec![Vec::new(); cases.len()];
+    let n_cases = cases.len();
+    for round in 0..timing.batches.max(1) as usize {
+        // Each round starts with a different case, so no case is always first (or always after the same
+        // neighbour).
+        for k in 0..n_cases {
+            let i = (round + k) % n_cases;
+            let t = time_batch(reps[i], &mut cases[i]);
+            per_pass[i].push(t.as_nanos() as f64 / reps[i] as f64);
+        }
+    }
+    per_pass
+        .iter_mut()
+        .zip(cases.iter())
+        .map(|(s, c)| {
+            s.sort_by(f64::total_cmp);
+            median(s) / c.steps.max(1) as f64
+        })
+        .collect()
+}
+
+/// Passes per batch for `case` to last at least `min_batch` (also warms caches and branch predictors).
+fn calibrate(case: &mut Case<'_>, min_batch: Duration) -> u64 {
+    let mut reps: u64 = 1;
+    loop {
+        let t = time_batch(reps, case);
+        if t >= min_batch || reps >= 1 << 40 {
+            return reps;
+        }
+        // Jump close to the target once a batch is measurably long; otherwise double.
+        let scale = if t.as_nanos() > 10_000 {
+            (min_batch.as_nanos() as f64 / t.as_nanos() as f64 * 1.1).ceil() as u64
+        } else {
+            2
+        };
+        reps = reps.saturating_mul(scale.clamp(2, 1 << 20));
+    }
+}
+
+fn time_batch(reps: u64, case: &mut Case<'_>) -> Duration {
+    let start = Instant::now();
+    for _ in 0..reps {
+        (case.pass)();
+    }
+    start.elapsed()
+}
+
+/// Median of a sorted slice (mean of the two middle values for an even length); 0 if empty.
+fn median(sorted: &[f64]) -> f64 {
+    match sorted.len() {
+        0 => 0.0,
+        n if n % 2 == 1 => sorted[n / 2],
+        n => 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::cell::Cell;
+
+    #[test]
+    fn median_of_odd_and_even_lengths() {
+        assert_eq!(median(&[1.0, 2.0, 10.0]), 2.0);
+        assert_eq!(median(&[1.0, 2.0, 4.0, 10.0]), 3.0);
+        assert_eq!(median(&[]), 0.0);
+    }
+
+    #[test]
+    fn every_case_runs_and_gets_a_figure() {
+        // Each case really ran (its counter moved) and got a finite, non-negative figure, in order. No
+        // timing bound is asserted (speed lives in the benchmarks).
+        let (a, b) = (Cell::new(0u64), Cell::new(0u64));
+        let mut cases = [
+            Case::new(100, || a.set(a.get() + 1)),
+            Case::new(1, || b.set(b.get() + 1)),
+        ];
+        let ns = measure(&mut cases, Timing::QUICK);
+        assert_eq!(ns.len(), 2);
+        assert!(
+            a.get() >= 2 && b.get() >= 2,
+            "calibration and one batch at least"
+        );
+        assert!(ns.iter().all(|n| n.is_finite() && *n >= 0.0));
+    }
+}
