@@ -34,6 +34,12 @@ pub const MIN_DT_S: f32 = 1.0e-6;
 /// Longest accepted step, s (1 Hz).
 pub const MAX_DT_S: f32 = 1.0;
 
+/// Largest accepted probe coordinate, object frame, m: a haptic workspace is well under 1 m;
+/// beyond this the sample is corrupt, and products with stiffnesses and rates would overflow f32.
+pub const MAX_PROBE_M: f32 = 100.0;
+/// Largest accepted probe velocity component, m/s.
+pub const MAX_PROBE_SPEED_M_S: f32 = 100.0;
+
 /// One sample of the fingertip.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -148,11 +154,17 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         }
     }
 
-    /// One contact step. Never panics; any non-finite input gives zero force with a flag and leaves
-    /// the state unchanged.
+    /// One contact step. Never panics; any non-finite input gives zero force with
+    /// [`Flags::NON_FINITE_INPUT`], a probe farther than [`MAX_PROBE_M`] or faster than
+    /// [`MAX_PROBE_SPEED_M_S`] (per component) zero force with [`Flags::OUT_OF_RANGE`]; both
+    /// leave the state unchanged.
     pub fn contact_step(&mut self, input: &ContactInput) -> ContactOutput {
         if !input.probe_m.is_finite() || !input.probe_vel.is_finite() || !input.q.is_finite() {
             return self.output(Flags::NON_FINITE_INPUT);
+        }
+        let within = |v: Vec3, max: f32| v.x.abs() <= max && v.y.abs() <= max && v.z.abs() <= max;
+        if !within(input.probe_m, MAX_PROBE_M) || !within(input.probe_vel, MAX_PROBE_SPEED_M_S) {
+            return self.output(Flags::OUT_OF_RANGE);
         }
         let p = &self.params;
         let r = p.fingertip_radius_m;

@@ -15,14 +15,17 @@
 //!   [`limits_valid`]);
 //! - every output is finite; |force| ≤ max_force_n; |duty| ≤ max_duty; the plane never pulls;
 //! - a bad input is flagged (non-finite → NON_FINITE_INPUT; a quaternion off unit norm →
-//!   NON_UNIT_QUAT / ZERO_AXIS / NON_FINITE_INPUT; an unreachable arm angle → OUT_OF_RANGE or
+//!   NON_UNIT_QUAT / ZERO_AXIS / NON_FINITE_INPUT; a probe beyond 100 m or 100 m/s →
+//!   OUT_OF_RANGE, ignored; an unreachable arm angle → OUT_OF_RANGE or
 //!   KINEMATICS_SINGULAR with zero force and zero duties);
 //! - faults: a driver fault, an encoder jump over the limit, an overrun streak each raise their
 //!   flag; with any latching fault present duties are zero and `enable` is false, until
 //!   `clear_faults`; a latched ENCODER_STUCK needs at least `stuck_ticks` ticks without a count.
 #![allow(dead_code)] // each includer uses its own part
 
-use softfinger_core::contact::{ContactInput, ContactModel, MAX_DT_S, MIN_DT_S};
+use softfinger_core::contact::{
+    ContactInput, ContactModel, MAX_DT_S, MAX_PROBE_M, MAX_PROBE_SPEED_M_S, MIN_DT_S,
+};
 use softfinger_core::contact_state::ContactState;
 use softfinger_core::controller::{Controller, ControllerConfig, Limits, TickInput, LATCHING};
 use softfinger_core::decompose::Method;
@@ -458,7 +461,21 @@ fn run_contact<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary
                 ctx()
             ));
         }
-        if quat_needs_flag(input.q) && !out.flags.intersects(QUAT_FLAGS) {
+        let far = |v: Vec3, max: f32| v.x.abs() > max || v.y.abs() > max || v.z.abs() > max;
+        let out_of_range = input_finite
+            && (far(input.probe_m, MAX_PROBE_M) || far(input.probe_vel, MAX_PROBE_SPEED_M_S));
+        if out_of_range
+            && (!out.flags.contains(Flags::OUT_OF_RANGE)
+                || out.force_n != Vec3::ZERO
+                || out.state != before)
+        {
+            return Err(format!(
+                "absurd probe not flagged or not ignored, {}",
+                ctx()
+            ));
+        }
+        // A rejected sample (out of range) is not looked at further: its quaternion need not be.
+        if quat_needs_flag(input.q) && !out_of_range && !out.flags.intersects(QUAT_FLAGS) {
             return Err(format!("bad quaternion not flagged, {}", ctx()));
         }
         if out.state == ContactState::Broken && (out.force_n != Vec3::ZERO || out.tau_n_nm != 0.0) {
