@@ -50,6 +50,8 @@ pub struct SoakReport {
     pub max_transition_shift_ticks: u64,
     /// Largest distance of the end-of-roll contact point from the reference repetition's, m.
     pub max_contact_point_drift_m: f64,
+    /// The reference repetition's end-of-roll contact point on the plane, object frame, m.
+    pub reference_roll_end_point_m: Option<[f64; 3]>,
     /// The reference repetition's timeline: (tick within the repetition, state entered).
     pub reference_timeline: Vec<(u64, &'static str)>,
 }
@@ -149,6 +151,7 @@ pub fn soak(ticks: u64) -> Result<SoakReport, String> {
         timeline_mismatches: mismatches,
         max_transition_shift_ticks: max_shift,
         max_contact_point_drift_m: max_drift,
+        reference_roll_end_point_m: reference.as_ref().and_then(|r| r.roll_end_point),
         reference_timeline: reference
             .map(|r| r.timeline.iter().map(|(k, s)| (*k, s.name())).collect())
             .unwrap_or_default(),
