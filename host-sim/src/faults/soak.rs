@@ -9,8 +9,8 @@
 //! measured against the second repetition (the first starts from rest, the others from where the
 //! return left the handle).
 //!
-//! Release build only (10⁸ ticks took 1191 s on this 2-core machine shared with other work, 84 000
-//! ticks/s; short runs on an idle core reach ~190 000 ticks/s):
+//! Release build only (10⁸ ticks took 347 s here, 289 000 ticks/s, and 1191 s while the machine's
+//! other core and part of this one were busy):
 //! `cargo run --release -p host-sim -- soak --ticks 100000000 --json`.
 
 use super::closed_loop::{scene_config, ClosedLoop};
