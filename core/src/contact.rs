@@ -34,10 +34,11 @@ pub const MIN_DT_S: f32 = 1.0e-6;
 /// Longest accepted step, s (1 Hz).
 pub const MAX_DT_S: f32 = 1.0;
 
-/// Largest accepted probe coordinate, object frame, m: a haptic workspace is well under 1 m;
-/// beyond this the sample is corrupt, and products with stiffnesses and rates would overflow f32.
+/// Largest accepted distance of the probe from the object frame's origin (Euclidean norm), m: a
+/// haptic workspace is well under 1 m; beyond this the sample is corrupt, and products with
+/// stiffnesses and rates would overflow f32.
 pub const MAX_PROBE_M: f32 = 100.0;
-/// Largest accepted probe velocity component, m/s.
+/// Largest accepted probe speed (Euclidean norm), m/s.
 pub const MAX_PROBE_SPEED_M_S: f32 = 100.0;
 
 /// One sample of the fingertip.
@@ -156,15 +157,21 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
 
     /// One contact step. Never panics; any non-finite input gives zero force with
     /// [`Flags::NON_FINITE_INPUT`], a probe farther than [`MAX_PROBE_M`] or faster than
-    /// [`MAX_PROBE_SPEED_M_S`] (per component) zero force with [`Flags::OUT_OF_RANGE`]; both
+    /// [`MAX_PROBE_SPEED_M_S`] (Euclidean norm) zero force with [`Flags::OUT_OF_RANGE`]; both
     /// leave the state unchanged.
     pub fn contact_step(&mut self, input: &ContactInput) -> ContactOutput {
-        if !input.probe_m.is_finite() || !input.probe_vel.is_finite() || !input.q.is_finite() {
-            return self.output(Flags::NON_FINITE_INPUT);
-        }
-        let within = |v: Vec3, max: f32| v.x.abs() <= max && v.y.abs() <= max && v.z.abs() <= max;
-        if !within(input.probe_m, MAX_PROBE_M) || !within(input.probe_vel, MAX_PROBE_SPEED_M_S) {
-            return self.output(Flags::OUT_OF_RANGE);
+        // One comparison per vector on the common path: |p|² ≤ max² is false for NaN and ±inf as
+        // well as for a probe too far or too fast, and the flag is told apart only then.
+        let p_ok = input.probe_m.norm_squared() <= MAX_PROBE_M * MAX_PROBE_M;
+        let v_ok = input.probe_vel.norm_squared() <= MAX_PROBE_SPEED_M_S * MAX_PROBE_SPEED_M_S;
+        if !(p_ok && v_ok) {
+            let finite =
+                input.probe_m.is_finite() && input.probe_vel.is_finite() && input.q.is_finite();
+            return self.output(if finite {
+                Flags::OUT_OF_RANGE
+            } else {
+                Flags::NON_FINITE_INPUT
+            });
         }
         let p = &self.params;
         let r = p.fingertip_radius_m;
@@ -186,6 +193,13 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         } else {
             self.rolling.step::<M>(input.q)
         };
+        // A non-finite or zero quaternion: both branches above left every state untouched.
+        if roll
+            .flags
+            .intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS)
+        {
+            return self.output(roll.flags);
+        }
         let q_now = self.rolling.q_prev;
         let mut flags = roll.flags;
 

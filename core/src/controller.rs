@@ -165,7 +165,7 @@ impl ControllerConfig<Plane> {
             contact: ContactParams::DEFAULT,
             surface: Plane::default(),
             object_origin_m: crate::delta::DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M
-                - Vec3::new(0.0, 0.0, 0.025),
+                - Vec3::new(0.0, 0.0, 0.010),
             limits: Limits::DEFAULT,
         }
     }

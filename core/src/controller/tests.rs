@@ -284,3 +284,17 @@ fn unreachable_kinematics_give_zero_force_and_a_flag() {
     assert_eq!(out.duties, [0.0; 3]);
     assert!(out.probe_m.is_finite());
 }
+
+/// The default plane is where the host plant's touch script presses: 10 mm below the workspace
+/// centre, so a 10 mm fingertip touches with its centre at the workspace centre.
+#[test]
+fn default_plane_touches_at_the_workspace_centre() {
+    let cfg = ControllerConfig::default_plane();
+    let centre = crate::delta::DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
+    let touch_z = cfg.object_origin_m.z + cfg.contact.fingertip_radius_m;
+    assert!(
+        (touch_z - centre.z).abs() < 1e-6,
+        "touch at z = {touch_z}, centre {}",
+        centre.z
+    );
+}

@@ -461,7 +461,11 @@ fn run_contact<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary
                 ctx()
             ));
         }
-        let far = |v: Vec3, max: f32| v.x.abs() > max || v.y.abs() > max || v.z.abs() > max;
+        // The contract (`ContactModel::contact_step`): the Euclidean norm, computed in f64 here.
+        let far = |v: Vec3, max: f32| {
+            let n2 = (v.x as f64).powi(2) + (v.y as f64).powi(2) + (v.z as f64).powi(2);
+            n2 > (max as f64).powi(2)
+        };
         let out_of_range = input_finite
             && (far(input.probe_m, MAX_PROBE_M) || far(input.probe_vel, MAX_PROBE_SPEED_M_S));
         if out_of_range
