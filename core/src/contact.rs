@@ -313,7 +313,9 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             force = Vec3::ZERO;
             flags |= Flags::NON_FINITE_OUTPUT;
         } else if f2 > p.max_force_n * p.max_force_n {
-            force = force * (p.max_force_n / M::sqrt(f2));
+            // Aim 4 ulps below the limit so the rounding of the rescale (and of any later norm
+            // computation) can never put |F| above it.
+            force = force * (p.max_force_n * (1.0 - 4.0 * f32::EPSILON) / M::sqrt(f2));
             flags |= Flags::OUTPUT_LIMITED;
         }
         ContactOutput {

@@ -96,7 +96,7 @@ pub fn main(args: &Args) -> Result<(), String> {
     let _ = writeln!(
             text,
 
-        "injected {}, survived {}, NaN outputs {}, max force rendered {:.3} N / motors {:.3} N (limits {} N / {} N)",
+        "injected {}, survived {}, NaN outputs {}, max force rendered {:.3} N / motors {:.3} N (limits {:.1} N / {:.1} N)",
         r.injected,
         r.survived,
         r.nan_outputs,
