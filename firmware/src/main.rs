@@ -50,7 +50,6 @@ async fn main(spawner: Spawner) {
     core_peripherals.DWT.enable_cycle_counter();
 
     // The device and scene parameters are the core's defaults; only the rate is the firmware's.
-    #[allow(clippy::needless_update)] // ControllerConfig is still gaining fields.
     let controller_config = ControllerConfig {
         rate_hz: config::CONTROL_RATE_HZ as f32,
         ..ControllerConfig::default()
