@@ -72,27 +72,9 @@ fn no_inject() -> Inject {
     Box::new(|_, _| {})
 }
 
-/// The scene's touch script with its phase durations as parameters.
+/// The scene's touch script with its roll and twist durations as parameters.
 fn touch_script(t: &TouchScript, roll_s: f64, twist_s: f64) -> HandScript {
-    let [cx, cy] = t.contact_xy_m;
-    let touch_z = t.surface_z_m + t.fingertip_radius_m;
-    let above = touch_z + t.clearance_m;
-    let pressed = touch_z - t.press_depth_m;
-    let rolled_x = cx + t.fingertip_radius_m * t.roll_rad;
-    let slid_x = rolled_x + t.slide_m;
-    let w = |x: f64, z: f64, wrist: [f64; 3]| Waypoint {
-        position_m: [x, cy, z],
-        wrist_rad: wrist,
-    };
-    let rolled = [0.0, t.roll_rad, 0.0];
-    let twisted = [t.twist_rad, t.roll_rad, 0.0];
-    HandScript::new(w(cx, above, [0.0; 3]))
-        .then(Phase::Approach, 0.5, w(cx, touch_z, [0.0; 3]))
-        .then(Phase::Press, 0.3, w(cx, pressed, [0.0; 3]))
-        .then(Phase::Roll, roll_s, w(rolled_x, pressed, rolled))
-        .then(Phase::Twist, twist_s, w(rolled_x, pressed, twisted))
-        .then(Phase::Slide, 1.0, w(slid_x, pressed, twisted))
-        .then(Phase::LiftOff, 0.5, w(slid_x, above, twisted))
+    t.script_with_durations(roll_s, twist_s)
 }
 
 /// Approach, press, roll until the injection time, then the hand jerks up 30 mm in 5 ms.

@@ -238,6 +238,12 @@ impl TouchScript {
     /// the position holds. Slide moves along +x at constant orientation. Lift off rises back to
     /// the clearance height.
     pub fn script(&self) -> HandScript {
+        self.script_with_durations(1.0, 1.0)
+    }
+
+    /// [`Self::script`] with the roll and twist phases lasting `roll_s` and `twist_s` seconds (the
+    /// fault campaign uses a 10× faster twist).
+    pub fn script_with_durations(&self, roll_s: f64, twist_s: f64) -> HandScript {
         let [cx, cy] = self.contact_xy_m;
         let touch_z = self.surface_z_m + self.fingertip_radius_m;
         let above = touch_z + self.clearance_m;
@@ -253,8 +259,8 @@ impl TouchScript {
         HandScript::new(w(cx, above, [0.0; 3]))
             .then(Phase::Approach, 0.5, w(cx, touch_z, [0.0; 3]))
             .then(Phase::Press, 0.3, w(cx, pressed, [0.0; 3]))
-            .then(Phase::Roll, 1.0, w(rolled_x, pressed, rolled))
-            .then(Phase::Twist, 1.0, w(rolled_x, pressed, twisted))
+            .then(Phase::Roll, roll_s, w(rolled_x, pressed, rolled))
+            .then(Phase::Twist, twist_s, w(rolled_x, pressed, twisted))
             .then(Phase::Slide, 1.0, w(slid_x, pressed, twisted))
             .then(Phase::LiftOff, 0.5, w(slid_x, above, twisted))
     }
