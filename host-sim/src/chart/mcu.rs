@@ -13,8 +13,8 @@ use std::path::Path;
 
 use super::pareto;
 use super::style::{
-    backend_shape, draw_line, draw_markers, log_label, log_range, variant_color, ERROR_FLOOR_MM,
-    FRONT_COLOR,
+    backend_shape, draw_legend, draw_line, draw_markers, log_label, log_range, variant_color,
+    ERROR_FLOOR_MM, FRONT_COLOR,
 };
 use crate::validate::ours::{Backend, Variant};
 
@@ -173,14 +173,7 @@ pub fn svg(points: &[McuPoint]) -> Result<String, String> {
                 Some(&label),
             )?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 12))
-            .draw()
-            .map_err(|e| format!("{e:?}"))?;
+        draw_legend(&mut chart, SeriesLabelPosition::UpperRight, 12)?;
         root.present().map_err(|e| format!("{e:?}"))?;
     }
     Ok(buf)

@@ -6,8 +6,8 @@ use plotters::prelude::*;
 use super::pareto;
 use super::points::{Point, Series};
 use super::style::{
-    backend_shape, draw_line, draw_markers, log_label, log_range, variant_color, Shape,
-    ERROR_FLOOR_MM, FRONT_COLOR, RK45_COLORS,
+    backend_shape, draw_legend, draw_line, draw_markers, log_label, log_range, variant_color,
+    Shape, ERROR_FLOOR_MM, FRONT_COLOR, RK45_COLORS,
 };
 use crate::validate::classical::Rk45Call;
 use crate::validate::ours::Variant;
@@ -152,14 +152,7 @@ pub fn svg(points: &[Point]) -> Result<String, String> {
             chart.draw_series(labels).map_err(|e| format!("{e:?}"))?;
         }
 
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 13))
-            .draw()
-            .map_err(|e| format!("{e:?}"))?;
+        draw_legend(&mut chart, SeriesLabelPosition::UpperRight, 13)?;
         root.present().map_err(|e| format!("{e:?}"))?;
     }
     Ok(buf)

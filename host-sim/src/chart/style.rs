@@ -105,6 +105,25 @@ where
     Ok(())
 }
 
+/// Draws the legend box in this module's style: white, 85 % opaque, black border.
+pub fn draw_legend<'a, 'b: 'a, CT>(
+    chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
+    position: SeriesLabelPosition,
+    font_size: u32,
+) -> Result<(), String>
+where
+    CT: CoordTranslate,
+{
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", font_size))
+        .draw()
+        .map_err(|e| format!("{e:?}"))
+}
+
 /// Draws a polyline, optionally with a legend entry.
 pub fn draw_line<'a, 'b: 'a, CT>(
     chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,

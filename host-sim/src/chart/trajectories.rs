@@ -4,7 +4,7 @@
 use plotters::prelude::*;
 use plotters::style::full_palette::{BLUE_600, GREEN_700};
 
-use super::style::{draw_line, draw_markers, Shape};
+use super::style::{draw_legend, draw_line, draw_markers, Shape};
 
 /// One run's paths, in metres, one row per sample.
 #[derive(Clone, Debug)]
@@ -130,14 +130,7 @@ pub fn svg(t: &Trajectories) -> Result<String, String> {
                     }
                 }
             }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 12))
-                .draw()
-                .map_err(|e| format!("{e:?}"))?;
+            draw_legend(&mut chart, SeriesLabelPosition::UpperLeft, 12)?;
         }
         root.present().map_err(|e| format!("{e:?}"))?;
     }
