@@ -2,20 +2,29 @@
 
 use softfinger_core::output_guard::GuardConfig;
 
-/// System clock, Hz: HSI 16 MHz / 4 × 85 / 2.
+/// The board's crystal (NUCLEO-G474RE X3), Hz.
+pub const HSE_HZ: u32 = 24_000_000;
+
+/// System clock, Hz: HSE 24 MHz / 6 × 85 / 2. TIM1 and TIM6 run at this clock (APB prescalers 1).
 pub const SYSCLK_HZ: u32 = 170_000_000;
+const _: () = assert!(HSE_HZ / 6 * 85 / 2 == SYSCLK_HZ);
 
-/// Control loop rate, Hz. 10 kHz by default; anything from 1 kHz up to 20 kHz is accepted.
+/// Control loop rate, Hz: 10 kHz (20 kHz also fits the PWM and tick-timer constraints below).
 pub const CONTROL_RATE_HZ: u32 = 10_000;
-const _: () = assert!(CONTROL_RATE_HZ >= 1_000 && CONTROL_RATE_HZ <= 20_000);
 
-/// CPU cycles available per control tick; a tick taking longer is an overrun.
-pub const TICK_BUDGET_CYCLES: u32 = SYSCLK_HZ / CONTROL_RATE_HZ;
+/// Tick-timer (TIM6, prescaler 1) counts per control period; equal to CPU cycles per tick.
+pub const TICK_PERIOD_COUNTS: u32 = SYSCLK_HZ / CONTROL_RATE_HZ;
+const _: () = assert!(TICK_PERIOD_COUNTS * CONTROL_RATE_HZ == SYSCLK_HZ);
+const _: () = assert!(TICK_PERIOD_COUNTS <= 1 << 16);
 
-/// Motor PWM frequency, Hz (at least 20 kHz: above hearing). With TIM1 clocked at 170 MHz this
-/// gives 6800 compare steps (12.7 bits).
-pub const PWM_FREQ_HZ: u32 = 25_000;
-const _: () = assert!(PWM_FREQ_HZ >= 20_000);
+/// Motor PWM frequency, Hz (at least 20 kHz: above hearing), an integer multiple of the control
+/// rate so every tick sees the same PWM phase.
+pub const PWM_FREQ_HZ: u32 = 20_000;
+const _: () = assert!(PWM_FREQ_HZ >= 20_000 && PWM_FREQ_HZ.is_multiple_of(CONTROL_RATE_HZ));
+
+/// TIM1 compare for 100 % duty (ARR + 1, prescaler 1): 8500 counts at 20 kHz.
+pub const PWM_FULL_SCALE: u16 = (SYSCLK_HZ / PWM_FREQ_HZ) as u16;
+const _: () = assert!(PWM_FULL_SCALE as u32 * PWM_FREQ_HZ == SYSCLK_HZ);
 
 /// Telemetry records logged per second (decimated from the control rate).
 pub const LOG_RATE_HZ: u32 = softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ;
@@ -28,6 +37,9 @@ pub const SUMMARY_QUEUE_LEN: usize = 4;
 
 /// How often the logger task drains the queues, ms.
 pub const LOGGER_POLL_MS: u64 = 5;
+
+/// Operator commands waiting for the tick.
+pub const COMMAND_QUEUE_LEN: usize = 4;
 
 /// How often the supervisor task checks the fault latch, ms.
 pub const SUPERVISOR_POLL_MS: u64 = 10;

@@ -11,8 +11,8 @@ use softfinger_core::telemetry::{TelemetryRecord, TickSummary};
 
 use crate::config;
 
-#[embassy_executor::task]
-pub async fn logger(
+/// Drain the queues forever (the board binary spawns this as a task).
+pub async fn run(
     mut records: Consumer<'static, TelemetryRecord>,
     mut summaries: Consumer<'static, TickSummary>,
 ) {
@@ -38,7 +38,7 @@ pub async fn logger(
                 mean_ns,
                 s.max_cycles,
                 max_ns,
-                config::TICK_BUDGET_CYCLES,
+                config::TICK_PERIOD_COUNTS,
                 s.overruns,
                 s.longest_overrun_streak,
                 s.dropped_total

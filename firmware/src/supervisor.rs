@@ -1,101 +1,116 @@
-//! Fault reporting and the operator's clear action.
+//! Fault reporting: logs every transition of the tick's latched faults and of the operator
+//! commands' outcomes, and shows the latched faults on the status LED as a blink code.
 //!
-//! - [`supervisor`] watches the control loop's fault latch, logs every transition (warn when a
-//!   fault latches, info when cleared) and mirrors it on LD2 (lit while a fault is latched).
-//! - [`clear_button`] turns a short press of the B1 user button into a request, served by the next
-//!   control tick, to clear latched faults in the controller and the output guard; a long press
-//!   (≥ 1 s) requests the next surface-stiffness preset, which the tick hands to the controller's
-//!   validated `set_contact_params` (a run-time parameter change from a low-priority task).
+//! Blink code: while any fault is latched the LED repeats, for each latched fault in turn, `n`
+//! short flashes (200 ms on, 200 ms off) followed by a 1 s pause, where `n` is the fault's number
+//! in [`BLINK_CODES`]. With no fault latched the LED is off.
 
 use core::sync::atomic::Ordering;
 
 use defmt::{info, warn};
-use embassy_stm32::exti::ExtiInput;
-use embassy_stm32::gpio::Output;
-use embassy_stm32::mode::Async;
-use embassy_time::{Duration, Ticker, Timer};
+use embassy_time::{Duration, Ticker};
 use softfinger_core::Flags;
 
+use crate::board::Indicator;
 use crate::config;
-use crate::control::{CLEAR_REQUEST, LATCHED, PARAM_APPLIED, PARAM_REQUEST, PARAM_RESULT};
-use softfinger_core::params::ContactParams;
+use crate::tick::STATUS;
 
-#[embassy_executor::task]
-pub async fn supervisor(mut led: Output<'static>) {
+/// Latched faults and their blink counts, in the order they are shown. A latched bit not listed
+/// here is shown as the last code + 1.
+pub const BLINK_CODES: [(Flags, u32); 5] = [
+    (Flags::DRIVER_FAULT, 1),
+    (Flags::ENCODER_GLITCH, 2),
+    (Flags::ENCODER_STUCK, 3),
+    (Flags::OVERRUN, 4),
+    (Flags::NON_FINITE_OUTPUT, 5),
+];
+/// Blink count of a latched flag missing from [`BLINK_CODES`].
+const OTHER_CODE: u32 = 6;
+
+/// LED time slots, in supervisor polls.
+const FLASH_POLLS: u32 = (200 / config::SUPERVISOR_POLL_MS) as u32;
+const PAUSE_POLLS: u32 = (1000 / config::SUPERVISOR_POLL_MS) as u32;
+
+/// Blink counts of the latched faults, in [`BLINK_CODES`] order; unused slots are 0.
+fn codes(latched: Flags) -> [u32; BLINK_CODES.len() + 1] {
+    let mut out = [0; BLINK_CODES.len() + 1];
+    let mut known = Flags::NONE;
+    let mut n = 0;
+    for (flag, code) in BLINK_CODES {
+        known |= flag;
+        if latched.intersects(flag) {
+            out[n] = code;
+            n += 1;
+        }
+    }
+    if latched.0 & !known.0 != 0 {
+        out[n] = OTHER_CODE;
+    }
+    out
+}
+
+/// The blink-code player: which fault is being shown and where in its sequence.
+struct BlinkCode {
+    slot: usize,
+    poll: u32,
+}
+
+impl BlinkCode {
+    /// LED level for this poll, advancing the sequence.
+    fn step(&mut self, codes: &[u32]) -> bool {
+        let code = codes.get(self.slot).copied().unwrap_or(0);
+        if code == 0 {
+            // Past the last latched fault (or none): restart from the first.
+            self.slot = 0;
+            self.poll = 0;
+            return false;
+        }
+        let flashes_end = 2 * code * FLASH_POLLS;
+        let on = self.poll < flashes_end && (self.poll / FLASH_POLLS).is_multiple_of(2);
+        self.poll += 1;
+        if self.poll >= flashes_end + PAUSE_POLLS {
+            self.poll = 0;
+            self.slot += 1;
+        }
+        on
+    }
+}
+
+/// Watch the tick's status forever (the board binary spawns this as a task).
+pub async fn run(mut led: impl Indicator) {
     let mut ticker = Ticker::every(Duration::from_millis(config::SUPERVISOR_POLL_MS));
     let mut previous = Flags::NONE;
-    let mut previous_param = 0u32;
+    let mut previous_results = 0u32;
+    let mut blink = BlinkCode { slot: 0, poll: 0 };
     loop {
-        let param = PARAM_RESULT.load(Ordering::Relaxed);
-        if param != previous_param {
-            if param & 3 == PARAM_APPLIED {
-                info!("contact parameters applied (request {=u32})", param >> 2);
-            } else {
-                warn!(
-                    "contact parameters REJECTED (request {=u32}); previous ones kept",
-                    param >> 2
-                );
+        let results = STATUS.command_results.load(Ordering::Relaxed);
+        if results != previous_results {
+            let accepted = (results & 0xFFFF).wrapping_sub(previous_results & 0xFFFF) & 0xFFFF;
+            let rejected = (results >> 16).wrapping_sub(previous_results >> 16) & 0xFFFF;
+            if accepted > 0 {
+                info!("{=u32} operator command(s) applied", accepted);
             }
-            previous_param = param;
+            if rejected > 0 {
+                warn!("{=u32} operator command(s) REJECTED", rejected);
+            }
+            previous_results = results;
         }
-        let latched = Flags(LATCHED.load(Ordering::Relaxed));
+        let latched = Flags(STATUS.latched.load(Ordering::Relaxed));
         if latched != previous {
             let new = Flags(latched.0 & !previous.0);
             if !new.is_empty() {
                 warn!(
-                    "FAULT latched: {} (drivers disabled, zero torque); press B1 to clear",
-                    new
+                    "FAULT latched: {} (blink code {}); zero torque until cleared",
+                    new,
+                    codes(new)
                 );
             }
             if latched.is_empty() {
-                info!("faults cleared; drivers may be enabled");
+                info!("faults cleared");
             }
             previous = latched;
         }
-        if latched.is_empty() {
-            led.set_low();
-        } else {
-            led.set_high();
-        }
+        led.set(blink.step(&codes(latched)));
         ticker.next().await;
-    }
-}
-
-/// Surface stiffness presets (N/m) cycled by a long press of B1: soft, the default, stiff.
-const STIFFNESS_PRESETS: [f32; 3] = [500.0, 2000.0, 5000.0];
-
-#[embassy_executor::task]
-pub async fn clear_button(mut button: ExtiInput<'static, Async>) {
-    let mut preset = 1; // the default stiffness
-    loop {
-        button.wait_for_rising_edge().await;
-        Timer::after_millis(config::BUTTON_DEBOUNCE_MS).await;
-        if !button.is_high() {
-            continue;
-        }
-        let long = embassy_time::with_timeout(
-            Duration::from_millis(config::LONG_PRESS_MS),
-            button.wait_for_low(),
-        )
-        .await
-        .is_err();
-        if long {
-            preset = (preset + 1) % STIFFNESS_PRESETS.len();
-            let stiffness = STIFFNESS_PRESETS[preset];
-            info!(
-                "B1 held: requesting surface stiffness {=f32} N/m",
-                stiffness
-            );
-            let params = ContactParams {
-                normal_stiffness: stiffness,
-                ..ContactParams::DEFAULT
-            };
-            critical_section::with(|cs| PARAM_REQUEST.borrow(cs).set(Some(params)));
-            button.wait_for_low().await;
-        } else {
-            info!("B1 pressed: clearing latched faults");
-            CLEAR_REQUEST.store(true, Ordering::Relaxed);
-        }
-        Timer::after_millis(config::BUTTON_DEBOUNCE_MS).await;
     }
 }

@@ -1,0 +1,88 @@
+//! What the app needs from a board, as traits, and the board this binary runs on.
+//!
+//! The app (`tick`, `logger`, `supervisor`, `operator`) is written against these traits only and
+//! holds no HAL type, so the same app runs on the STM32G474 (`stm32g474`) and on an emulated board.
+//!
+//! - [`ControlHw`]: everything the control interrupt touches. It is owned by that interrupt alone
+//!   (see `isr_cell`), so its methods take `&mut self` and never lock.
+//! - [`Indicator`] and [`OperatorButton`]: the LED and the user button, owned by low-priority tasks.
+
+#[allow(unsafe_code)]
+// interrupt priorities, unmasking the tick, the tick's handoff; justified in place
+pub mod stm32g474;
+
+pub use stm32g474::emergency_stop;
+
+/// Raw inputs of one tick, as read from the hardware.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RawSample {
+    /// Raw wrapping 16-bit counter values: `[motor0, motor1, motor2, wrist0, wrist1, wrist2]`.
+    pub counts: [u16; 6],
+    /// The drivers' fault line is asserted (nFAULT low), or the hardware break tripped since the
+    /// previous read. Reported as read: masking during sleep and wake is the pipeline's job.
+    pub driver_fault: bool,
+}
+
+/// Commands for the three phase/enable bridges (DRV887x class: EN <- PWM, PH <- phase pin, shared
+/// nSLEEP). Same physical meaning as the pipeline's bridge commands.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BridgeCommands {
+    /// Phase pin level per motor: true (high) drives current OUT1 -> OUT2 ("forward").
+    pub phase_forward: [bool; 3],
+    /// PWM compare per motor, timer counts in [0, full scale]; 0 = EN low for the whole period.
+    pub compare: [u16; 3],
+    /// PWM outputs enabled (TIM1 main output enable on the STM32); false drives every EN low.
+    pub pwm_enable: bool,
+    /// Drivers awake (nSLEEP high). Low only on faults.
+    pub driver_awake: bool,
+}
+
+impl BridgeCommands {
+    /// Everything off: zero compares, PWM disabled, drivers asleep.
+    pub const OFF: BridgeCommands = BridgeCommands {
+        phase_forward: [true; 3],
+        compare: [0; 3],
+        pwm_enable: false,
+        driver_awake: false,
+    };
+}
+
+/// The hardware the control interrupt owns.
+///
+/// Write order contract ([`ControlHw::write_bridges`]): outputs that switch OFF are switched off
+/// first (PWM enable, then nSLEEP), then the compares are written (with CCR preload they take
+/// effect at the next PWM period), then the phase pins, then outputs that switch ON (nSLEEP, then
+/// PWM enable). The caller changes a phase pin only while the compare in effect is 0.
+pub trait ControlHw {
+    /// Tick-timer counts per control period (the timer counts up from 0 after each tick event).
+    fn tick_period_counts(&self) -> u32;
+    /// Tick-timer counts since the current period's tick event.
+    fn tick_timer_count(&self) -> u32;
+    /// Acknowledge this period's tick event.
+    fn ack_tick(&mut self);
+    /// A new tick event arrived since [`ControlHw::ack_tick`]: this tick ran into the next period.
+    fn tick_event_pending(&self) -> bool;
+    /// Read the six encoder counters and the drivers' fault line.
+    fn read_inputs(&mut self) -> RawSample;
+    /// Write the bridge commands in the documented order.
+    fn write_bridges(&mut self, cmd: &BridgeCommands);
+    /// Proof of life for the independent watchdog.
+    fn pet_watchdog(&mut self);
+}
+
+/// A status LED.
+pub trait Indicator {
+    /// Light (true) or extinguish the LED.
+    fn set(&mut self, on: bool);
+}
+
+/// The operator's push button (debounced by the caller).
+#[allow(async_fn_in_trait)] // used with concrete types only, never as `dyn` or across threads
+pub trait OperatorButton {
+    /// Wait until the button is pressed (returns at once if it already is).
+    async fn wait_pressed(&mut self);
+    /// Wait until the button is released (returns at once if it already is).
+    async fn wait_released(&mut self);
+    /// The button is pressed now.
+    fn is_pressed(&mut self) -> bool;
+}
