@@ -14,6 +14,8 @@
 
 mod board;
 mod config;
+#[allow(unsafe_code)] // implementing `critical_section::Impl` is unsafe by definition
+mod critical_section_basepri;
 #[allow(unsafe_code)] // cortex-m-rt requires the HardFault handler to be an `unsafe fn`
 mod failsafe;
 #[allow(unsafe_code)] // the lock-free handoff to the interrupt; each block justified in place

@@ -11,7 +11,7 @@
 // interrupt priorities, unmasking the tick, the tick's handoff; justified in place
 pub mod stm32g474;
 
-pub use stm32g474::emergency_stop;
+pub use stm32g474::{emergency_stop, BASEPRI_BELOW_TICK};
 
 /// Raw inputs of one tick, as read from the hardware.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -28,6 +28,12 @@ bind_interrupts!(struct Irqs {
     EXTI15_10 => exti::InterruptHandler<interrupt::typelevel::EXTI15_10>;
 });
 
+/// BASEPRI value that masks every interrupt priority except 0: the STM32G4 NVIC implements the
+/// top 4 priority bits (`NVIC_PRIO_BITS`), so priority 1 is 0x10.
+pub const BASEPRI_BELOW_TICK: u8 = 1 << (8 - pac::NVIC_PRIO_BITS);
+/// Priority byte of every device interrupt until one is raised: the lowest (15).
+const LOWEST_PRIORITY: u8 = 0xF0;
+
 /// Port B pins of the bridges: phase pins (PH) of motors 0..2 and the shared nSLEEP.
 const PHASE_PINS: [u32; 3] = [10, 4, 5];
 const N_SLEEP_PIN: u32 = 0;
@@ -369,7 +375,7 @@ pub fn prepare_core(nvic: &mut cortex_m::peripheral::NVIC) {
     for ipr in nvic.ipr.iter().take(102) {
         // SAFETY: no device interrupt is enabled yet, so changing priorities cannot break a
         // priority-based critical section in progress.
-        unsafe { ipr.write(0xF0) };
+        unsafe { ipr.write(LOWEST_PRIORITY) };
     }
     pac::DBGMCU.apb2fzr().modify(|w| w.set_tim1(true));
     pac::DBGMCU.apb1lfzr().modify(|w| {
