@@ -18,7 +18,7 @@ use crate::board::emergency_stop;
 static PANICKED: AtomicBool = AtomicBool::new(false);
 
 /// Wait for the watchdog with the outputs zeroed.
-fn halt() -> ! {
+pub fn halt() -> ! {
     loop {
         core::hint::spin_loop();
     }

@@ -13,6 +13,8 @@
 #![deny(unsafe_code)]
 
 mod board;
+#[allow(unsafe_code)] // the copy of the CCM code image; justified in place
+mod ccm;
 mod config;
 #[allow(unsafe_code)] // implementing `critical_section::Impl` is unsafe by definition
 mod critical_section_basepri;
@@ -28,7 +30,7 @@ mod tick;
 use board::stm32g474::{self as bsp, Board};
 use defmt::{error, info};
 use defmt_rtt as _;
-use embassy_executor::Spawner;
+use embassy_executor::{Executor, Spawner};
 use heapless::spsc::{Consumer, Producer, Queue};
 use softfinger_core::controller::{Controller, ControllerConfig};
 use softfinger_core::encoder::EncoderBank;
@@ -70,12 +72,26 @@ fn validate() -> Result<Validated, softfinger_core::controller::ParamError> {
     Ok(Validated { controller, guard })
 }
 
-#[embassy_executor::main]
-async fn main(spawner: Spawner) {
+#[cortex_m_rt::entry]
+fn main() -> ! {
+    // First: the tick's code into CCM SRAM, before anything placed there can run.
+    ccm::load();
     let Some(mut core) = cortex_m::Peripherals::take() else {
-        return;
+        failsafe::halt()
     };
     bsp::prepare_core(&mut core.NVIC);
+    let Some(executor) = cortex_m::singleton!(: Executor = Executor::new()) else {
+        failsafe::halt()
+    };
+    executor.run(|spawner| match start(spawner) {
+        Ok(task) => spawner.spawn(task),
+        Err(_) => failsafe::halt(),
+    })
+}
+
+/// Start-up, as the first task: validate, configure, spawn the tasks, start the tick.
+#[embassy_executor::task]
+async fn start(spawner: Spawner) {
     let p = embassy_stm32::init(bsp::hal_config());
     bsp::after_hal_init();
     info!(
