@@ -32,44 +32,26 @@ use defmt::{error, info};
 use defmt_rtt as _;
 use embassy_executor::{Executor, Spawner};
 use heapless::spsc::{Consumer, Producer, Queue};
-use softfinger_core::controller::{Controller, ControllerConfig};
-use softfinger_core::encoder::EncoderBank;
-use softfinger_core::output_guard::OutputGuard;
-use softfinger_core::telemetry::{Decimator, DropCounter, TelemetryRecord, TickStats, TickSummary};
+use softfinger_core::pipeline::{Command, Pipeline, PipelineRecord, TimingSummary};
 use softfinger_core::Fast;
-use tick::{ControlLoop, OperatorCommand};
+use tick::{CommandOutcome, ControlLoop, TickQueues};
 
 #[embassy_executor::task]
 async fn logger_task(
-    records: Consumer<'static, TelemetryRecord>,
-    summaries: Consumer<'static, TickSummary>,
+    records: Consumer<'static, PipelineRecord>,
+    summaries: Consumer<'static, TimingSummary>,
 ) {
     logger::run(records, summaries).await
 }
 
 #[embassy_executor::task]
-async fn supervisor_task(led: bsp::Led) {
-    supervisor::run(led).await
+async fn supervisor_task(led: bsp::Led, outcomes: Consumer<'static, CommandOutcome>) {
+    supervisor::run(led, outcomes).await
 }
 
 #[embassy_executor::task]
-async fn operator_task(button: bsp::Button, commands: Producer<'static, OperatorCommand>) {
+async fn operator_task(button: bsp::Button, commands: Producer<'static, Command>) {
     operator::run(button, commands).await
-}
-
-/// The validated configuration: built before any peripheral is configured.
-struct Validated {
-    controller: Controller<Fast>,
-    guard: OutputGuard,
-}
-
-fn validate() -> Result<Validated, softfinger_core::controller::ParamError> {
-    let controller = Controller::new(ControllerConfig {
-        rate_hz: config::CONTROL_RATE_HZ as f32,
-        ..ControllerConfig::default()
-    })?;
-    let guard = OutputGuard::new(config::GUARD)?;
-    Ok(Validated { controller, guard })
 }
 
 #[cortex_m_rt::entry]
@@ -92,7 +74,7 @@ fn main() -> ! {
 /// Start-up, as the first task: validate, configure, spawn the tasks, start the tick.
 #[embassy_executor::task]
 async fn start(spawner: Spawner) {
-    let p = embassy_stm32::init(bsp::hal_config());
+    let periph = embassy_stm32::init(bsp::hal_config());
     bsp::after_hal_init();
     info!(
         "softfinger firmware: control {=u32} Hz, PWM {=u32} Hz ({=u16} counts), telemetry {=u32} Hz",
@@ -102,43 +84,51 @@ async fn start(spawner: Spawner) {
         config::LOG_RATE_HZ
     );
 
-    let valid = match validate() {
-        Ok(v) => v,
+    // The whole configuration is validated before any peripheral is configured.
+    let pipeline = match Pipeline::<Fast>::new(config::pipeline_config()) {
+        Ok(p) => p,
         Err(e) => {
-            // No peripheral configured: every bridge pin is still in its reset state (analog,
-            // undriven), so the drivers' nSLEEP/EN pull-downs hold them off.
             error!("configuration rejected: {}; control loop not started", e);
+            Board::hold_safe(periph);
             return;
         }
     };
+    info!("device {=str}; pipeline built", config::DEVICE.name);
     let Some(commands) =
-        cortex_m::singleton!(: Queue<OperatorCommand, {config::COMMAND_QUEUE_LEN}> = Queue::new())
+        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())
     else {
         return;
     };
-    let Some(records) = cortex_m::singleton!(: Queue<TelemetryRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new())
+    let Some(outcomes) =
+        cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new())
+    else {
+        return;
+    };
+    let Some(records) =
+        cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new())
     else {
         return;
     };
     let Some(summaries) =
-        cortex_m::singleton!(: Queue<TickSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new())
+        cortex_m::singleton!(: Queue<TimingSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new())
     else {
         return;
     };
     let (command_tx, command_rx) = commands.split();
+    let (outcome_tx, outcome_rx) = outcomes.split();
     let (record_tx, record_rx) = records.split();
     let (summary_tx, summary_rx) = summaries.split();
 
     let Board {
-        mut control,
+        control,
         led,
         button,
-    } = Board::new(p);
+    } = Board::new(periph);
     match logger_task(record_rx, summary_rx) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("logger task not spawned: {}", e),
     }
-    match supervisor_task(led) {
+    match supervisor_task(led, outcome_rx) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("supervisor task not spawned: {}", e),
     }
@@ -147,30 +137,20 @@ async fn start(spawner: Spawner) {
         Err(e) => error!("operator task not spawned: {}", e),
     }
 
-    use board::ControlHw;
-    let bank = EncoderBank::new(control.read_inputs().counts, config::MAX_COUNTS_PER_TICK);
-    let control_loop = ControlLoop {
-        hw: control,
-        controller: valid.controller,
-        guard: valid.guard,
-        bank,
+    let queues = TickQueues {
         commands: command_rx,
+        outcomes: outcome_tx,
         records: record_tx,
         summaries: summary_tx,
-        decimator: Decimator::new(config::CONTROL_RATE_HZ, config::LOG_RATE_HZ),
-        drops: DropCounter::new(),
-        stats: TickStats::new(config::TICK_PERIOD_COUNTS),
-        pwm_full_scale: config::PWM_FULL_SCALE,
-        rate_hz: config::CONTROL_RATE_HZ,
-        tick: 0,
-        overran: false,
     };
-    match bsp::start_tick(control_loop) {
-        Ok(()) => info!(
-            "control loop running; tick period {=u32} counts; watchdog {=u32} us",
+    match bsp::start_tick(ControlLoop::new(control, pipeline, queues)) {
+        Ok(skew) => info!(
+            "control loop running: tick period {=u32} counts, PWM period {=u16} counts, tick timer {=i32} counts after the PWM timer; watchdog {=u32} us; drivers asleep until homed (hold B1 1 s)",
             config::TICK_PERIOD_COUNTS,
+            config::PWM_FULL_SCALE,
+            skew,
             config::WATCHDOG_TIMEOUT_US
         ),
-        Err(_) => error!("control loop already installed"),
+        Err(e) => error!("control loop not started: {}", e),
     }
 }

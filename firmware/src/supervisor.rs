@@ -1,35 +1,52 @@
-//! Fault reporting: logs every transition of the tick's latched faults and of the operator
-//! commands' outcomes, and shows the latched faults on the status LED as a blink code.
+//! The status LED and the status log: mode transitions, latched faults and operator-command
+//! outcomes are logged as they happen; the LED shows the mode, or the latched faults as a blink
+//! code.
 //!
-//! Blink code: while any fault is latched the LED repeats, for each latched fault in turn, `n`
-//! short flashes (200 ms on, 200 ms off) followed by a 1 s pause, where `n` is the fault's number
-//! in [`BLINK_CODES`]. With no fault latched the LED is off.
+//! | mode | LED |
+//! | --- | --- |
+//! | Unhomed | a 100 ms flash every 2 s |
+//! | Homing | fast blink, 5 Hz |
+//! | Disarmed | slow blink, 1 Hz |
+//! | Armed | on |
+//! | Faulted | blink code: for each latched fault in turn, `n` flashes (200 ms on, 200 ms off), then 1 s dark; `n` from [`BLINK_CODES`] |
 
 use core::sync::atomic::Ordering;
 
 use defmt::{info, warn};
 use embassy_time::{Duration, Ticker};
+use heapless::spsc::Consumer;
+use softfinger_core::pipeline::Mode;
 use softfinger_core::Flags;
 
 use crate::board::Indicator;
 use crate::config;
-use crate::tick::STATUS;
+use crate::tick::{published_mode, CommandOutcome, STATUS};
 
-/// Latched faults and their blink counts, in the order they are shown. A latched bit not listed
-/// here is shown as the last code + 1.
-pub const BLINK_CODES: [(Flags, u32); 5] = [
+/// The latched faults and their blink counts, in the order they are shown: the core's whole
+/// latching set (`output_guard::LATCHING`). A latched bit not listed here shows as 7.
+pub const BLINK_CODES: [(Flags, u32); 6] = [
     (Flags::DRIVER_FAULT, 1),
     (Flags::ENCODER_GLITCH, 2),
     (Flags::ENCODER_STUCK, 3),
     (Flags::OVERRUN, 4),
     (Flags::NON_FINITE_OUTPUT, 5),
+    (Flags::HOMING_FAILED, 6),
 ];
-/// Blink count of a latched flag missing from [`BLINK_CODES`].
-const OTHER_CODE: u32 = 6;
+const OTHER_CODE: u32 = 7;
+const _: () = {
+    let mut all = 0;
+    let mut i = 0;
+    while i < BLINK_CODES.len() {
+        all |= BLINK_CODES[i].0 .0;
+        i += 1;
+    }
+    assert!(all == softfinger_core::output_guard::LATCHING.0);
+};
 
-/// LED time slots, in supervisor polls.
-const FLASH_POLLS: u32 = (200 / config::SUPERVISOR_POLL_MS) as u32;
-const PAUSE_POLLS: u32 = (1000 / config::SUPERVISOR_POLL_MS) as u32;
+/// Polls per time slot.
+const fn polls(ms: u64) -> u32 {
+    (ms / config::SUPERVISOR_POLL_MS) as u32
+}
 
 /// Blink counts of the latched faults, in [`BLINK_CODES`] order; unused slots are 0.
 fn codes(latched: Flags) -> [u32; BLINK_CODES.len() + 1] {
@@ -49,68 +66,76 @@ fn codes(latched: Flags) -> [u32; BLINK_CODES.len() + 1] {
     out
 }
 
-/// The blink-code player: which fault is being shown and where in its sequence.
-struct BlinkCode {
+/// The LED sequencer: a poll counter and, for the blink code, which fault is being shown.
+struct Led {
     slot: usize,
     poll: u32,
 }
 
-impl BlinkCode {
-    /// LED level for this poll, advancing the sequence.
-    fn step(&mut self, codes: &[u32]) -> bool {
-        let code = codes.get(self.slot).copied().unwrap_or(0);
-        if code == 0 {
-            // Past the last latched fault (or none): restart from the first.
-            self.slot = 0;
-            self.poll = 0;
-            return false;
+impl Led {
+    /// LED level for this poll, advancing the pattern.
+    fn step(&mut self, mode: Mode, latched: Flags) -> bool {
+        let poll = self.poll;
+        self.poll = self.poll.wrapping_add(1);
+        match mode {
+            Mode::Unhomed => poll % polls(2000) < polls(100),
+            Mode::Homing => poll % polls(200) < polls(100),
+            Mode::Disarmed => poll % polls(1000) < polls(500),
+            Mode::Armed => true,
+            Mode::Faulted => self.blink_code(&codes(latched), poll),
         }
-        let flashes_end = 2 * code * FLASH_POLLS;
-        let on = self.poll < flashes_end && (self.poll / FLASH_POLLS).is_multiple_of(2);
-        self.poll += 1;
-        if self.poll >= flashes_end + PAUSE_POLLS {
-            self.poll = 0;
+    }
+
+    fn blink_code(&mut self, codes: &[u32], poll: u32) -> bool {
+        let code = match codes.get(self.slot) {
+            Some(&c) if c > 0 => c,
+            _ => {
+                // Past the last latched fault: start again from the first.
+                self.slot = 0;
+                self.poll = 0;
+                return false;
+            }
+        };
+        let flash = polls(200);
+        let flashes_end = 2 * code * flash;
+        if poll + 1 >= flashes_end + polls(1000) {
             self.slot += 1;
+            self.poll = 0;
         }
-        on
+        poll < flashes_end && (poll / flash).is_multiple_of(2)
     }
 }
 
 /// Watch the tick's status forever (the board binary spawns this as a task).
-pub async fn run(mut led: impl Indicator) {
+pub async fn run(mut indicator: impl Indicator, mut outcomes: Consumer<'static, CommandOutcome>) {
     let mut ticker = Ticker::every(Duration::from_millis(config::SUPERVISOR_POLL_MS));
+    let mut previous_mode = Mode::Unhomed;
     let mut previous = Flags::NONE;
-    let mut previous_results = 0u32;
-    let mut blink = BlinkCode { slot: 0, poll: 0 };
+    let mut led = Led { slot: 0, poll: 0 };
     loop {
-        let results = STATUS.command_results.load(Ordering::Relaxed);
-        if results != previous_results {
-            let accepted = (results & 0xFFFF).wrapping_sub(previous_results & 0xFFFF) & 0xFFFF;
-            let rejected = (results >> 16).wrapping_sub(previous_results >> 16) & 0xFFFF;
-            if accepted > 0 {
-                info!("{=u32} operator command(s) applied", accepted);
+        while let Some(o) = outcomes.dequeue() {
+            match o.result {
+                Ok(()) => info!("command {} applied", o.command),
+                Err(e) => warn!("command {} REFUSED: {}", o.command, e),
             }
-            if rejected > 0 {
-                warn!("{=u32} operator command(s) REJECTED", rejected);
-            }
-            previous_results = results;
         }
+        let mode = published_mode();
         let latched = Flags(STATUS.latched.load(Ordering::Relaxed));
-        if latched != previous {
-            let new = Flags(latched.0 & !previous.0);
-            if !new.is_empty() {
-                warn!(
-                    "FAULT latched: {} (blink code {}); zero torque until cleared",
-                    new,
-                    codes(new)
-                );
-            }
-            if latched.is_empty() {
-                info!("faults cleared");
-            }
-            previous = latched;
+        let new = Flags(latched.0 & !previous.0);
+        if !new.is_empty() {
+            warn!(
+                "FAULT latched: {} (blink codes {}); zero torque, drivers asleep until cleared",
+                new,
+                codes(new)
+            );
         }
-        led.set(blink.step(&codes(latched)));
+        if mode != previous_mode {
+            info!("mode: {} -> {}", previous_mode, mode);
+            led = Led { slot: 0, poll: 0 };
+        }
+        previous = latched;
+        previous_mode = mode;
+        indicator.set(led.step(mode, latched));
         ticker.next().await;
     }
 }

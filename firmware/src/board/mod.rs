@@ -23,36 +23,15 @@ pub struct RawSample {
     pub driver_fault: bool,
 }
 
-/// Commands for the three phase/enable bridges (DRV887x class: EN <- PWM, PH <- phase pin, shared
-/// nSLEEP). Same physical meaning as the pipeline's bridge commands.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct BridgeCommands {
-    /// Phase pin level per motor: true (high) drives current OUT1 -> OUT2 ("forward").
-    pub phase_forward: [bool; 3],
-    /// PWM compare per motor, timer counts in [0, full scale]; 0 = EN low for the whole period.
-    pub compare: [u16; 3],
-    /// PWM outputs enabled (TIM1 main output enable on the STM32); false drives every EN low.
-    pub pwm_enable: bool,
-    /// Drivers awake (nSLEEP high). Low only on faults.
-    pub driver_awake: bool,
-}
-
-impl BridgeCommands {
-    /// Everything off: zero compares, PWM disabled, drivers asleep.
-    pub const OFF: BridgeCommands = BridgeCommands {
-        phase_forward: [true; 3],
-        compare: [0; 3],
-        pwm_enable: false,
-        driver_awake: false,
-    };
-}
+pub use softfinger_core::pipeline::BridgeCommands;
 
 /// The hardware the control interrupt owns.
 ///
-/// Write order contract ([`ControlHw::write_bridges`]): outputs that switch OFF are switched off
-/// first (PWM enable, then nSLEEP), then the compares are written (with CCR preload they take
-/// effect at the next PWM period), then the phase pins, then outputs that switch ON (nSLEEP, then
-/// PWM enable). The caller changes a phase pin only while the compare in effect is 0.
+/// Write order ([`ControlHw::write_bridges`]): the pipeline's contract
+/// (`softfinger_core::pipeline::bridge`): outputs that switch off first (PWM enable, then nSLEEP),
+/// then the phase pins, then the compares (preloaded: in effect from the next PWM period), then
+/// outputs that switch on (PWM enable, then nSLEEP). The tick timer's event must coincide with a
+/// PWM period boundary.
 pub trait ControlHw {
     /// Tick-timer counts per control period (the timer counts up from 0 after each tick event).
     fn tick_period_counts(&self) -> u32;

@@ -7,7 +7,7 @@
 //! stm32-metapac register API: one volatile access each, no bounds checks, no lock.
 
 use embassy_stm32::exti::{self, ExtiInput};
-use embassy_stm32::gpio::{Level, Output, OutputType, Pull, Speed};
+use embassy_stm32::gpio::{AnyPin, Level, Output, OutputType, Pull, Speed};
 use embassy_stm32::mode::Async;
 use embassy_stm32::pac;
 use embassy_stm32::pac::timer::vals::{Bkinp, Bkp, FilterValue, Lock, Ossi, Ossr};
@@ -35,8 +35,8 @@ pub const BASEPRI_BELOW_TICK: u8 = 1 << (8 - pac::NVIC_PRIO_BITS);
 const LOWEST_PRIORITY: u8 = 0xF0;
 
 /// Port B pins of the bridges: phase pins (PH) of motors 0..2 and the shared nSLEEP.
-const PHASE_PINS: [u32; 3] = [10, 4, 5];
-const N_SLEEP_PIN: u32 = 0;
+const PHASE_PINS: [usize; 3] = [10, 4, 5];
+const N_SLEEP_PIN: usize = 0;
 /// PB12: the drivers' wired-OR nFAULT, as TIM1_BKIN (AF6), read back through GPIOB_IDR.
 const N_FAULT_PIN: usize = 12;
 const BKIN_AF: u8 = 6;
@@ -77,7 +77,7 @@ pub fn emergency_stop() {
     for ch in 0..3 {
         pac::TIM1.ccr(ch).write(|w| w.set_ccr(0));
     }
-    let mut reset = 1 << (16 + N_SLEEP_PIN);
+    let mut reset = 1u32 << (16 + N_SLEEP_PIN);
     for pin in PHASE_PINS {
         reset |= 1 << (16 + pin);
     }
@@ -154,35 +154,33 @@ impl ControlHw for Stm32Control {
         }
     }
 
+    /// The pipeline's ordering contract (`softfinger_core::pipeline::bridge`): outputs off first
+    /// (MOE, then nSLEEP), then the phase pins, then the compares (preloaded: a PWM period
+    /// boundary between the two writes loads the old compare, which is 0 whenever a phase
+    /// changed), then outputs on (MOE, then nSLEEP).
     #[inline(always)]
     fn write_bridges(&mut self, cmd: &BridgeCommands) {
         let tim = pac::TIM1;
-        // Off first: PWM outputs, then sleep.
         if !cmd.pwm_enable {
             tim.bdtr().modify(|w| w.set_moe(false));
         }
         if !cmd.driver_awake {
-            pac::GPIOB
-                .bsrr()
-                .write(|w| w.set_br(N_SLEEP_PIN as usize, true));
-        }
-        // Compares (preloaded: in effect from the next PWM period), then the phase pins in one write.
-        for (ch, compare) in cmd.compare.into_iter().enumerate() {
-            tim.ccr(ch).write(|w| w.set_ccr(compare));
+            pac::GPIOB.bsrr().write(|w| w.set_br(N_SLEEP_PIN, true));
         }
         let mut bsrr = 0u32;
         for (pin, forward) in PHASE_PINS.into_iter().zip(cmd.phase_forward) {
             bsrr |= 1 << if forward { pin } else { pin + 16 };
         }
         pac::GPIOB.bsrr().write_value(pac::gpio::regs::Bsrr(bsrr));
-        // On last: wake, then PWM outputs. MOE stays 0 while the break input is active.
-        if cmd.driver_awake {
-            pac::GPIOB
-                .bsrr()
-                .write(|w| w.set_bs(N_SLEEP_PIN as usize, true));
+        for (ch, compare) in cmd.compare.into_iter().enumerate() {
+            tim.ccr(ch).write(|w| w.set_ccr(compare));
         }
+        // MOE stays 0 while the break input is active, whatever is written here.
         if cmd.pwm_enable {
             tim.bdtr().modify(|w| w.set_moe(true));
+        }
+        if cmd.driver_awake {
+            pac::GPIOB.bsrr().write(|w| w.set_bs(N_SLEEP_PIN, true));
         }
     }
 
@@ -225,6 +223,21 @@ pub struct Board {
 }
 
 impl Board {
+    /// After a rejected configuration: drive every bridge pin low as a plain output (nSLEEP, the
+    /// phase pins, the three EN/PWM pins) and keep it so; nothing else is configured.
+    pub fn hold_safe(p: Peripherals) {
+        let low = |pin: embassy_stm32::Peri<'static, AnyPin>| {
+            core::mem::forget(Output::new(pin, Level::Low, Speed::Low))
+        };
+        low(p.PB0.into());
+        low(p.PB10.into());
+        low(p.PB4.into());
+        low(p.PB5.into());
+        low(p.PA8.into());
+        low(p.PA9.into());
+        low(p.PA10.into());
+    }
+
     /// Configure every peripheral; outputs start low. Call only after the configuration has been
     /// validated: from here on the bridges are wired to the timer.
     pub fn new(p: Peripherals) -> Self {
@@ -397,20 +410,38 @@ pub fn after_hal_init() {
     interrupt::EXTI15_10.set_priority(Priority::P3); // B1
 }
 
-/// Hand the loop to the TIM6 interrupt and start it: highest priority, then the watchdog, then the
-/// timer, then unmask. A second call is refused.
-pub fn start_tick(mut control: ControlLoop<Stm32Control>) -> Result<(), AlreadyStarted> {
+/// Hand the loop to the TIM6 interrupt and start it: highest priority, the watchdog, then TIM1
+/// and TIM6 restarted together from 0, so every tick event is a PWM period boundary (the shared
+/// board timing's convention: both count the same 170 MHz clock, 8500 and 17 000 counts per
+/// period, so once aligned they stay aligned), then unmask. Returns TIM1's count minus TIM6's,
+/// read back to back right after the start (the start skew plus the spacing of the two reads,
+/// a few counts). A second call is refused.
+pub fn start_tick(mut control: ControlLoop<Stm32Control>) -> Result<i32, AlreadyStarted> {
     use embassy_stm32::interrupt::{InterruptExt, Priority};
     interrupt::TIM6_DAC.set_priority(Priority::P0);
-    interrupt::TIM6_DAC.unpend();
-    control.hw.watchdog.unleash();
+    control.hw_mut().watchdog.unleash();
     CONTROL.install(control).map_err(|_| AlreadyStarted)?;
-    pac::TIM6.cr1().modify(|w| w.set_cen(true));
+
+    let (t1, t6) = (pac::TIM1, pac::TIM6);
+    t1.cr1().modify(|w| w.set_cen(false));
+    t6.cr1().modify(|w| w.set_cen(false));
+    t1.cnt().write(|w| w.set_cnt(0));
+    t6.cnt().write(|w| w.set_cnt(0));
+    t6.sr().write(|w| w.set_uif(false));
+    interrupt::TIM6_DAC.unpend();
+    let mut cr1_1 = t1.cr1().read();
+    cr1_1.set_cen(true);
+    let mut cr1_6 = t6.cr1().read();
+    cr1_6.set_cen(true);
+    // Two consecutive stores.
+    t1.cr1().write_value(cr1_1);
+    t6.cr1().write_value(cr1_6);
+    let (c1, c6) = (t1.cnt().read().cnt(), t6.cnt().read().cnt());
     // SAFETY: unmasking is unsafe because it could break a critical section relying on this
     // interrupt staying masked. None does: the handler shares nothing with other contexts except
     // atomics and lock-free SPSC queues, and it takes no critical section over shared data.
     unsafe { interrupt::TIM6_DAC.enable() };
-    Ok(())
+    Ok(i32::from(c1) - i32::from(c6))
 }
 
 #[interrupt]
