@@ -397,9 +397,13 @@ pub fn prepare_core(nvic: &mut cortex_m::peripheral::NVIC) {
     });
 }
 
-/// After `embassy_stm32::init`: flash prefetch on (with the instruction and data caches), and the
-/// HAL's interrupts between the tick (P0) and thread mode.
+/// After `embassy_stm32::init`: flash prefetch on (with the instruction and data caches), the
+/// core's LOCKUP output onto TIM1's break (a fault inside the HardFault handler locks the core up;
+/// the PWM outputs then cut in hardware), and the HAL's interrupts between the tick (P0) and thread
+/// mode.
 pub fn after_hal_init() {
+    // Write-once until reset. SYSCFG's clock is on (embassy_stm32::init enables it).
+    pac::SYSCFG.cfgr2().modify(|w| w.set_cll(true));
     pac::FLASH.acr().modify(|w| {
         w.set_prften(true);
         w.set_icen(true);
