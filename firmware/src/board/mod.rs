@@ -11,7 +11,8 @@
 //!   from any context) and `BASEPRI_BELOW_TICK` (the critical section's mask).
 
 pub mod interface;
-#[allow(unsafe_code)] // interrupt priorities, unmasking the tick, the tick's handoff; justified in place
+#[allow(unsafe_code)]
+// interrupt priorities, unmasking the tick, the tick's handoff; justified in place
 pub mod stm32g474;
 
 pub use interface::*;

@@ -1,0 +1,278 @@
+//! Instructions per control tick of the firmware's app: `src/tick.rs` (read -> `Pipeline::tick`
+//! -> write, telemetry, commands, accounting) and the `TIM6_DAC` handler's body, with the STM32
+//! board's register accesses reproduced one for one on RAM words (`fake_hw`), on QEMU mps2-an386
+//! (Cortex-M4F) with `-icount shift=0`.
+//!
+//! `cargo run --release` (from this directory) prints one `TICK <phase> <instructions>` line per
+//! operating phase, the mean over `N` ticks, then exits. The script drives the device through the
+//! real command sequence: power-up (Unhomed), Home, homing drive with the arms moving, the stall at
+//! the stops, Disarmed, Arm (the force ramping in), then the arms moved down until the probe
+//! touches the plane, Armed in contact.
+//!
+//! Not included (no instructions, or not the app's): exception entry/exit (hardware stacking, 12
+//! cycles each way on the M4), wait states.
+#![no_std]
+#![no_main]
+#![allow(dead_code)] // the firmware's config module is shared whole
+
+#[path = "../../src/board/interface.rs"]
+mod board;
+#[path = "../../src/config.rs"]
+mod config;
+mod fake_hw;
+#[allow(unsafe_code)]
+#[path = "../../src/isr_cell.rs"]
+mod isr_cell;
+#[path = "../../src/tick.rs"]
+mod tick;
+
+use core::hint::black_box;
+use core::sync::atomic::AtomicU32;
+use core::sync::atomic::Ordering::Relaxed;
+
+use cortex_m::peripheral::syst::SystClkSource;
+use cortex_m::peripheral::SYST;
+use cortex_m_rt::entry;
+use cortex_m_semihosting::{debug, hprintln};
+use heapless::spsc::{Consumer, Producer, Queue};
+use softfinger_core::pipeline::{Command, Mode, Pipeline, PipelineRecord, TimingSummary};
+use softfinger_core::Fast;
+
+use fake_hw::{FakeStm32, ENC_CNT, TIM6_CNT};
+use isr_cell::IsrCell;
+use tick::{published_mode, CommandOutcome, ControlLoop, TickQueues};
+
+/// Ticks per measurement.
+const N: u32 = 1000;
+/// Instructions per SysTick count: 25 MHz SysTick, 1 ns per instruction under `-icount shift=0`.
+const INSTRUCTIONS_PER_COUNT: u32 = 40;
+
+static CONTROL: IsrCell<ControlLoop<FakeStm32>> = IsrCell::new();
+
+/// No log output: the tick never logs; softfinger-core's `Format` impls need a logger to link.
+#[defmt::global_logger]
+struct NoLog;
+// SAFETY: every method does nothing, which is a valid logger.
+unsafe impl defmt::Logger for NoLog {
+    fn acquire() {}
+    unsafe fn flush() {}
+    unsafe fn release() {}
+    unsafe fn write(_: &[u8]) {}
+}
+defmt::timestamp!("{=u8}", 0);
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    hprintln!("panic");
+    exit(false)
+}
+
+/// The body of `TIM6_DAC` (board/stm32g474.rs), with the fake tick timer.
+#[inline(never)]
+fn isr() {
+    let entry = TIM6_CNT.load(Relaxed) & 0xFFFF;
+    // SAFETY: only this function calls `get_mut`, and it never re-enters itself.
+    match unsafe { CONTROL.get_mut() } {
+        Some(control) => control.run(entry),
+        None => TIM6_CNT.store(0, Relaxed),
+    }
+}
+
+struct Queues {
+    commands: Producer<'static, Command>,
+    outcomes: Consumer<'static, CommandOutcome>,
+    records: Consumer<'static, PipelineRecord>,
+    summaries: Consumer<'static, TimingSummary>,
+    last_record: PipelineRecord,
+}
+
+impl Queues {
+    /// Empty the output queues (outside the measured loops), keeping the latest record.
+    fn drain(&mut self) {
+        while self.outcomes.dequeue().is_some() {}
+        while self.summaries.dequeue().is_some() {}
+        while let Some(r) = self.records.dequeue() {
+            self.last_record = r;
+        }
+    }
+}
+
+fn now() -> u32 {
+    SYST::get_current()
+}
+
+/// Instructions per iteration of `step(ENC_CNT)` + `isr`, minus the same loop with
+/// `step(SCRATCH)` and no `isr` (the same work on counters no tick reads).
+fn measure(step: &mut impl FnMut(&[AtomicU32; 6])) -> u32 {
+    let t0 = now();
+    for _ in 0..N {
+        step(black_box(&ENC_CNT));
+        isr();
+    }
+    let t1 = now();
+    for _ in 0..N {
+        step(black_box(&SCRATCH));
+        black_box(());
+    }
+    let t2 = now();
+    let with = t0.wrapping_sub(t1) & 0x00FF_FFFF;
+    let without = t1.wrapping_sub(t2) & 0x00FF_FFFF;
+    with.saturating_sub(without) * INSTRUCTIONS_PER_COUNT / N
+}
+
+fn report(phase: &str, instructions: u32) {
+    hprintln!("TICK {} {}", phase, instructions);
+}
+
+fn fail(what: &str) -> ! {
+    hprintln!("FAILED: {}", what);
+    exit(false)
+}
+
+/// Run ticks (unmeasured) until `mode` is published, at most `limit` ticks, moving the motors by
+/// `step` counts per tick.
+fn run_until(q: &mut Queues, mode: Mode, step: i32, limit: u32) {
+    for _ in 0..limit {
+        move_motors(step);
+        isr();
+        q.drain();
+        if published_mode() == mode {
+            return;
+        }
+    }
+    fail("mode not reached");
+}
+
+static SCRATCH: [AtomicU32; 6] = [const { AtomicU32::new(0) }; 6];
+
+fn move_motors(step: i32) {
+    move_motors_of(&ENC_CNT, step);
+}
+
+fn move_motors_of(counters: &[AtomicU32; 6], step: i32) {
+    for c in &counters[..3] {
+        c.store(c.load(Relaxed).wrapping_add(step as u32), Relaxed);
+    }
+}
+
+fn command(q: &mut Queues, c: Command) {
+    if q.commands.enqueue(c).is_err() {
+        fail("command queue full");
+    }
+}
+
+#[entry]
+fn main() -> ! {
+    let Some(mut cp) = cortex_m::Peripherals::take() else {
+        fail("peripherals")
+    };
+    cp.SYST.set_clock_source(SystClkSource::Core);
+    cp.SYST.set_reload(0x00FF_FFFF);
+    cp.SYST.clear_current();
+    cp.SYST.enable_counter();
+
+    let Ok(pipeline) = Pipeline::<Fast>::new(config::pipeline_config()) else {
+        fail("pipeline configuration")
+    };
+    let (Some(cq), Some(oq), Some(rq), Some(sq)) = (
+        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
+        cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
+        cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new()),
+        cortex_m::singleton!(: Queue<TimingSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new()),
+    ) else {
+        fail("queues")
+    };
+    let (ctx, crx) = cq.split();
+    let (otx, orx) = oq.split();
+    let (rtx, rrx) = rq.split();
+    let (stx, srx) = sq.split();
+    let tick_queues = TickQueues {
+        commands: crx,
+        outcomes: otx,
+        records: rtx,
+        summaries: stx,
+    };
+    if CONTROL
+        .install(ControlLoop::new(FakeStm32, pipeline, tick_queues))
+        .is_err()
+    {
+        fail("install");
+    }
+    let mut q = Queues {
+        commands: ctx,
+        outcomes: orx,
+        records: rrx,
+        summaries: srx,
+        last_record: PipelineRecord::default(),
+    };
+    // A plausible entry latency on the fake tick timer.
+    TIM6_CNT.store(40, Relaxed);
+    for c in &ENC_CNT {
+        c.store(30_000, Relaxed);
+    }
+
+    isr();
+    q.drain();
+    report("unhomed", measure(&mut |_| {}));
+    q.drain();
+
+    command(&mut q, Command::Home);
+    run_until(&mut q, Mode::Homing, 0, 2);
+    // Driver wake time (nFAULT masked, no drive), then the arms move toward their stops.
+    for _ in 0..20 {
+        isr();
+    }
+    q.drain();
+    report("homing_moving", measure(&mut |c| move_motors_of(c, -3)));
+    q.drain();
+    run_until(&mut q, Mode::Disarmed, 0, 20_000);
+    report("disarmed", measure(&mut |_| {}));
+    q.drain();
+
+    command(&mut q, Command::Arm);
+    run_until(&mut q, Mode::Armed, 0, 2);
+    report("armed_ramping_free", measure(&mut |_| {}));
+    q.drain();
+    // Lower the arms until the probe presses the plane.
+    let mut touched = false;
+    for _ in 0..200 {
+        for _ in 0..100 {
+            move_motors(2);
+            isr();
+        }
+        q.drain();
+        if q.last_record.force_mn != [0; 3] {
+            touched = true;
+            break;
+        }
+    }
+    if !touched {
+        fail("no contact reached");
+    }
+    if published_mode() != Mode::Armed {
+        fail("left Armed while lowering");
+    }
+    report("armed_contact", measure(&mut |_| {}));
+    q.drain();
+    hprintln!(
+        "record after contact: mode {} state {} force_mn {:?} compare {:?} flags {:#x}",
+        q.last_record.mode.name(),
+        q.last_record.state as u8,
+        q.last_record.force_mn,
+        q.last_record.compare,
+        q.last_record.flags.0
+    );
+    exit(true)
+}
+
+/// End the QEMU run with the program's status.
+fn exit(ok: bool) -> ! {
+    debug::exit(if ok {
+        debug::EXIT_SUCCESS
+    } else {
+        debug::EXIT_FAILURE
+    });
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
