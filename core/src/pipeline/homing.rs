@@ -206,3 +206,165 @@ pub fn round_i32(x: f32) -> i32 {
         (x + 0.5f32.copysign(x)) as i32
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::devices::OMEGA_LIKE;
+
+    const RATE: f32 = 10_000.0;
+
+    fn homing() -> Homing {
+        Homing::new(OMEGA_LIKE.homing, &OMEGA_LIKE.params, RATE)
+    }
+
+    /// Counts moving towards the stop by `speed` counts per tick for `moving` ticks, then still.
+    fn run(
+        h: &mut Homing,
+        start: i32,
+        speed: i32,
+        moving: u32,
+        max_ticks: u32,
+    ) -> (u32, HomingStep) {
+        let dev = OMEGA_LIKE.params;
+        let mut c = start;
+        for k in 1..=max_ticks {
+            if k <= moving {
+                c += speed;
+            }
+            let step = h.tick([c, c + 7, c - 3], &dev);
+            if !matches!(step, HomingStep::Drive(_)) {
+                return (k, step);
+            }
+        }
+        (max_ticks, HomingStep::Drive([0.0; 3]))
+    }
+
+    #[test]
+    fn derived_thresholds() {
+        let h = homing();
+        // 0.1 s stall, 5 s timeout at 10 kHz; travel 0.05 rad = 391 counts (0.128 mrad each).
+        assert_eq!((h.stall_ticks, h.timeout_ticks), (1_000, 50_000));
+        assert_eq!(h.min_travel_counts, 391);
+        // −40° at 4096·12 counts per arm turn: −5461.3 → −5461.
+        assert_eq!(h.target_count(), -5461);
+    }
+
+    #[test]
+    fn stalls_after_travel_set_the_offsets_so_the_stop_reads_its_angle() {
+        let mut h = homing();
+        // 400 ticks at −1 count/tick: 400 counts of travel (above 391), then still.
+        let (k, step) = run(&mut h, 1000, -1, 400, 10_000);
+        // Done on the 1000th still tick.
+        assert_eq!(k, 400 + 1000);
+        let c = 1000 - 400;
+        assert_eq!(
+            step,
+            HomingStep::Done([-5461 - c, -5461 - (c + 7), -5461 - (c - 3)])
+        );
+    }
+
+    #[test]
+    fn a_stall_before_the_minimum_travel_fails() {
+        let mut h = homing();
+        let (_, step) = run(&mut h, 0, -1, 390, 10_000);
+        assert_eq!(step, HomingStep::Failed);
+        // An arm that never moves (dead encoder, or already held at the stop) fails too.
+        let mut h = homing();
+        let (k, step) = run(&mut h, 0, 0, 0, 10_000);
+        assert_eq!((k, step), (1_000, HomingStep::Failed));
+    }
+
+    #[test]
+    fn jitter_within_the_window_is_still_a_stall_and_beyond_it_is_motion() {
+        let dev = OMEGA_LIKE.params;
+        for (jitter, stalls) in [(2, true), (3, false)] {
+            let mut h = homing();
+            let mut c = 0;
+            for _ in 0..500 {
+                c -= 1;
+                let _ = h.tick([c; 3], &dev);
+            }
+            let base = c;
+            let mut done = false;
+            for k in 0..3_000 {
+                let x = if k % 2 == 0 { base } else { base - jitter };
+                if let HomingStep::Done(_) = h.tick([x; 3], &dev) {
+                    done = true;
+                    break;
+                }
+            }
+            assert_eq!(done, stalls, "jitter {jitter}");
+        }
+    }
+
+    #[test]
+    fn times_out_exactly_at_the_timeout() {
+        let mut h = homing();
+        // Always moving: never stalls.
+        let (k, step) = run(&mut h, 0, -1, u32::MAX, 60_000);
+        assert_eq!((k, step), (50_001, HomingStep::Failed));
+    }
+
+    #[test]
+    fn drive_pushes_towards_the_stop_within_the_torque_limit() {
+        let dev = OMEGA_LIKE.params;
+        let mut h = homing();
+        // At rest the velocity loop asks for the full torque towards θ decreasing.
+        let HomingStep::Drive(d) = h.tick([0; 3], &dev) else {
+            panic!("not driving")
+        };
+        let expect = dev.arm_torque_to_duty(-0.15, 0.0);
+        assert_eq!(d, [expect; 3]);
+        assert!(expect < 0.0 && expect > -0.1, "{expect}");
+    }
+
+    #[test]
+    fn invalid_specs_are_rejected() {
+        let ok = OMEGA_LIKE.homing;
+        assert_eq!(ok.validate(), Ok(()));
+        for bad in [
+            HomingSpec {
+                speed_rad_s: 0.0,
+                ..ok
+            },
+            HomingSpec {
+                speed_rad_s: f32::NAN,
+                ..ok
+            },
+            HomingSpec {
+                max_torque_nm: 0.0,
+                ..ok
+            },
+            HomingSpec {
+                velocity_gain_nm_s_per_rad: -1.0,
+                ..ok
+            },
+            HomingSpec { stall_s: 0.0, ..ok },
+            HomingSpec {
+                min_travel_rad: 0.0,
+                ..ok
+            },
+            HomingSpec {
+                timeout_s: f32::INFINITY,
+                ..ok
+            },
+            HomingSpec {
+                stop_angle_rad: f32::NAN,
+                ..ok
+            },
+        ] {
+            assert!(bad.validate().is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn ticks_for_rounds_and_saturates() {
+        assert_eq!(ticks_for(0.1, 10_000.0), 1_000);
+        assert_eq!(ticks_for(0.0, 10_000.0), 1);
+        assert_eq!(ticks_for(f32::NAN, 10_000.0), 1);
+        assert_eq!(ticks_for(1e12, 10_000.0), u32::MAX);
+        assert_eq!(round_i32(-2.5), -3);
+        assert_eq!(round_i32(f32::NAN), 0);
+    }
+}

@@ -252,18 +252,20 @@ impl<M: Math, S: Surface> Pipeline<M, S> {
             .timing
             .record(raw.start_latency_counts, raw.prev_write_done_counts);
         let mut events = self.extend_counts(raw.counts);
+        // Ready at the start of this tick: the whole wake time is masked and disabled.
+        let ready = self.driver.ready();
         if self.driver.tick(raw.driver_fault) {
             events |= Flags::DRIVER_FAULT;
         }
         let counts = self.homed_counts();
-        let (out, drive, gain) = self.control(counts);
+        let (out, drive, gain) = self.control(counts, ready);
         let g = self
             .guard
             .apply(&self.extended, &out, events, verdict.overrun);
         if !self.guard.latched().is_empty() && self.mode != Mode::Faulted {
             self.enter_fault();
         }
-        let drive = drive && g.enable && self.driver.ready();
+        let drive = drive && g.enable && ready && self.driver.awake();
         let bridges = self.bridges(if drive { g.duties } else { [0.0; 3] }, drive, verdict);
         let mut control = guarded_output(out, &g);
         if !drive {
@@ -307,7 +309,7 @@ impl<M: Math, S: Surface> Pipeline<M, S> {
     }
 
     /// The mode's control law: (output for the guard, whether the bridges may drive, ramp gain).
-    fn control(&mut self, counts: [i32; 6]) -> (TickOutput, bool, f32) {
+    fn control(&mut self, counts: [i32; 6], ready: bool) -> (TickOutput, bool, f32) {
         let idle = TickOutput {
             enable: false,
             ..TickOutput::default()
@@ -315,7 +317,7 @@ impl<M: Math, S: Surface> Pipeline<M, S> {
         match self.mode {
             Mode::Unhomed | Mode::Faulted => (idle, false, 0.0),
             Mode::Homing => {
-                if !self.driver.ready() {
+                if !ready {
                     return (idle, false, 0.0);
                 }
                 let motors = [self.extended[0], self.extended[1], self.extended[2]];
