@@ -248,9 +248,9 @@ impl Board {
             Output::new(p.PB4, Level::Low, Speed::Low),
             Output::new(p.PB5, Level::Low, Speed::Low),
         ];
-        let pwm = pwm_tim1(p.TIM1, p.PA8, p.PA9, p.PA10);
-        // nFAULT is open drain on DRV887x parts: pull-up, alternate function TIM1_BKIN. PB12 is
-        // only claimed here; its mode is set through the registers (embassy has no BKIN pin type).
+        // nFAULT is open drain on DRV887x parts: pull-up, alternate function TIM1_BKIN, set
+        // up before TIM1's break is armed. PB12 is only claimed here; its mode is set through the
+        // registers (embassy has no BKIN pin type).
         let _ = p.PB12;
         pac::GPIOB
             .pupdr()
@@ -261,6 +261,7 @@ impl Board {
         pac::GPIOB
             .moder()
             .modify(|w| w.set_moder(N_FAULT_PIN, pac::gpio::vals::Moder::ALTERNATE));
+        let pwm = pwm_tim1(p.TIM1, p.PA8, p.PA9, p.PA10);
 
         let encoders = (
             Qei::new(p.TIM2, p.PA15, p.PB3, qei_config()),
