@@ -205,6 +205,12 @@ fn main() -> ! {
         summaries: srx,
         last_record: PipelineRecord::default(),
     };
+    run_phases(&mut q);
+    exit(true)
+}
+
+/// The measured sequence: each phase reached through the real commands, then measured.
+fn run_phases(q: &mut Queues) {
     // A plausible entry latency on the fake tick timer.
     TIM6_CNT.store(40, Relaxed);
     for c in &ENC_CNT {
@@ -216,8 +222,8 @@ fn main() -> ! {
     report("unhomed", measure(&mut |_| {}));
     q.drain();
 
-    command(&mut q, Command::Home);
-    run_until(&mut q, Mode::Homing, 0, 2);
+    command(q, Command::Home);
+    run_until(q, Mode::Homing, 0, 2);
     // Driver wake time (nFAULT masked, no drive), then the arms move toward their stops.
     for _ in 0..20 {
         isr();
@@ -225,12 +231,12 @@ fn main() -> ! {
     q.drain();
     report("homing_moving", measure(&mut |c| move_motors_of(c, -3)));
     q.drain();
-    run_until(&mut q, Mode::Disarmed, 0, 20_000);
+    run_until(q, Mode::Disarmed, 0, 20_000);
     report("disarmed", measure(&mut |_| {}));
     q.drain();
 
-    command(&mut q, Command::Arm);
-    run_until(&mut q, Mode::Armed, 0, 2);
+    command(q, Command::Arm);
+    run_until(q, Mode::Armed, 0, 2);
     report("armed_ramping_free", measure(&mut |_| {}));
     q.drain();
     // Lower the arms until the probe presses the plane.
@@ -262,7 +268,6 @@ fn main() -> ! {
         q.last_record.compare,
         q.last_record.flags.0
     );
-    exit(true)
 }
 
 /// End the QEMU run with the program's status.
