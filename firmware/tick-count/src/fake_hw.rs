@@ -12,9 +12,13 @@ pub static TIM6_CNT: AtomicU32 = AtomicU32::new(0);
 static TIM6_SR: AtomicU32 = AtomicU32::new(0);
 /// The six encoder counters (the measurement script moves them).
 pub static ENC_CNT: [AtomicU32; 6] = [const { AtomicU32::new(0) }; 6];
-static GPIOB_IDR: AtomicU32 = AtomicU32::new(1 << 12);
+/// GPIOB_IDR: bit 12 is nFAULT (high: no fault).
+pub static GPIOB_IDR: AtomicU32 = AtomicU32::new(1 << 12);
+/// GPIOB_BSRR: the last value written. `write_bridges` writes nSLEEP high last when waking, and
+/// the phase pins (never bit 0) last otherwise, so the last value tells nSLEEP's level.
 static GPIOB_BSRR: AtomicU32 = AtomicU32::new(0);
-static TIM1_SR: AtomicU32 = AtomicU32::new(0);
+/// TIM1_SR: bit 7 is BIF (break since last cleared).
+pub static TIM1_SR: AtomicU32 = AtomicU32::new(0);
 static TIM1_BDTR: AtomicU32 = AtomicU32::new(0);
 static TIM1_CCR: [AtomicU32; 3] = [const { AtomicU32::new(0) }; 3];
 static IWDG_KR: AtomicU32 = AtomicU32::new(0);
@@ -82,5 +86,25 @@ impl ControlHw for FakeStm32 {
     #[inline(always)]
     fn pet_watchdog(&mut self) {
         IWDG_KR.store(0xAAAA, Relaxed);
+    }
+}
+
+/// The bridge outputs as last written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Outputs {
+    /// TIM1 main output enable.
+    pub moe: bool,
+    /// nSLEEP high (drivers awake).
+    pub awake: bool,
+    /// The three compare values.
+    pub compare: [u32; 3],
+}
+
+/// Read back the fake registers.
+pub fn outputs() -> Outputs {
+    Outputs {
+        moe: TIM1_BDTR.load(Relaxed) & MOE != 0,
+        awake: GPIOB_BSRR.load(Relaxed) == 1 << N_SLEEP_PIN,
+        compare: core::array::from_fn(|i| TIM1_CCR[i].load(Relaxed)),
     }
 }

@@ -4,7 +4,10 @@
 //! (Cortex-M4F) with `-icount shift=0`.
 //!
 //! `cargo run --release` (from this directory) prints one `TICK <phase> <instructions>` line per
-//! operating phase, the mean over `N` ticks, then exits. The script drives the device through the
+//! operating phase, the mean over `N` ticks, and checks the bridge outputs the app wrote in each
+//! phase (asleep and off before homing, off when disarmed, driving only when homing or armed, off
+//! and asleep at once on nFAULT or a break flag, nFAULT ignored while asleep); it exits with
+//! failure if a check fails. The script drives the device through the
 //! real command sequence: power-up (Unhomed), Home, homing drive with the arms moving, the stall at
 //! the stops, Disarmed, Arm (the force ramping in), then the arms moved down until the probe
 //! touches the plane, Armed in contact.
@@ -38,9 +41,9 @@ use heapless::spsc::{Consumer, Producer, Queue};
 use softfinger_core::pipeline::{Command, Mode, Pipeline, PipelineRecord, TimingSummary};
 use softfinger_core::Fast;
 
-use fake_hw::{FakeStm32, ENC_CNT, TIM6_CNT};
+use fake_hw::{outputs, FakeStm32, Outputs, ENC_CNT, GPIOB_IDR, TIM1_SR, TIM6_CNT};
 use isr_cell::IsrCell;
-use tick::{published_mode, CommandOutcome, ControlLoop, TickQueues};
+use tick::{published_mode, CommandOutcome, ControlLoop, TickQueues, STATUS};
 
 /// Ticks per measurement.
 const N: u32 = 1000;
@@ -209,38 +212,127 @@ fn main() -> ! {
     exit(true)
 }
 
-/// The measured sequence: each phase reached through the real commands, then measured.
+/// The measured sequence: each phase reached through the real commands, measured, and its bridge
+/// outputs checked.
 fn run_phases(q: &mut Queues) {
     // A plausible entry latency on the fake tick timer.
     TIM6_CNT.store(40, Relaxed);
     for c in &ENC_CNT {
         c.store(30_000, Relaxed);
     }
-
     isr();
     q.drain();
     report("unhomed", measure(&mut |_| {}));
-    q.drain();
+    expect(Mode::Unhomed, OFF, "unhomed: asleep, outputs off");
+    // nFAULT asserted while the drivers sleep must not latch.
+    nfault(true);
+    ticks(q, 100);
+    nfault(false);
+    expect(Mode::Unhomed, OFF, "nFAULT while asleep: ignored");
+    check(
+        STATUS.latched.load(Relaxed) == 0,
+        "nFAULT while asleep latched a fault",
+    );
 
     command(q, Command::Home);
     run_until(q, Mode::Homing, 0, 2);
     // Driver wake time (nFAULT masked, no drive), then the arms move toward their stops.
-    for _ in 0..20 {
-        isr();
-    }
-    q.drain();
+    ticks(q, 20);
     report("homing_moving", measure(&mut |c| move_motors_of(c, -3)));
-    q.drain();
+    let o = outputs();
+    check(o.moe && o.awake && o.compare != [0; 3], "homing: driving");
     run_until(q, Mode::Disarmed, 0, 20_000);
     report("disarmed", measure(&mut |_| {}));
-    q.drain();
+    expect(Mode::Disarmed, AWAKE_OFF, "disarmed: awake, outputs off");
 
     command(q, Command::Arm);
     run_until(q, Mode::Armed, 0, 2);
     report("armed_ramping_free", measure(&mut |_| {}));
+    lower_until_contact(q);
+    report("armed_contact", measure(&mut |_| {}));
+    let o = outputs();
+    check(
+        o.moe && o.awake && o.compare != [0; 3],
+        "armed in contact: driving",
+    );
     q.drain();
-    // Lower the arms until the probe presses the plane.
-    let mut touched = false;
+    hprintln!(
+        "record in contact: mode {} state {} force_mn {:?} compare {:?} flags {:#x}",
+        q.last_record.mode.name(),
+        q.last_record.state as u8,
+        q.last_record.force_mn,
+        q.last_record.compare,
+        q.last_record.flags.0
+    );
+    fault_checks(q);
+}
+
+/// Faults while armed: nFAULT low, then a break flag alone (a pulse the pin read missed); each
+/// gives Faulted with the drivers asleep and the outputs off at once, and clears to Disarmed.
+fn fault_checks(q: &mut Queues) {
+    nfault(true);
+    ticks(q, 1);
+    nfault(false);
+    expect(Mode::Faulted, OFF, "nFAULT while armed: faulted at once");
+    command(q, Command::ClearFaults);
+    // Served at the end of a tick; the next tick wakes the drivers.
+    ticks(q, 2);
+    expect(Mode::Disarmed, AWAKE_OFF, "cleared: disarmed, never armed");
+
+    ticks(q, 20); // wake time
+    command(q, Command::Arm);
+    run_until(q, Mode::Armed, 0, 2);
+    ticks(q, 100);
+    TIM1_SR.store(1 << 7, Relaxed);
+    ticks(q, 1);
+    expect(
+        Mode::Faulted,
+        OFF,
+        "break flag while armed: faulted at once",
+    );
+    check(
+        TIM1_SR.load(Relaxed) & (1 << 7) == 0,
+        "break flag not cleared",
+    );
+    hprintln!("CHECKS passed");
+}
+
+const OFF: Outputs = Outputs {
+    moe: false,
+    awake: false,
+    compare: [0; 3],
+};
+const AWAKE_OFF: Outputs = Outputs {
+    moe: false,
+    awake: true,
+    compare: [0; 3],
+};
+
+fn expect(mode: Mode, out: Outputs, what: &str) {
+    check(published_mode() == mode, what);
+    check(outputs() == out, what);
+}
+
+fn check(ok: bool, what: &str) {
+    if !ok {
+        hprintln!("outputs {:?}, mode {}", outputs(), published_mode().name());
+        fail(what);
+    }
+}
+
+fn nfault(asserted: bool) {
+    GPIOB_IDR.store(if asserted { 0 } else { 1 << 12 }, Relaxed);
+}
+
+fn ticks(q: &mut Queues, n: u32) {
+    for _ in 0..n {
+        isr();
+    }
+    q.drain();
+}
+
+/// Lower the arms until the probe presses the plane (a record shows a force), still armed.
+fn lower_until_contact(q: &mut Queues) {
     for _ in 0..200 {
         for _ in 0..100 {
             move_motors(2);
@@ -248,26 +340,11 @@ fn run_phases(q: &mut Queues) {
         }
         q.drain();
         if q.last_record.force_mn != [0; 3] {
-            touched = true;
-            break;
+            check(published_mode() == Mode::Armed, "left Armed while lowering");
+            return;
         }
     }
-    if !touched {
-        fail("no contact reached");
-    }
-    if published_mode() != Mode::Armed {
-        fail("left Armed while lowering");
-    }
-    report("armed_contact", measure(&mut |_| {}));
-    q.drain();
-    hprintln!(
-        "record after contact: mode {} state {} force_mn {:?} compare {:?} flags {:#x}",
-        q.last_record.mode.name(),
-        q.last_record.state as u8,
-        q.last_record.force_mn,
-        q.last_record.compare,
-        q.last_record.flags.0
-    );
+    fail("no contact reached");
 }
 
 /// End the QEMU run with the program's status.
