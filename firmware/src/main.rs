@@ -74,8 +74,6 @@ fn main() -> ! {
 /// Start-up, as the first task: validate, configure, spawn the tasks, start the tick.
 #[embassy_executor::task]
 async fn start(spawner: Spawner) {
-    let periph = embassy_stm32::init(bsp::hal_config());
-    bsp::after_hal_init();
     info!(
         "softfinger firmware: control {=u32} Hz, PWM {=u32} Hz ({=u16} counts), telemetry {=u32} Hz",
         config::CONTROL_RATE_HZ,
@@ -83,9 +81,11 @@ async fn start(spawner: Spawner) {
         config::PWM_FULL_SCALE,
         config::LOG_RATE_HZ
     );
-
-    // The whole configuration is validated before any peripheral is configured.
-    let pipeline = match Pipeline::<Fast>::new(config::pipeline_config()) {
+    // The whole configuration is validated (the pipeline built) before the peripherals are taken.
+    let pipeline = Pipeline::<Fast>::new(config::pipeline_config());
+    let periph = embassy_stm32::init(bsp::hal_config());
+    bsp::after_hal_init();
+    let pipeline = match pipeline {
         Ok(p) => p,
         Err(e) => {
             error!("configuration rejected: {}; control loop not started", e);
