@@ -16,6 +16,8 @@ pub const DEVICE: DeviceDefinition = OMEGA_LIKE;
 /// (8500 counts), 10 kHz control (two PWM periods per tick).
 pub const TIMING: BoardTiming = BoardTiming::STM32G474_10KHZ;
 const _: () = assert!(TIMING.is_valid());
+// The device model's PWM period (duty -> voltage) is the one this board runs.
+const _: () = assert!(DEVICE.params.pwm_period_counts == TIMING.pwm_period_counts());
 
 /// The board's crystal (NUCLEO-G474RE X3), Hz.
 pub const HSE_HZ: u32 = 24_000_000;
