@@ -148,6 +148,11 @@ impl Watchdog {
         });
     }
 
+    /// Stop counting (the end of an emulated run; the STM32's IWDG cannot be stopped).
+    pub fn stop() {
+        Self::unlocked(|| Reg(Self::BASE + 0x08).write(0));
+    }
+
     /// Proof of life: clear the interrupt and reload the counter.
     #[inline(always)]
     pub fn pet() {

@@ -14,7 +14,7 @@ use cortex_m::peripheral::NVIC;
 use critical_section::Mutex;
 
 use super::app::{App, RawInput};
-use super::cmsdk::{Irq, Watchdog, PCLK_HZ, TICK_TIMER};
+use super::cmsdk::{FreeRunning, Irq, Watchdog, PCLK_HZ, TICK_TIMER};
 use super::defmt_sink::READER_STALLED;
 use super::link::{self, Pins, CONTROL_LOG_STALL, CONTROL_STOP};
 
@@ -84,6 +84,9 @@ pub fn start(app: App, rate_hz: u32, watchdog_counts: u32, fault: Injected, faul
         }
     }
     Watchdog::start(watchdog_counts);
+    // Board time restarts with the tick timer: time 0 is the tick timer's start, so the plant's
+    // control periods line up with the timer's.
+    FreeRunning::start();
     TICK_TIMER.start();
     // SAFETY: state shared with the handler is behind critical-section mutexes or atomics.
     #[allow(unsafe_code)]
@@ -92,8 +95,10 @@ pub fn start(app: App, rate_hz: u32, watchdog_counts: u32, fault: Injected, faul
     }
 }
 
+/// The run is over: tick and watchdog stopped, outputs off.
 fn stop() {
     TICK_TIMER.stop();
+    Watchdog::stop();
     NVIC::mask(Irq::Timer0);
     link::drive(&Pins::OFF);
     STOPPED.store(true, Ordering::Release);

@@ -30,7 +30,9 @@ pub const REPLY_LEN: usize = 16;
 #[derive(Clone, Copy)]
 #[repr(u8)]
 pub enum Kind {
-    /// The board booted (a = reset cause: 0 power-on, 1 watchdog); the reply configures the run.
+    /// The board booted: a = reset cause (`faults::CAUSE_*`), b = the guard's duty limit (f32
+    /// bits), c = its overrun streak, key = the glitch threshold (counts per tick), compare\[0\] =
+    /// the PWM full scale. The reply configures the run.
     Hello = 1,
     /// Sample the inputs now (reply: encoder counts, nFAULT, control bits).
     Sense = 2,
@@ -146,9 +148,25 @@ fn receive() -> Option<[u8; REPLY_LEN]> {
     Some(r)
 }
 
+/// The firmware's control configuration, announced at boot so the host's in-process reference
+/// runs with the same numbers.
+pub struct BootInfo {
+    pub reset_cause: u32,
+    pub full_scale: u16,
+    pub max_duty: f32,
+    pub max_overrun_streak: u32,
+    pub max_counts_per_tick: u16,
+}
+
 /// Announce a boot; returns (control rate Hz, injected fault, tick of the injection).
-pub fn hello(reset_cause: u32) -> Option<(u32, u32, u32)> {
-    send(Kind::Hello, 0, 0, [0; 3], [reset_cause, 0, 0]);
+pub fn hello(b: &BootInfo) -> Option<(u32, u32, u32)> {
+    send(
+        Kind::Hello,
+        0,
+        b.max_counts_per_tick,
+        [b.full_scale, 0, 0],
+        [b.reset_cause, b.max_duty.to_bits(), b.max_overrun_streak],
+    );
     let r = receive()?;
     let word = |i: usize| u32::from_le_bytes([r[i], r[i + 1], r[i + 2], r[i + 3]]);
     Some((word(0), word(4), word(8)))

@@ -40,8 +40,9 @@ use control::{Injected, INSTRUCTIONS_PER_COUNT};
 /// Watchdog timeout in 25 MHz counts (the STM32 build's timeout).
 const WATCHDOG_COUNTS: u32 = config::WATCHDOG_TIMEOUT_US * (PCLK_HZ / 1_000_000);
 
-/// End the emulation (semihosting exit).
+/// End the emulation (semihosting exit), after writing out the log.
 fn exit(success: bool) -> ! {
+    defmt_sink::drain();
     cortex_m_semihosting::debug::exit(if success {
         cortex_m_semihosting::debug::EXIT_SUCCESS
     } else {
@@ -89,7 +90,14 @@ async fn main(spawner: Spawner) {
         error!("no plant link (run under scripts/pil)");
         exit(false);
     }
-    let Some((rate_hz, fault_code, fault_tick)) = link::hello(reset_cause) else {
+    let boot = link::BootInfo {
+        reset_cause,
+        full_scale: DeviceParams::OMEGA_LIKE.pwm_period_counts as u16,
+        max_duty: config::GUARD.max_duty,
+        max_overrun_streak: config::GUARD.max_overrun_streak,
+        max_counts_per_tick: config::MAX_COUNTS_PER_TICK,
+    };
+    let Some((rate_hz, fault_code, fault_tick)) = link::hello(&boot) else {
         exit(false);
     };
     if reset_cause != faults::CAUSE_POWER_ON {
@@ -155,8 +163,6 @@ async fn main(spawner: Spawner) {
     if fault != Injected::None {
         warn!("fault injection: {} at tick {=u32}", fault, fault_tick);
     }
-    // Board time restarts with the tick timer: time 0 is the tick timer's start.
-    FreeRunning::start();
     control::start(app, rate_hz, WATCHDOG_COUNTS, fault, fault_tick);
     info!("control loop running");
     loop {
