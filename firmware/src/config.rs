@@ -1,21 +1,58 @@
-//! Compile-time configuration of the firmware: rates, limits and sizes.
+//! Compile-time configuration of the firmware: the device, the board timing, queue sizes and task
+//! periods. Safety limits and fault thresholds are the device definition's (softfinger-core,
+//! physical units, derived for the control rate by the pipeline).
 
-use softfinger_core::output_guard::GuardConfig;
+use softfinger_core::delta::DeltaGeometry;
+use softfinger_core::devices::{DeviceDefinition, OMEGA_LIKE};
+use softfinger_core::params::ContactParams;
+use softfinger_core::pipeline::{BoardTiming, PipelineConfig};
+use softfinger_core::surface::Plane;
+use softfinger_core::Vec3;
 
-/// System clock, Hz: HSI 16 MHz / 4 × 85 / 2.
+/// The device this firmware drives.
+pub const DEVICE: DeviceDefinition = OMEGA_LIKE;
+
+/// Timer clock, PWM and control rates, shared with host-sim's plant: 170 MHz, 20 kHz PWM
+/// (8500 counts), 10 kHz control (two PWM periods per tick).
+pub const TIMING: BoardTiming = BoardTiming::STM32G474_10KHZ;
+const _: () = assert!(TIMING.is_valid());
+
+/// The board's crystal (NUCLEO-G474RE X3), Hz.
+pub const HSE_HZ: u32 = 24_000_000;
+
+/// System clock, Hz: HSE 24 MHz / 6 × 85 / 2. TIM1 and TIM6 run at this clock (APB prescalers
+/// 1, timer prescalers 1), which must be the shared timing's timer clock.
 pub const SYSCLK_HZ: u32 = 170_000_000;
+const _: () = assert!(HSE_HZ / 6 * 85 / 2 == SYSCLK_HZ);
+const _: () = assert!(TIMING.timer_clock_hz == SYSCLK_HZ);
 
-/// Control loop rate, Hz. 10 kHz by default; anything from 1 kHz up to 20 kHz is accepted.
-pub const CONTROL_RATE_HZ: u32 = 10_000;
-const _: () = assert!(CONTROL_RATE_HZ >= 1_000 && CONTROL_RATE_HZ <= 20_000);
+/// Control loop rate, Hz.
+pub const CONTROL_RATE_HZ: u32 = TIMING.control_hz;
 
-/// CPU cycles available per control tick; a tick taking longer is an overrun.
-pub const TICK_BUDGET_CYCLES: u32 = SYSCLK_HZ / CONTROL_RATE_HZ;
+/// Tick-timer (TIM6) counts per control period; equal to CPU cycles per tick.
+pub const TICK_PERIOD_COUNTS: u32 = TIMING.tick_period_counts();
+// TIM6 is a 16-bit counter with ARR = period - 1.
+const _: () = assert!(TICK_PERIOD_COUNTS <= 1 << 16);
 
-/// Motor PWM frequency, Hz (at least 20 kHz: above hearing). With TIM1 clocked at 170 MHz this
-/// gives 6800 compare steps (12.7 bits).
-pub const PWM_FREQ_HZ: u32 = 25_000;
-const _: () = assert!(PWM_FREQ_HZ >= 20_000);
+/// Motor PWM frequency, Hz.
+pub const PWM_FREQ_HZ: u32 = TIMING.pwm_hz;
+
+/// TIM1 compare for 100 % duty (ARR + 1): the PWM period in timer counts.
+pub const PWM_FULL_SCALE: u16 = TIMING.pwm_period_counts() as u16;
+const _: () = assert!(TIMING.pwm_period_counts() <= u16::MAX as u32);
+
+/// The pipeline's configuration: the device on this board's timing, with the default scene (a
+/// plane 10 mm below the centre of the workspace, the default contact parameters).
+pub fn pipeline_config() -> PipelineConfig<Plane> {
+    PipelineConfig {
+        device: DEVICE,
+        timing: TIMING,
+        contact: ContactParams::DEFAULT,
+        surface: Plane::default(),
+        object_origin_m: DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M - Vec3::new(0.0, 0.0, 0.010),
+        log_rate_hz: LOG_RATE_HZ,
+    }
+}
 
 /// Telemetry records logged per second (decimated from the control rate).
 pub const LOG_RATE_HZ: u32 = softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ;
@@ -26,24 +63,14 @@ pub const TELEMETRY_QUEUE_LEN: usize = 32;
 /// Tick-summary queue capacity (one summary per second).
 pub const SUMMARY_QUEUE_LEN: usize = 4;
 
+/// Operator commands waiting for the tick, and their outcomes waiting for the supervisor.
+pub const COMMAND_QUEUE_LEN: usize = 4;
+
 /// How often the logger task drains the queues, ms.
 pub const LOGGER_POLL_MS: u64 = 5;
 
-/// How often the supervisor task checks the fault latch, ms.
+/// How often the supervisor task checks the tick's status and updates the LED, ms.
 pub const SUPERVISOR_POLL_MS: u64 = 10;
-
-/// Largest plausible encoder motion in one tick, counts. A 2000-line encoder (8000 counts/turn
-/// with ×4 decoding) at 3000 rpm moves 400 000 counts/s = 40 counts per 10 kHz tick; 500 leaves a
-/// wide margin at 20 kHz too while catching line noise and counter resets.
-pub const MAX_COUNTS_PER_TICK: u16 = 500;
-
-/// Limits enforced after the controller, independently of it.
-pub const GUARD: GuardConfig = GuardConfig {
-    // Never drive a bridge harder than 90 %: leaves bootstrap/current-sense margin.
-    max_duty: 0.9,
-    // 10 consecutive overruns (1 ms at 10 kHz) latch a fault.
-    max_overrun_streak: 10,
-};
 
 /// Independent watchdog timeout, µs. Fed by the control tick only, so it bites when the loop stops
 /// for 5 ms (50 ticks at 10 kHz).
@@ -52,5 +79,8 @@ pub const WATCHDOG_TIMEOUT_US: u32 = 5_000;
 /// User-button debounce, ms.
 pub const BUTTON_DEBOUNCE_MS: u64 = 30;
 
-/// A press of B1 held at least this long is a long press (next stiffness preset), ms.
+/// A press held at least this long is a long press (home), ms.
 pub const LONG_PRESS_MS: u64 = 1_000;
+
+/// A press held at least this long is a very long press (next stiffness preset), ms.
+pub const VERY_LONG_PRESS_MS: u64 = 3_000;

@@ -1,139 +1,156 @@
 //! softfinger firmware for the NUCLEO-G474RE (STM32G474RE, Cortex-M4F at 170 MHz).
 //!
-//! - `board`: clocks, pins and peripherals (encoders, bridges, tick timer, watchdog, button).
-//! - `control`: the control tick, run by TIM6's update interrupt at the highest priority.
-//! - `logger`, `supervisor`: low-priority embassy tasks (telemetry log, fault reporting and clear).
+//! - `board`: the hardware traits the app is written against, and `board::stm32g474`, this
+//!   binary's board (clocks, pins, timers, the tick interrupt).
+//! - `tick`: the board-independent control tick (read -> control -> write), run by the board's
+//!   highest-priority timer interrupt; `isr_cell` hands it its state without a lock.
+//! - `logger`, `supervisor`, `operator`: board-independent low-priority tasks (telemetry log,
+//!   fault report and blink code, the operator's button).
 //!
-//! The control logic itself (controller, count extension, output guard, telemetry bookkeeping) is
-//! `softfinger-core`, tested on the host.
+//! The control logic itself is `softfinger-core`, tested on the host.
 #![no_std]
 #![no_main]
 #![deny(unsafe_code)]
 
 mod board;
+#[allow(unsafe_code)] // the copy of the CCM code image; justified in place
+mod ccm;
 mod config;
-mod control;
+#[allow(unsafe_code)] // implementing `critical_section::Impl` is unsafe by definition
+mod critical_section_basepri;
+#[allow(unsafe_code)] // cortex-m-rt requires the HardFault handler to be an `unsafe fn`
+mod failsafe;
+#[allow(unsafe_code)] // the lock-free handoff to the interrupt; each block justified in place
+mod isr_cell;
 mod logger;
+mod operator;
 mod supervisor;
+mod tick;
 
+use board::stm32g474::{self as bsp, Board};
 use defmt::{error, info};
-use embassy_executor::Spawner;
-use embassy_stm32::interrupt::{self, InterruptExt, Priority};
-use heapless::spsc::Queue;
-use softfinger_core::controller::{Controller, ControllerConfig};
-use softfinger_core::encoder::EncoderBank;
-use softfinger_core::output_guard::OutputGuard;
-use softfinger_core::telemetry::{Decimator, DropCounter, TelemetryRecord, TickStats, TickSummary};
-use {defmt_rtt as _, panic_probe as _};
+use defmt_rtt as _;
+use embassy_executor::{Executor, Spawner};
+use heapless::spsc::{Consumer, Producer, Queue};
+use softfinger_core::pipeline::{Command, Pipeline, PipelineRecord, TimingSummary};
+use softfinger_core::Fast;
+use tick::{CommandOutcome, ControlLoop, TickQueues};
 
-#[embassy_executor::main]
-async fn main(spawner: Spawner) {
-    let p = embassy_stm32::init(board::hal_config());
+#[embassy_executor::task]
+async fn logger_task(
+    records: Consumer<'static, PipelineRecord>,
+    summaries: Consumer<'static, TimingSummary>,
+) {
+    logger::run(records, summaries).await
+}
+
+#[embassy_executor::task]
+async fn supervisor_task(led: bsp::Led, outcomes: Consumer<'static, CommandOutcome>) {
+    supervisor::run(led, outcomes).await
+}
+
+#[embassy_executor::task]
+async fn operator_task(button: bsp::Button, commands: Producer<'static, Command>) {
+    operator::run(button, commands).await
+}
+
+#[cortex_m_rt::entry]
+fn main() -> ! {
+    // First: the tick's code into CCM SRAM, before anything placed there can run.
+    ccm::load();
+    let Some(mut core) = cortex_m::Peripherals::take() else {
+        failsafe::halt()
+    };
+    bsp::prepare_core(&mut core.NVIC);
+    let Some(executor) = cortex_m::singleton!(: Executor = Executor::new()) else {
+        failsafe::halt()
+    };
+    executor.run(|spawner| match start(spawner) {
+        Ok(task) => spawner.spawn(task),
+        Err(_) => failsafe::halt(),
+    })
+}
+
+/// Start-up, as the first task: validate, configure, spawn the tasks, start the tick.
+#[embassy_executor::task]
+async fn start(spawner: Spawner) {
     info!(
-        "softfinger firmware: control {=u32} Hz, PWM {=u32} Hz, telemetry {=u32} Hz",
+        "softfinger firmware: control {=u32} Hz, PWM {=u32} Hz ({=u16} counts), telemetry {=u32} Hz",
         config::CONTROL_RATE_HZ,
         config::PWM_FREQ_HZ,
+        config::PWM_FULL_SCALE,
         config::LOG_RATE_HZ
     );
-    // Everything embassy uses runs below the control tick (P0).
-    interrupt::TIM1_BRK_TIM15.set_priority(Priority::P2); // embassy-time driver (TIM15)
-    interrupt::EXTI15_10.set_priority(Priority::P3); // user button
-
-    let board = board::Board::new(p);
-
-    // DWT cycle counter for the tick cost.
-    let Some(mut core_peripherals) = cortex_m::Peripherals::take() else {
-        error!("core peripherals already taken; control loop not started");
+    // The whole configuration is validated (the pipeline built) before the peripherals are taken.
+    let pipeline = Pipeline::<Fast>::new(config::pipeline_config());
+    let periph = embassy_stm32::init(bsp::hal_config());
+    bsp::after_hal_init();
+    let pipeline = match pipeline {
+        Ok(p) => p,
+        Err(e) => {
+            error!("configuration rejected: {}; control loop not started", e);
+            Board::hold_safe(periph);
+            return;
+        }
+    };
+    info!("device {=str}; pipeline built", config::DEVICE.name);
+    let Some(commands) =
+        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())
+    else {
         return;
     };
-    core_peripherals.DCB.enable_trace();
-    core_peripherals.DWT.enable_cycle_counter();
-
-    // The device and scene parameters are the core's defaults; only the rate is the firmware's.
-    let controller_config = ControllerConfig {
-        rate_hz: config::CONTROL_RATE_HZ as f32,
-        ..ControllerConfig::default()
-    };
-    let controller = match Controller::new(controller_config) {
-        Ok(c) => c,
-        Err(e) => {
-            error!(
-                "controller configuration rejected: {}; control loop not started",
-                e
-            );
-            return;
-        }
-    };
-    let guard = match OutputGuard::new(config::GUARD) {
-        Ok(g) => g,
-        Err(e) => {
-            error!(
-                "output guard configuration rejected: {}; control loop not started",
-                e
-            );
-            return;
-        }
-    };
-
-    let Some(records) = cortex_m::singleton!(: Queue<TelemetryRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new())
+    let Some(outcomes) =
+        cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new())
     else {
-        error!("telemetry queue already taken; control loop not started");
+        return;
+    };
+    let Some(records) =
+        cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new())
+    else {
         return;
     };
     let Some(summaries) =
-        cortex_m::singleton!(: Queue<TickSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new())
+        cortex_m::singleton!(: Queue<TimingSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new())
     else {
-        error!("summary queue already taken; control loop not started");
         return;
     };
+    let (command_tx, command_rx) = commands.split();
+    let (outcome_tx, outcome_rx) = outcomes.split();
     let (record_tx, record_rx) = records.split();
     let (summary_tx, summary_rx) = summaries.split();
 
-    match logger::logger(record_rx, summary_rx) {
+    let Board {
+        control,
+        led,
+        button,
+    } = Board::new(periph);
+    match logger_task(record_rx, summary_rx) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("logger task not spawned: {}", e),
     }
-    let board::Board {
-        encoders,
-        motors,
-        tick_timer,
-        watchdog,
-        button,
-        led,
-    } = board;
-    match supervisor::supervisor(led) {
+    match supervisor_task(led, outcome_rx) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("supervisor task not spawned: {}", e),
     }
-    match supervisor::clear_button(button) {
+    match operator_task(button, command_tx) {
         Ok(t) => spawner.spawn(t),
-        Err(e) => error!("button task not spawned: {}", e),
+        Err(e) => error!("operator task not spawned: {}", e),
     }
 
-    info!(
-        "PWM full scale {=u32} counts; tick budget {=u32} cycles; watchdog {=u32} us",
-        motors.full_scale(),
-        config::TICK_BUDGET_CYCLES,
-        config::WATCHDOG_TIMEOUT_US
-    );
-    let bank = EncoderBank::new(encoders.read(), config::MAX_COUNTS_PER_TICK);
-    control::install(control::ControlLoop {
-        encoders,
-        motors,
-        tick_timer,
-        watchdog,
-        controller,
-        guard,
-        bank,
+    let queues = TickQueues {
+        commands: command_rx,
+        outcomes: outcome_tx,
         records: record_tx,
         summaries: summary_tx,
-        decimator: Decimator::new(config::CONTROL_RATE_HZ, config::LOG_RATE_HZ),
-        drops: DropCounter::new(),
-        stats: TickStats::new(config::TICK_BUDGET_CYCLES),
-        tick: 0,
-        last_entry: 0,
-        overran: false,
-    });
-    control::start();
-    info!("control loop running");
+    };
+    match bsp::start_tick(ControlLoop::new(control, pipeline, queues)) {
+        Ok(skew) => info!(
+            "control loop running: tick period {=u32} counts, PWM period {=u16} counts, tick timer {=i32} counts after the PWM timer; watchdog {=u32} us; drivers asleep until homed (hold B1 1 s)",
+            config::TICK_PERIOD_COUNTS,
+            config::PWM_FULL_SCALE,
+            skew,
+            config::WATCHDOG_TIMEOUT_US
+        ),
+        Err(e) => error!("control loop not started: {}", e),
+    }
 }

@@ -1,101 +1,141 @@
-//! Fault reporting and the operator's clear action.
+//! The status LED and the status log: mode transitions, latched faults and operator-command
+//! outcomes are logged as they happen; the LED shows the mode, or the latched faults as a blink
+//! code.
 //!
-//! - [`supervisor`] watches the control loop's fault latch, logs every transition (warn when a
-//!   fault latches, info when cleared) and mirrors it on LD2 (lit while a fault is latched).
-//! - [`clear_button`] turns a short press of the B1 user button into a request, served by the next
-//!   control tick, to clear latched faults in the controller and the output guard; a long press
-//!   (≥ 1 s) requests the next surface-stiffness preset, which the tick hands to the controller's
-//!   validated `set_contact_params` (a run-time parameter change from a low-priority task).
+//! | mode | LED |
+//! | --- | --- |
+//! | Unhomed | a 100 ms flash every 2 s |
+//! | Homing | fast blink, 5 Hz |
+//! | Disarmed | slow blink, 1 Hz |
+//! | Armed | on |
+//! | Faulted | blink code: for each latched fault in turn, `n` flashes (200 ms on, 200 ms off), then 1 s dark; `n` from [`BLINK_CODES`] |
 
 use core::sync::atomic::Ordering;
 
 use defmt::{info, warn};
-use embassy_stm32::exti::ExtiInput;
-use embassy_stm32::gpio::Output;
-use embassy_stm32::mode::Async;
-use embassy_time::{Duration, Ticker, Timer};
+use embassy_time::{Duration, Ticker};
+use heapless::spsc::Consumer;
+use softfinger_core::pipeline::Mode;
 use softfinger_core::Flags;
 
+use crate::board::Indicator;
 use crate::config;
-use crate::control::{CLEAR_REQUEST, LATCHED, PARAM_APPLIED, PARAM_REQUEST, PARAM_RESULT};
-use softfinger_core::params::ContactParams;
+use crate::tick::{published_mode, CommandOutcome, STATUS};
 
-#[embassy_executor::task]
-pub async fn supervisor(mut led: Output<'static>) {
-    let mut ticker = Ticker::every(Duration::from_millis(config::SUPERVISOR_POLL_MS));
-    let mut previous = Flags::NONE;
-    let mut previous_param = 0u32;
-    loop {
-        let param = PARAM_RESULT.load(Ordering::Relaxed);
-        if param != previous_param {
-            if param & 3 == PARAM_APPLIED {
-                info!("contact parameters applied (request {=u32})", param >> 2);
-            } else {
-                warn!(
-                    "contact parameters REJECTED (request {=u32}); previous ones kept",
-                    param >> 2
-                );
-            }
-            previous_param = param;
+/// The latched faults and their blink counts, in the order they are shown: the core's whole
+/// latching set (`output_guard::LATCHING`). A latched bit not listed here shows as 7.
+pub const BLINK_CODES: [(Flags, u32); 6] = [
+    (Flags::DRIVER_FAULT, 1),
+    (Flags::ENCODER_GLITCH, 2),
+    (Flags::ENCODER_STUCK, 3),
+    (Flags::OVERRUN, 4),
+    (Flags::NON_FINITE_OUTPUT, 5),
+    (Flags::HOMING_FAILED, 6),
+];
+const OTHER_CODE: u32 = 7;
+const _: () = {
+    let mut all = 0;
+    let mut i = 0;
+    while i < BLINK_CODES.len() {
+        all |= BLINK_CODES[i].0 .0;
+        i += 1;
+    }
+    assert!(all == softfinger_core::output_guard::LATCHING.0);
+};
+
+/// Polls per time slot.
+const fn polls(ms: u64) -> u32 {
+    (ms / config::SUPERVISOR_POLL_MS) as u32
+}
+
+/// Blink counts of the latched faults, in [`BLINK_CODES`] order; unused slots are 0.
+fn codes(latched: Flags) -> [u32; BLINK_CODES.len() + 1] {
+    let mut out = [0; BLINK_CODES.len() + 1];
+    let mut known = Flags::NONE;
+    let mut n = 0;
+    for (flag, code) in BLINK_CODES {
+        known |= flag;
+        if latched.intersects(flag) {
+            out[n] = code;
+            n += 1;
         }
-        let latched = Flags(LATCHED.load(Ordering::Relaxed));
-        if latched != previous {
-            let new = Flags(latched.0 & !previous.0);
-            if !new.is_empty() {
-                warn!(
-                    "FAULT latched: {} (drivers disabled, zero torque); press B1 to clear",
-                    new
-                );
-            }
-            if latched.is_empty() {
-                info!("faults cleared; drivers may be enabled");
-            }
-            previous = latched;
+    }
+    if latched.0 & !known.0 != 0 {
+        out[n] = OTHER_CODE;
+    }
+    out
+}
+
+/// The LED sequencer: a poll counter and, for the blink code, which fault is being shown.
+struct Led {
+    slot: usize,
+    poll: u32,
+}
+
+impl Led {
+    /// LED level for this poll, advancing the pattern.
+    fn step(&mut self, mode: Mode, latched: Flags) -> bool {
+        let poll = self.poll;
+        self.poll = self.poll.wrapping_add(1);
+        match mode {
+            Mode::Unhomed => poll % polls(2000) < polls(100),
+            Mode::Homing => poll % polls(200) < polls(100),
+            Mode::Disarmed => poll % polls(1000) < polls(500),
+            Mode::Armed => true,
+            Mode::Faulted => self.blink_code(&codes(latched), poll),
         }
-        if latched.is_empty() {
-            led.set_low();
-        } else {
-            led.set_high();
+    }
+
+    fn blink_code(&mut self, codes: &[u32], poll: u32) -> bool {
+        let code = match codes.get(self.slot) {
+            Some(&c) if c > 0 => c,
+            _ => {
+                // Past the last latched fault: start again from the first.
+                self.slot = 0;
+                self.poll = 0;
+                return false;
+            }
+        };
+        let flash = polls(200);
+        let flashes_end = 2 * code * flash;
+        if poll + 1 >= flashes_end + polls(1000) {
+            self.slot += 1;
+            self.poll = 0;
         }
-        ticker.next().await;
+        poll < flashes_end && (poll / flash).is_multiple_of(2)
     }
 }
 
-/// Surface stiffness presets (N/m) cycled by a long press of B1: soft, the default, stiff.
-const STIFFNESS_PRESETS: [f32; 3] = [500.0, 2000.0, 5000.0];
-
-#[embassy_executor::task]
-pub async fn clear_button(mut button: ExtiInput<'static, Async>) {
-    let mut preset = 1; // the default stiffness
+/// Watch the tick's status forever (the board binary spawns this as a task).
+pub async fn run(mut indicator: impl Indicator, mut outcomes: Consumer<'static, CommandOutcome>) {
+    let mut ticker = Ticker::every(Duration::from_millis(config::SUPERVISOR_POLL_MS));
+    let mut previous_mode = Mode::Unhomed;
+    let mut previous = Flags::NONE;
+    let mut led = Led { slot: 0, poll: 0 };
     loop {
-        button.wait_for_rising_edge().await;
-        Timer::after_millis(config::BUTTON_DEBOUNCE_MS).await;
-        if !button.is_high() {
-            continue;
+        while let Some(o) = outcomes.dequeue() {
+            match o.result {
+                Ok(()) => info!("command {} applied", o.command),
+                Err(e) => warn!("command {} REFUSED: {}", o.command, e),
+            }
         }
-        let long = embassy_time::with_timeout(
-            Duration::from_millis(config::LONG_PRESS_MS),
-            button.wait_for_low(),
-        )
-        .await
-        .is_err();
-        if long {
-            preset = (preset + 1) % STIFFNESS_PRESETS.len();
-            let stiffness = STIFFNESS_PRESETS[preset];
-            info!(
-                "B1 held: requesting surface stiffness {=f32} N/m",
-                stiffness
+        let mode = published_mode();
+        let latched = Flags(STATUS.latched.load(Ordering::Relaxed));
+        let new = Flags(latched.0 & !previous.0);
+        if !new.is_empty() {
+            warn!(
+                "FAULT latched: {} (blink codes {}); zero torque, drivers asleep until cleared",
+                new,
+                codes(new)
             );
-            let params = ContactParams {
-                normal_stiffness: stiffness,
-                ..ContactParams::DEFAULT
-            };
-            critical_section::with(|cs| PARAM_REQUEST.borrow(cs).set(Some(params)));
-            button.wait_for_low().await;
-        } else {
-            info!("B1 pressed: clearing latched faults");
-            CLEAR_REQUEST.store(true, Ordering::Relaxed);
         }
-        Timer::after_millis(config::BUTTON_DEBOUNCE_MS).await;
+        if mode != previous_mode {
+            info!("mode: {} -> {}", previous_mode, mode);
+            led = Led { slot: 0, poll: 0 };
+        }
+        previous = latched;
+        previous_mode = mode;
+        indicator.set(led.step(mode, latched));
+        ticker.next().await;
     }
 }

@@ -234,7 +234,7 @@ fn stuck_judge(t: &Trace, lim: &Limits) -> Judged {
         .fold(0.0f32, f32::max);
     let mut f = Vec::new();
     match (driven, detect) {
-        (Some(d), Some(k)) if k <= d + lim.stuck_ticks as u64 + 1 => {
+        (Some(d), Some(k)) if k <= d + lim.per_tick(10_000.0).stuck_ticks as u64 + 1 => {
             if t.safe_from().is_none_or(|s| s > k) {
                 f.push(format!("not safe from detection {k}"));
             }
@@ -373,7 +373,7 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
                 config,
                 plant,
                 script: hard.script(),
-                ticks: K_INJECT + 2 * lim.stuck_ticks as u64 + 3_000,
+                ticks: K_INJECT + 2 * lim.per_tick(10_000.0).stuck_ticks as u64 + 3_000,
                 act: no_act(),
                 inject: {
                     let mut frozen = None;
@@ -399,7 +399,7 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
             config: base,
             plant,
             script: hard.script(),
-            ticks: K_INJECT + 2 * base.limits.stuck_ticks as u64 + 3_000,
+            ticks: K_INJECT + 2 * base.limits.per_tick(base.rate_hz).stuck_ticks as u64 + 3_000,
             act: no_act(),
             inject: no_inject(),
         },
@@ -436,7 +436,7 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
     )?;
 
     // 4. Overrun streak: pairs of overruns (tolerated), then a streak.
-    let streak = base.limits.overrun_streak as u64;
+    let streak = base.limits.per_tick(base.rate_hz).overrun_streak as u64;
     push(
         Setup {
             name: "overrun_streak",
@@ -645,7 +645,7 @@ pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
     )?;
 
     // 10. A jump just under the glitch threshold: not a detectable fault by design.
-    let sub = base.limits.max_counts_per_tick - 100;
+    let sub = i32::from(base.limits.per_tick(base.rate_hz).max_counts_per_tick) - 100;
     push(
         Setup {
             name: "sub_threshold_jump",

@@ -1,0 +1,56 @@
+//! The hardware interface the app is written against: what the control interrupt reads and
+//! writes ([`ControlHw`]), the status LED ([`Indicator`]) and the operator's button
+//! ([`OperatorButton`]). Board-independent: no HAL type appears here.
+
+/// Raw inputs of one tick, as read from the hardware.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RawSample {
+    /// Raw wrapping 16-bit counter values: `[motor0, motor1, motor2, wrist0, wrist1, wrist2]`.
+    pub counts: [u16; 6],
+    /// The drivers' fault line is asserted (nFAULT low), or the hardware break tripped since the
+    /// previous read. Reported as read: masking during sleep and wake is the pipeline's job.
+    pub driver_fault: bool,
+}
+
+pub use softfinger_core::pipeline::BridgeCommands;
+
+/// The hardware the control interrupt owns.
+///
+/// Write order ([`ControlHw::write_bridges`]): the pipeline's contract
+/// (`softfinger_core::pipeline::bridge`): outputs that switch off first (PWM enable, then nSLEEP),
+/// then the phase pins, then the compares (preloaded: in effect from the next PWM period), then
+/// outputs that switch on (PWM enable, then nSLEEP). The tick timer's event must coincide with a
+/// PWM period boundary.
+pub trait ControlHw {
+    /// Tick-timer counts per control period (the timer counts up from 0 after each tick event).
+    fn tick_period_counts(&self) -> u32;
+    /// Tick-timer counts since the current period's tick event.
+    fn tick_timer_count(&self) -> u32;
+    /// Acknowledge this period's tick event.
+    fn ack_tick(&mut self);
+    /// A new tick event arrived since [`ControlHw::ack_tick`]: this tick ran into the next period.
+    fn tick_event_pending(&self) -> bool;
+    /// Read the six encoder counters and the drivers' fault line.
+    fn read_inputs(&mut self) -> RawSample;
+    /// Write the bridge commands in the documented order.
+    fn write_bridges(&mut self, cmd: &BridgeCommands);
+    /// Proof of life for the independent watchdog.
+    fn pet_watchdog(&mut self);
+}
+
+/// A status LED.
+pub trait Indicator {
+    /// Light (true) or extinguish the LED.
+    fn set(&mut self, on: bool);
+}
+
+/// The operator's push button (debounced by the caller).
+#[allow(async_fn_in_trait)] // used with concrete types only, never as `dyn` or across threads
+pub trait OperatorButton {
+    /// Wait until the button is pressed (returns at once if it already is).
+    async fn wait_pressed(&mut self);
+    /// Wait until the button is released (returns at once if it already is).
+    async fn wait_released(&mut self);
+    /// The button is pressed now.
+    fn is_pressed(&mut self) -> bool;
+}

@@ -1,0 +1,463 @@
+//! NUCLEO-G474RE: clocks, the six quadrature decoders, the three phase/enable bridges on TIM1 with
+//! the drivers' fault line on TIM1's break input, the control-tick timer (TIM6), the watchdog, LD2
+//! and B1. The pin map is in README.md; embassy-stm32's traits reject at compile time any pin that
+//! cannot serve the timer channel it is given.
+//!
+//! The hot path (encoder reads, bridge writes) uses single register accesses through the
+//! stm32-metapac register API: one volatile access each, no bounds checks, no lock.
+
+use embassy_stm32::exti::{self, ExtiInput};
+use embassy_stm32::gpio::{AnyPin, Level, Output, OutputType, Pull, Speed};
+use embassy_stm32::mode::Async;
+use embassy_stm32::pac;
+use embassy_stm32::pac::timer::vals::{Bkinp, Bkp, FilterValue, Lock, Ossi, Ossr};
+use embassy_stm32::peripherals::{IWDG, TIM2, TIM20, TIM3, TIM4, TIM5, TIM8};
+use embassy_stm32::time::Hertz;
+use embassy_stm32::timer::low_level::{CountingMode, Timer};
+use embassy_stm32::timer::qei::{self, Qei, QeiMode};
+use embassy_stm32::timer::simple_pwm::{PwmPin, SimplePwm};
+use embassy_stm32::wdg::IndependentWatchdog;
+use embassy_stm32::{bind_interrupts, interrupt, rcc, Config, Peripherals};
+
+use super::{BridgeCommands, ControlHw, Indicator, OperatorButton, RawSample};
+use crate::config;
+use crate::isr_cell::IsrCell;
+use crate::tick::ControlLoop;
+
+bind_interrupts!(struct Irqs {
+    EXTI15_10 => exti::InterruptHandler<interrupt::typelevel::EXTI15_10>;
+});
+
+/// BASEPRI value that masks every interrupt priority except 0: the STM32G4 NVIC implements the
+/// top 4 priority bits (`NVIC_PRIO_BITS`), so priority 1 is 0x10.
+pub const BASEPRI_BELOW_TICK: u8 = 1 << (8 - pac::NVIC_PRIO_BITS);
+/// Priority byte of every device interrupt until one is raised: the lowest (15).
+const LOWEST_PRIORITY: u8 = 0xF0;
+
+/// Port B pins of the bridges: phase pins (PH) of motors 0..2 and the shared nSLEEP.
+const PHASE_PINS: [usize; 3] = [10, 4, 5];
+const N_SLEEP_PIN: usize = 0;
+/// PB12: the drivers' wired-OR nFAULT, as TIM1_BKIN (AF6), read back through GPIOB_IDR.
+const N_FAULT_PIN: usize = 12;
+const BKIN_AF: u8 = 6;
+
+/// Input filter on every encoder channel and on the break input: 8 samples at fDTS/4, i.e. a
+/// level must hold 32 timer clocks (188 ns at 170 MHz) to count. A 2000-line encoder at 3000 rpm
+/// has 10 us between edges, 50x longer.
+const INPUT_FILTER: FilterValue = FilterValue::FDTS_DIV4_N8;
+
+/// HAL configuration: 170 MHz from the board's 24 MHz crystal (HSE / 6 x 85 / 2; VCO 340 MHz),
+/// range-1 boost mode as required above 150 MHz, DMA interrupts (unused) below the control tick.
+pub fn hal_config() -> Config {
+    let mut c = Config::default();
+    c.rcc.hse = Some(rcc::Hse {
+        freq: Hertz(config::HSE_HZ),
+        mode: rcc::HseMode::Oscillator,
+    });
+    c.rcc.pll = Some(rcc::Pll {
+        source: rcc::PllSource::HSE,
+        prediv: rcc::PllPreDiv::DIV6,
+        mul: rcc::PllMul::MUL85,
+        divp: None,
+        divq: None,
+        divr: Some(rcc::PllRDiv::DIV2),
+    });
+    c.rcc.sys = rcc::Sysclk::PLL1_R;
+    c.rcc.boost = true;
+    c.bdma_interrupt_priority = interrupt::Priority::P4;
+    c
+}
+
+/// Zero every bridge output with raw register writes, from any context, without owning anything:
+/// PWM main output off (EN pins forced to their idle level, low), compares 0, phase pins and nSLEEP
+/// low. For the panic and HardFault handlers; idempotent.
+#[inline(always)]
+pub fn emergency_stop() {
+    pac::TIM1.bdtr().modify(|w| w.set_moe(false));
+    for ch in 0..3 {
+        pac::TIM1.ccr(ch).write(|w| w.set_ccr(0));
+    }
+    let mut reset = 1u32 << (16 + N_SLEEP_PIN);
+    for pin in PHASE_PINS {
+        reset |= 1 << (16 + pin);
+    }
+    pac::GPIOB.bsrr().write_value(pac::gpio::regs::Bsrr(reset));
+}
+
+/// The six quadrature decoders: motor 0..2 (TIM2/3/4), wrist 0..2 (TIM5/8/20).
+type Encoders = (
+    Qei<'static, TIM2>,
+    Qei<'static, TIM3>,
+    Qei<'static, TIM4>,
+    Qei<'static, TIM5>,
+    Qei<'static, TIM8>,
+    Qei<'static, TIM20>,
+);
+
+/// The hardware the control interrupt owns. Holding the HAL handles keeps the pins and timers
+/// reserved; the hot path goes through the registers directly.
+pub struct Stm32Control {
+    _encoders: Encoders,
+    _bridges: (
+        SimplePwm<'static, embassy_stm32::peripherals::TIM1>,
+        [Output<'static>; 4],
+    ),
+    _tick_timer: Timer<'static, embassy_stm32::peripherals::TIM6>,
+    watchdog: IndependentWatchdog<'static, IWDG>,
+}
+
+impl ControlHw for Stm32Control {
+    #[inline(always)]
+    fn tick_period_counts(&self) -> u32 {
+        config::TICK_PERIOD_COUNTS
+    }
+
+    #[inline(always)]
+    fn tick_timer_count(&self) -> u32 {
+        u32::from(pac::TIM6.cnt().read().cnt())
+    }
+
+    #[inline(always)]
+    fn ack_tick(&mut self) {
+        // rc_w0: writing 0 clears UIF; TIM6 has no other status flag.
+        pac::TIM6.sr().write(|w| w.set_uif(false));
+    }
+
+    #[inline(always)]
+    fn tick_event_pending(&self) -> bool {
+        pac::TIM6.sr().read().uif()
+    }
+
+    #[inline(always)]
+    fn read_inputs(&mut self) -> RawSample {
+        // TIM2 and TIM5 are 32-bit; their low 16 bits follow the same modulo-2^16 sequence.
+        let counts = [
+            pac::TIM2.cnt().read() as u16,
+            pac::TIM3.cnt().read().cnt(),
+            pac::TIM4.cnt().read().cnt(),
+            pac::TIM5.cnt().read() as u16,
+            pac::TIM8.cnt().read().cnt(),
+            pac::TIM20.cnt().read().cnt(),
+        ];
+        let n_fault_low = pac::GPIOB.idr().read().idr(N_FAULT_PIN) == pac::gpio::vals::Idr::LOW;
+        // A break since the last read, even one shorter than a tick, is a driver fault too.
+        let broke = pac::TIM1.sr().read().bif(0);
+        if broke {
+            pac::TIM1.sr().write(|w| {
+                w.0 = !0;
+                w.set_bif(0, false);
+            });
+        }
+        RawSample {
+            counts,
+            driver_fault: n_fault_low || broke,
+        }
+    }
+
+    /// The pipeline's ordering contract (`softfinger_core::pipeline::bridge`): outputs off first
+    /// (MOE, then nSLEEP), then the phase pins, then the compares (preloaded: a PWM period
+    /// boundary between the two writes loads the old compare, which is 0 whenever a phase
+    /// changed), then outputs on (MOE, then nSLEEP).
+    #[inline(always)]
+    fn write_bridges(&mut self, cmd: &BridgeCommands) {
+        let tim = pac::TIM1;
+        if !cmd.pwm_enable {
+            tim.bdtr().modify(|w| w.set_moe(false));
+        }
+        if !cmd.driver_awake {
+            pac::GPIOB.bsrr().write(|w| w.set_br(N_SLEEP_PIN, true));
+        }
+        let mut bsrr = 0u32;
+        for (pin, forward) in PHASE_PINS.into_iter().zip(cmd.phase_forward) {
+            bsrr |= 1 << if forward { pin } else { pin + 16 };
+        }
+        pac::GPIOB.bsrr().write_value(pac::gpio::regs::Bsrr(bsrr));
+        for (ch, compare) in cmd.compare.into_iter().enumerate() {
+            tim.ccr(ch).write(|w| w.set_ccr(compare));
+        }
+        // MOE stays 0 while the break input is active, whatever is written here.
+        if cmd.pwm_enable {
+            tim.bdtr().modify(|w| w.set_moe(true));
+        }
+        if cmd.driver_awake {
+            pac::GPIOB.bsrr().write(|w| w.set_bs(N_SLEEP_PIN, true));
+        }
+    }
+
+    #[inline(always)]
+    fn pet_watchdog(&mut self) {
+        self.watchdog.pet();
+    }
+}
+
+/// LD2 (green).
+pub struct Led(Output<'static>);
+
+impl Indicator for Led {
+    fn set(&mut self, on: bool) {
+        self.0.set_level(Level::from(on));
+    }
+}
+
+/// B1 (blue, active high).
+pub struct Button(ExtiInput<'static, Async>);
+
+impl OperatorButton for Button {
+    async fn wait_pressed(&mut self) {
+        self.0.wait_for_high().await;
+    }
+    async fn wait_released(&mut self) {
+        self.0.wait_for_low().await;
+    }
+    fn is_pressed(&mut self) -> bool {
+        self.0.is_high()
+    }
+}
+
+/// Everything the firmware uses, configured and in a safe state (drivers asleep, PWM outputs off,
+/// compares 0), nothing started.
+pub struct Board {
+    pub control: Stm32Control,
+    pub led: Led,
+    pub button: Button,
+}
+
+impl Board {
+    /// After a rejected configuration: drive every bridge pin low as a plain output (nSLEEP, the
+    /// phase pins, the three EN/PWM pins) and keep it so; nothing else is configured.
+    pub fn hold_safe(p: Peripherals) {
+        let low = |pin: embassy_stm32::Peri<'static, AnyPin>| {
+            core::mem::forget(Output::new(pin, Level::Low, Speed::Low))
+        };
+        low(p.PB0.into());
+        low(p.PB10.into());
+        low(p.PB4.into());
+        low(p.PB5.into());
+        low(p.PA8.into());
+        low(p.PA9.into());
+        low(p.PA10.into());
+    }
+
+    /// Configure every peripheral; outputs start low. Call only after the configuration has been
+    /// validated: from here on the bridges are wired to the timer.
+    pub fn new(p: Peripherals) -> Self {
+        // Outputs first, driven low, so the bridges never see a floating nSLEEP or phase pin.
+        let sleep_and_phase = [
+            Output::new(p.PB0, Level::Low, Speed::Low),
+            Output::new(p.PB10, Level::Low, Speed::Low),
+            Output::new(p.PB4, Level::Low, Speed::Low),
+            Output::new(p.PB5, Level::Low, Speed::Low),
+        ];
+        // nFAULT is open drain on DRV887x parts: pull-up, alternate function TIM1_BKIN, set
+        // up before TIM1's break is armed. PB12 is only claimed here; its mode is set through the
+        // registers (embassy has no BKIN pin type).
+        let _ = p.PB12;
+        pac::GPIOB
+            .pupdr()
+            .modify(|w| w.set_pupdr(N_FAULT_PIN, pac::gpio::vals::Pupdr::PULL_UP));
+        pac::GPIOB
+            .afr(N_FAULT_PIN / 8)
+            .modify(|w| w.set_afr(N_FAULT_PIN % 8, BKIN_AF));
+        pac::GPIOB
+            .moder()
+            .modify(|w| w.set_moder(N_FAULT_PIN, pac::gpio::vals::Moder::ALTERNATE));
+        let pwm = pwm_tim1(p.TIM1, p.PA8, p.PA9, p.PA10);
+
+        let encoders = (
+            Qei::new(p.TIM2, p.PA15, p.PB3, qei_config()),
+            Qei::new(p.TIM3, p.PA6, p.PA7, qei_config()),
+            Qei::new(p.TIM4, p.PB6, p.PB7, qei_config()),
+            Qei::new(p.TIM5, p.PA0, p.PA1, qei_config()),
+            Qei::new(p.TIM8, p.PC6, p.PC7, qei_config()),
+            Qei::new(p.TIM20, p.PB2, p.PC2, qei_config()),
+        );
+        encoder_filters();
+
+        let tick_timer = Timer::new(p.TIM6);
+        let t6 = pac::TIM6;
+        t6.psc().write_value(0);
+        t6.arr()
+            .write(|w| w.set_arr((config::TICK_PERIOD_COUNTS - 1) as u16));
+        t6.egr().write(|w| w.set_ug(true));
+        t6.sr().write(|w| w.set_uif(false));
+        t6.dier().write(|w| w.set_uie(true));
+
+        Board {
+            control: Stm32Control {
+                _encoders: encoders,
+                _bridges: (pwm, sleep_and_phase),
+                _tick_timer: tick_timer,
+                watchdog: IndependentWatchdog::new(p.IWDG, config::WATCHDOG_TIMEOUT_US),
+            },
+            led: Led(Output::new(p.PA5, Level::Low, Speed::Low)),
+            button: Button(ExtiInput::new(p.PC13, p.EXTI13, Pull::Down, Irqs)),
+        }
+    }
+}
+
+/// TIM1 CH1..CH3 as the bridges' EN inputs: edge-aligned PWM at the shared board timing (prescaler
+/// 1, full scale from `config`), compares preloaded, break input armed, main output off.
+fn pwm_tim1(
+    tim: embassy_stm32::Peri<'static, embassy_stm32::peripherals::TIM1>,
+    ch1: embassy_stm32::Peri<'static, embassy_stm32::peripherals::PA8>,
+    ch2: embassy_stm32::Peri<'static, embassy_stm32::peripherals::PA9>,
+    ch3: embassy_stm32::Peri<'static, embassy_stm32::peripherals::PA10>,
+) -> SimplePwm<'static, embassy_stm32::peripherals::TIM1> {
+    let pwm = SimplePwm::new(
+        tim,
+        Some(PwmPin::new(ch1, OutputType::PushPull)),
+        Some(PwmPin::new(ch2, OutputType::PushPull)),
+        Some(PwmPin::new(ch3, OutputType::PushPull)),
+        None,
+        Hertz(config::PWM_FREQ_HZ),
+        CountingMode::EdgeAlignedUp,
+    );
+    let t = pac::TIM1;
+    // All in one write: BDTR's break fields can be locked, and LOCK itself is write-once. MOE = 0;
+    // outputs forced to their idle level (low, CR2.OISx = 0) while MOE = 0; break on BKIN active
+    // low, filtered; AOE = 0 so only software re-enables after a break; lock level 2 freezes the
+    // break and idle-state configuration (and the output polarities) until reset.
+    t.bdtr().write(|w| {
+        w.set_moe(false);
+        w.set_aoe(false);
+        w.set_ossi(Ossi::IDLE_LEVEL);
+        w.set_ossr(Ossr::IDLE_LEVEL);
+        w.set_bke(0, true);
+        w.set_bkp(0, Bkp::ACTIVE_LOW);
+        w.set_bkf(0, INPUT_FILTER);
+        w.set_lock(Lock::LEVEL2);
+    });
+    t.af1().modify(|w| {
+        w.set_bkine(true);
+        w.set_bkinp(Bkinp::NOT_INVERTED);
+    });
+    for ch in 0..3 {
+        t.ccr(ch).write(|w| w.set_ccr(0));
+        t.ccer().modify(|w| w.set_cce(ch, true));
+    }
+    // Exact period from the shared board timing: prescaler 1, ARR = full scale - 1.
+    t.psc().write_value(0);
+    t.arr().write(|w| w.set_arr(config::PWM_FULL_SCALE - 1));
+    t.egr().write(|w| w.set_ug(true));
+    t.sr().write(|w| w.0 = 0);
+    pwm
+}
+
+fn qei_config() -> qei::Config {
+    qei::Config {
+        // Pull-ups suit open-collector encoders and are harmless on push-pull ones.
+        ch1_pull: Pull::Up,
+        ch2_pull: Pull::Up,
+        // Count on both edges of both channels: x4 decoding.
+        mode: QeiMode::Mode3,
+        auto_reload: u16::MAX,
+    }
+}
+
+/// Digital input filters on both channels of every decoder (CCMR1 IC1F/IC2F).
+fn encoder_filters() {
+    macro_rules! filter {
+        ($($tim:expr),*) => {$(
+            $tim.ccmr_input(0).modify(|w| {
+                w.set_icf(0, INPUT_FILTER);
+                w.set_icf(1, INPUT_FILTER);
+            });
+        )*};
+    }
+    filter!(
+        pac::TIM2,
+        pac::TIM3,
+        pac::TIM4,
+        pac::TIM5,
+        pac::TIM8,
+        pac::TIM20
+    );
+}
+
+/// The control loop, handed to the TIM6 interrupt by [`start_tick`].
+static CONTROL: IsrCell<ControlLoop<Stm32Control>> = IsrCell::new();
+
+/// [`start_tick`] was called before.
+#[derive(Debug, defmt::Format)]
+pub struct AlreadyStarted;
+
+/// Before `embassy_stm32::init`: every device interrupt at the lowest priority (only the tick is
+/// ever raised to P0, see `critical_section_basepri`), and TIM1, TIM6 and the IWDG frozen while a
+/// debugger halts the core, so a breakpoint never leaves the bridges driven.
+pub fn prepare_core(nvic: &mut cortex_m::peripheral::NVIC) {
+    // STM32G474: 102 device interrupts (0..=101).
+    for ipr in nvic.ipr.iter().take(102) {
+        // SAFETY: no device interrupt is enabled yet, so changing priorities cannot break a
+        // priority-based critical section in progress.
+        unsafe { ipr.write(LOWEST_PRIORITY) };
+    }
+    pac::DBGMCU.apb2fzr().modify(|w| w.set_tim1(true));
+    pac::DBGMCU.apb1lfzr().modify(|w| {
+        w.set_tim6(true);
+        w.set_iwdg(true);
+    });
+}
+
+/// After `embassy_stm32::init`: flash prefetch on (with the instruction and data caches), the
+/// core's LOCKUP output onto TIM1's break (a fault inside the HardFault handler locks the core up;
+/// the PWM outputs then cut in hardware), and the HAL's interrupts between the tick (P0) and thread
+/// mode.
+pub fn after_hal_init() {
+    // Write-once until reset. SYSCFG's clock is on (embassy_stm32::init enables it).
+    pac::SYSCFG.cfgr2().modify(|w| w.set_cll(true));
+    pac::FLASH.acr().modify(|w| {
+        w.set_prften(true);
+        w.set_icen(true);
+        w.set_dcen(true);
+    });
+    use embassy_stm32::interrupt::{InterruptExt, Priority};
+    interrupt::TIM1_BRK_TIM15.set_priority(Priority::P2); // embassy-time driver (TIM15)
+    interrupt::EXTI15_10.set_priority(Priority::P3); // B1
+}
+
+/// Hand the loop to the TIM6 interrupt and start it: highest priority, the watchdog, then TIM1
+/// and TIM6 restarted together from 0, so every tick event is a PWM period boundary (the shared
+/// board timing's convention: both count the same 170 MHz clock, 8500 and 17 000 counts per
+/// period, so once aligned they stay aligned), then unmask. Returns TIM1's count minus TIM6's,
+/// read back to back right after the start (the start skew plus the spacing of the two reads,
+/// a few counts). A second call is refused.
+pub fn start_tick(mut control: ControlLoop<Stm32Control>) -> Result<i32, AlreadyStarted> {
+    use embassy_stm32::interrupt::{InterruptExt, Priority};
+    interrupt::TIM6_DAC.set_priority(Priority::P0);
+    control.hw_mut().watchdog.unleash();
+    CONTROL.install(control).map_err(|_| AlreadyStarted)?;
+
+    let (t1, t6) = (pac::TIM1, pac::TIM6);
+    t1.cr1().modify(|w| w.set_cen(false));
+    t6.cr1().modify(|w| w.set_cen(false));
+    t1.cnt().write(|w| w.set_cnt(0));
+    t6.cnt().write(|w| w.set_cnt(0));
+    t6.sr().write(|w| w.set_uif(false));
+    interrupt::TIM6_DAC.unpend();
+    let mut cr1_1 = t1.cr1().read();
+    cr1_1.set_cen(true);
+    let mut cr1_6 = t6.cr1().read();
+    cr1_6.set_cen(true);
+    // Two consecutive stores.
+    t1.cr1().write_value(cr1_1);
+    t6.cr1().write_value(cr1_6);
+    let (c1, c6) = (t1.cnt().read().cnt(), t6.cnt().read().cnt());
+    // SAFETY: unmasking is unsafe because it could break a critical section relying on this
+    // interrupt staying masked. None does: the handler shares nothing with other contexts except
+    // atomics and lock-free SPSC queues, and it takes no critical section over shared data.
+    unsafe { interrupt::TIM6_DAC.enable() };
+    Ok(i32::from(c1) - i32::from(c6))
+}
+
+#[interrupt]
+fn TIM6_DAC() {
+    // First action: the tick timer's count is the start latency.
+    let entry = u32::from(pac::TIM6.cnt().read().cnt());
+    // SAFETY: this handler is the only caller of `CONTROL.get_mut`, and a handler never preempts
+    // itself, so the reference is exclusive for the duration of this call.
+    match unsafe { CONTROL.get_mut() } {
+        Some(control) => control.run(entry),
+        // Not installed (cannot happen: the interrupt is unmasked after install): acknowledge.
+        None => pac::TIM6.sr().write(|w| w.set_uif(false)),
+    }
+}

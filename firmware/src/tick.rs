@@ -1,0 +1,150 @@
+//! The control tick, board-independent: read the hardware -> [`Pipeline::tick`] -> write the
+//! hardware, then telemetry, operator commands and the tick's own cost. Called by the board's
+//! tick interrupt, which runs at the highest priority and owns a [`ControlLoop`] through
+//! `isr_cell::IsrCell`.
+//!
+//! The tick shares nothing with tasks except through atomics ([`STATUS`]) and lock-free SPSC
+//! queues (commands in; outcomes, telemetry and summaries out), so it never waits for a task, and
+//! a task never delays it (see `critical_section_basepri`).
+
+use core::sync::atomic::{AtomicU32, AtomicU8, Ordering};
+
+use heapless::spsc::{Consumer, Producer};
+use softfinger_core::pipeline::{
+    Command, CommandError, Mode, Pipeline, PipelineRecord, RawInput, TimingSummary,
+};
+use softfinger_core::Fast;
+
+use crate::board::ControlHw;
+
+/// An operator command and what the pipeline made of it, for the log.
+#[derive(Clone, Copy, Debug)]
+pub struct CommandOutcome {
+    pub command: Command,
+    pub result: Result<(), CommandError>,
+}
+
+/// What the tick publishes for the tasks, one atomic per field (written by the tick only, except
+/// `max_tick_counts`, which the logger resets).
+pub struct TickStatus {
+    /// `Mode::code()` after the last tick.
+    pub mode: AtomicU8,
+    /// Latched faults (`Flags` bits) after the last tick.
+    pub latched: AtomicU32,
+    /// Longest whole tick (timer event -> end of the tick, telemetry and commands included) since
+    /// the logger last took it, timer counts.
+    pub max_tick_counts: AtomicU32,
+}
+
+/// The mode published in [`TickStatus::mode`].
+pub fn published_mode() -> Mode {
+    match STATUS.mode.load(Ordering::Relaxed) {
+        0 => Mode::Unhomed,
+        1 => Mode::Homing,
+        2 => Mode::Disarmed,
+        3 => Mode::Armed,
+        _ => Mode::Faulted,
+    }
+}
+
+/// The tick's published status.
+pub static STATUS: TickStatus = TickStatus {
+    mode: AtomicU8::new(0),
+    latched: AtomicU32::new(0),
+    max_tick_counts: AtomicU32::new(0),
+};
+
+/// The queue ends the tick holds.
+pub struct TickQueues {
+    pub commands: Consumer<'static, Command>,
+    pub outcomes: Producer<'static, CommandOutcome>,
+    pub records: Producer<'static, PipelineRecord>,
+    pub summaries: Producer<'static, TimingSummary>,
+}
+
+/// Everything one tick reads and writes.
+pub struct ControlLoop<H: ControlHw> {
+    hw: H,
+    pipeline: Pipeline<Fast>,
+    queues: TickQueues,
+    /// Timer counts from the previous tick's event to the end of its hardware writes
+    /// (`u32::MAX`: they ended after the next event).
+    prev_write_done: u32,
+}
+
+impl<H: ControlHw> ControlLoop<H> {
+    /// The loop, ready for its first tick.
+    pub fn new(hw: H, pipeline: Pipeline<Fast>, queues: TickQueues) -> Self {
+        ControlLoop {
+            hw,
+            pipeline,
+            queues,
+            prev_write_done: 0,
+        }
+    }
+
+    /// The hardware, for the board's start-up code.
+    pub fn hw_mut(&mut self) -> &mut H {
+        &mut self.hw
+    }
+
+    /// One control tick. `entry_count` is the tick timer's count read as the interrupt's first
+    /// action: the start latency, in timer counts. Never blocks, never panics.
+    #[inline(always)]
+    pub fn run(&mut self, entry_count: u32) {
+        self.hw.ack_tick();
+        let sample = self.hw.read_inputs();
+        let out = self.pipeline.tick(&RawInput {
+            counts: sample.counts,
+            driver_fault: sample.driver_fault,
+            start_latency_counts: entry_count,
+            prev_write_done_counts: self.prev_write_done,
+        });
+        self.hw.write_bridges(&out.bridges);
+        // Count first, then the flag: an event between the two reads reports "late", never a
+        // wrapped small count.
+        let done = self.hw.tick_timer_count();
+        self.prev_write_done = if self.hw.tick_event_pending() {
+            u32::MAX
+        } else {
+            done
+        };
+        self.hw.pet_watchdog();
+
+        STATUS.mode.store(out.mode.code(), Ordering::Relaxed);
+        STATUS.latched.store(out.latched.0, Ordering::Relaxed);
+        if let Some(record) = out.telemetry {
+            let queued = self.queues.records.enqueue(record).is_ok();
+            self.pipeline.telemetry_sent(queued);
+        }
+        if let Some(summary) = out.summary {
+            // A lost summary (logger stalled for seconds) is not worth more than its absence.
+            let _ = self.queues.summaries.enqueue(summary);
+        }
+        self.serve_commands();
+        self.account();
+    }
+
+    /// Apply queued operator commands (at the tick boundary: they act from the next tick).
+    fn serve_commands(&mut self) {
+        while let Some(command) = self.queues.commands.dequeue() {
+            let result = self.pipeline.command(command);
+            // Outcomes are for the log only; a full queue loses the report, not the command.
+            let _ = self
+                .queues
+                .outcomes
+                .enqueue(CommandOutcome { command, result });
+        }
+    }
+
+    /// The whole tick's cost, from the timer event to here.
+    fn account(&mut self) {
+        let now = self.hw.tick_timer_count();
+        let end = if self.hw.tick_event_pending() {
+            now + self.hw.tick_period_counts()
+        } else {
+            now
+        };
+        STATUS.max_tick_counts.fetch_max(end, Ordering::Relaxed);
+    }
+}

@@ -1,0 +1,360 @@
+//! Instructions per control tick of the firmware's app: `src/tick.rs` (read -> `Pipeline::tick`
+//! -> write, telemetry, commands, accounting) and the `TIM6_DAC` handler's body, with the STM32
+//! board's register accesses reproduced one for one on RAM words (`fake_hw`), on QEMU mps2-an386
+//! (Cortex-M4F) with `-icount shift=0`.
+//!
+//! `cargo run --release` (from this directory) prints one `TICK <phase> <instructions>` line per
+//! operating phase, the mean over `N` ticks, and checks the bridge outputs the app wrote in each
+//! phase (asleep and off before homing, off when disarmed, driving only when homing or armed, off
+//! and asleep at once on nFAULT or a break flag, nFAULT ignored while asleep); it exits with
+//! failure if a check fails. The script drives the device through the
+//! real command sequence: power-up (Unhomed), Home, homing drive with the arms moving, the stall at
+//! the stops, Disarmed, Arm (the force ramping in), then the arms moved down until the probe
+//! touches the plane, Armed in contact.
+//!
+//! Not included (no instructions, or not the app's): exception entry/exit (hardware stacking, 12
+//! cycles each way on the M4), wait states.
+#![no_std]
+#![no_main]
+#![allow(dead_code)] // the firmware's config module is shared whole
+
+#[path = "../../src/board/interface.rs"]
+mod board;
+#[path = "../../src/config.rs"]
+mod config;
+mod fake_hw;
+#[allow(unsafe_code)]
+#[path = "../../src/isr_cell.rs"]
+mod isr_cell;
+#[path = "../../src/tick.rs"]
+mod tick;
+
+use core::hint::black_box;
+use core::sync::atomic::AtomicU32;
+use core::sync::atomic::Ordering::Relaxed;
+
+use cortex_m::peripheral::syst::SystClkSource;
+use cortex_m::peripheral::SYST;
+use cortex_m_rt::entry;
+use cortex_m_semihosting::{debug, hprintln};
+use heapless::spsc::{Consumer, Producer, Queue};
+use softfinger_core::pipeline::{Command, Mode, Pipeline, PipelineRecord, TimingSummary};
+use softfinger_core::Fast;
+
+use fake_hw::{outputs, FakeStm32, Outputs, ENC_CNT, GPIOB_IDR, TIM1_SR, TIM6_CNT};
+use isr_cell::IsrCell;
+use tick::{published_mode, CommandOutcome, ControlLoop, TickQueues, STATUS};
+
+/// Ticks per measurement.
+const N: u32 = 1000;
+/// Instructions per SysTick count: 25 MHz SysTick, 1 ns per instruction under `-icount shift=0`.
+const INSTRUCTIONS_PER_COUNT: u32 = 40;
+
+static CONTROL: IsrCell<ControlLoop<FakeStm32>> = IsrCell::new();
+
+/// No log output: the tick never logs; softfinger-core's `Format` impls need a logger to link.
+#[defmt::global_logger]
+struct NoLog;
+// SAFETY: every method does nothing, which is a valid logger.
+unsafe impl defmt::Logger for NoLog {
+    fn acquire() {}
+    unsafe fn flush() {}
+    unsafe fn release() {}
+    unsafe fn write(_: &[u8]) {}
+}
+defmt::timestamp!("{=u8}", 0);
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    hprintln!("panic");
+    exit(false)
+}
+
+/// The body of `TIM6_DAC` (board/stm32g474.rs), with the fake tick timer.
+#[inline(never)]
+fn isr() {
+    let entry = TIM6_CNT.load(Relaxed) & 0xFFFF;
+    // SAFETY: only this function calls `get_mut`, and it never re-enters itself.
+    match unsafe { CONTROL.get_mut() } {
+        Some(control) => control.run(entry),
+        None => TIM6_CNT.store(0, Relaxed),
+    }
+}
+
+struct Queues {
+    commands: Producer<'static, Command>,
+    outcomes: Consumer<'static, CommandOutcome>,
+    records: Consumer<'static, PipelineRecord>,
+    summaries: Consumer<'static, TimingSummary>,
+    last_record: PipelineRecord,
+}
+
+impl Queues {
+    /// Empty the output queues (outside the measured loops), keeping the latest record.
+    fn drain(&mut self) {
+        while self.outcomes.dequeue().is_some() {}
+        while self.summaries.dequeue().is_some() {}
+        while let Some(r) = self.records.dequeue() {
+            self.last_record = r;
+        }
+    }
+}
+
+fn now() -> u32 {
+    SYST::get_current()
+}
+
+/// Instructions per iteration of `step(ENC_CNT)` + `isr`, minus the same loop with
+/// `step(SCRATCH)` and no `isr` (the same work on counters no tick reads).
+fn measure(step: &mut impl FnMut(&[AtomicU32; 6])) -> u32 {
+    let t0 = now();
+    for _ in 0..N {
+        step(black_box(&ENC_CNT));
+        isr();
+    }
+    let t1 = now();
+    for _ in 0..N {
+        step(black_box(&SCRATCH));
+        black_box(());
+    }
+    let t2 = now();
+    let with = t0.wrapping_sub(t1) & 0x00FF_FFFF;
+    let without = t1.wrapping_sub(t2) & 0x00FF_FFFF;
+    with.saturating_sub(without) * INSTRUCTIONS_PER_COUNT / N
+}
+
+fn report(phase: &str, instructions: u32) {
+    hprintln!("TICK {} {}", phase, instructions);
+}
+
+fn fail(what: &str) -> ! {
+    hprintln!("FAILED: {}", what);
+    exit(false)
+}
+
+/// Run ticks (unmeasured) until `mode` is published, at most `limit` ticks, moving the motors by
+/// `step` counts per tick.
+fn run_until(q: &mut Queues, mode: Mode, step: i32, limit: u32) {
+    for _ in 0..limit {
+        move_motors(step);
+        isr();
+        q.drain();
+        if published_mode() == mode {
+            return;
+        }
+    }
+    fail("mode not reached");
+}
+
+static SCRATCH: [AtomicU32; 6] = [const { AtomicU32::new(0) }; 6];
+
+fn move_motors(step: i32) {
+    move_motors_of(&ENC_CNT, step);
+}
+
+fn move_motors_of(counters: &[AtomicU32; 6], step: i32) {
+    for c in &counters[..3] {
+        c.store(c.load(Relaxed).wrapping_add(step as u32), Relaxed);
+    }
+}
+
+fn command(q: &mut Queues, c: Command) {
+    if q.commands.enqueue(c).is_err() {
+        fail("command queue full");
+    }
+}
+
+#[entry]
+fn main() -> ! {
+    let Some(mut cp) = cortex_m::Peripherals::take() else {
+        fail("peripherals")
+    };
+    cp.SYST.set_clock_source(SystClkSource::Core);
+    cp.SYST.set_reload(0x00FF_FFFF);
+    cp.SYST.clear_current();
+    cp.SYST.enable_counter();
+
+    let Ok(pipeline) = Pipeline::<Fast>::new(config::pipeline_config()) else {
+        fail("pipeline configuration")
+    };
+    let (Some(cq), Some(oq), Some(rq), Some(sq)) = (
+        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
+        cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
+        cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new()),
+        cortex_m::singleton!(: Queue<TimingSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new()),
+    ) else {
+        fail("queues")
+    };
+    let (ctx, crx) = cq.split();
+    let (otx, orx) = oq.split();
+    let (rtx, rrx) = rq.split();
+    let (stx, srx) = sq.split();
+    let tick_queues = TickQueues {
+        commands: crx,
+        outcomes: otx,
+        records: rtx,
+        summaries: stx,
+    };
+    if CONTROL
+        .install(ControlLoop::new(FakeStm32, pipeline, tick_queues))
+        .is_err()
+    {
+        fail("install");
+    }
+    let mut q = Queues {
+        commands: ctx,
+        outcomes: orx,
+        records: rrx,
+        summaries: srx,
+        last_record: PipelineRecord::default(),
+    };
+    run_phases(&mut q);
+    exit(true)
+}
+
+/// The measured sequence: each phase reached through the real commands, measured, and its bridge
+/// outputs checked.
+fn run_phases(q: &mut Queues) {
+    // A plausible entry latency on the fake tick timer.
+    TIM6_CNT.store(40, Relaxed);
+    for c in &ENC_CNT {
+        c.store(30_000, Relaxed);
+    }
+    isr();
+    q.drain();
+    report("unhomed", measure(&mut |_| {}));
+    expect(Mode::Unhomed, OFF, "unhomed: asleep, outputs off");
+    // nFAULT asserted while the drivers sleep must not latch.
+    nfault(true);
+    ticks(q, 100);
+    nfault(false);
+    expect(Mode::Unhomed, OFF, "nFAULT while asleep: ignored");
+    check(
+        STATUS.latched.load(Relaxed) == 0,
+        "nFAULT while asleep latched a fault",
+    );
+
+    command(q, Command::Home);
+    run_until(q, Mode::Homing, 0, 2);
+    // Driver wake time (nFAULT masked, no drive), then the arms move toward their stops.
+    ticks(q, 20);
+    report("homing_moving", measure(&mut |c| move_motors_of(c, -3)));
+    let o = outputs();
+    check(o.moe && o.awake && o.compare != [0; 3], "homing: driving");
+    run_until(q, Mode::Disarmed, 0, 20_000);
+    report("disarmed", measure(&mut |_| {}));
+    expect(Mode::Disarmed, AWAKE_OFF, "disarmed: awake, outputs off");
+
+    command(q, Command::Arm);
+    run_until(q, Mode::Armed, 0, 2);
+    report("armed_ramping_free", measure(&mut |_| {}));
+    lower_until_contact(q);
+    report("armed_contact", measure(&mut |_| {}));
+    let o = outputs();
+    check(
+        o.moe && o.awake && o.compare != [0; 3],
+        "armed in contact: driving",
+    );
+    q.drain();
+    hprintln!(
+        "record in contact: mode {} state {} force_mn {:?} compare {:?} flags {:#x}",
+        q.last_record.mode.name(),
+        q.last_record.state as u8,
+        q.last_record.force_mn,
+        q.last_record.compare,
+        q.last_record.flags.0
+    );
+    fault_checks(q);
+}
+
+/// Faults while armed: nFAULT low, then a break flag alone (a pulse the pin read missed); each
+/// gives Faulted with the drivers asleep and the outputs off at once, and clears to Disarmed.
+fn fault_checks(q: &mut Queues) {
+    nfault(true);
+    ticks(q, 1);
+    nfault(false);
+    expect(Mode::Faulted, OFF, "nFAULT while armed: faulted at once");
+    command(q, Command::ClearFaults);
+    // Served at the end of a tick; the next tick wakes the drivers.
+    ticks(q, 2);
+    expect(Mode::Disarmed, AWAKE_OFF, "cleared: disarmed, never armed");
+
+    ticks(q, 20); // wake time
+    command(q, Command::Arm);
+    run_until(q, Mode::Armed, 0, 2);
+    ticks(q, 100);
+    TIM1_SR.store(1 << 7, Relaxed);
+    ticks(q, 1);
+    expect(
+        Mode::Faulted,
+        OFF,
+        "break flag while armed: faulted at once",
+    );
+    check(
+        TIM1_SR.load(Relaxed) & (1 << 7) == 0,
+        "break flag not cleared",
+    );
+    hprintln!("CHECKS passed");
+}
+
+const OFF: Outputs = Outputs {
+    moe: false,
+    awake: false,
+    compare: [0; 3],
+};
+const AWAKE_OFF: Outputs = Outputs {
+    moe: false,
+    awake: true,
+    compare: [0; 3],
+};
+
+fn expect(mode: Mode, out: Outputs, what: &str) {
+    check(published_mode() == mode, what);
+    check(outputs() == out, what);
+}
+
+fn check(ok: bool, what: &str) {
+    if !ok {
+        hprintln!("outputs {:?}, mode {}", outputs(), published_mode().name());
+        fail(what);
+    }
+}
+
+fn nfault(asserted: bool) {
+    GPIOB_IDR.store(if asserted { 0 } else { 1 << 12 }, Relaxed);
+}
+
+fn ticks(q: &mut Queues, n: u32) {
+    for _ in 0..n {
+        isr();
+    }
+    q.drain();
+}
+
+/// Lower the arms until the probe presses the plane (a record shows a force), still armed.
+fn lower_until_contact(q: &mut Queues) {
+    for _ in 0..200 {
+        for _ in 0..100 {
+            move_motors(2);
+            isr();
+        }
+        q.drain();
+        if q.last_record.force_mn != [0; 3] {
+            check(published_mode() == Mode::Armed, "left Armed while lowering");
+            return;
+        }
+    }
+    fail("no contact reached");
+}
+
+/// End the QEMU run with the program's status.
+fn exit(ok: bool) -> ! {
+    debug::exit(if ok {
+        debug::EXIT_SUCCESS
+    } else {
+        debug::EXIT_FAILURE
+    });
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
