@@ -2,7 +2,9 @@
 //! [`scenarios`] for the scenarios and what "survived" means for each), and `host-sim soak`,
 //! the long repeated-script run ([`soak`]).
 
+pub mod classic;
 pub mod closed_loop;
+pub mod pipeline_cases;
 pub mod scenarios;
 pub mod soak;
 
