@@ -7,8 +7,9 @@
 
 use clap::ValueEnum;
 use serde::Serialize;
+use softfinger_core::pipeline::RawInput;
 
-/// A fault to inject at `--fault-at-s`.
+/// A fault to inject `--fault-at-s` after the scene starts (the device homed and armed).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Fault {
@@ -49,13 +50,17 @@ impl Fault {
         !matches!(self, Fault::None | Fault::LogStall)
     }
 
-    /// Apply a plant-side fault to one tick's raw sample (`tick`: 0-based control tick).
-    pub fn edit_sample(self, tick: u64, at_tick: u64, counts: &mut [u16; 6], n_fault: &mut bool) {
+    /// Apply a plant-side fault to tick `tick`'s raw sample; `at_tick` is the fault's tick, once
+    /// known (the scene has started).
+    pub fn edit_sample(self, tick: u64, at_tick: Option<u64>, raw: &mut RawInput) {
+        let Some(at) = at_tick else {
+            return;
+        };
         match self {
-            Fault::EncoderGlitch if tick == at_tick => {
-                counts[0] = counts[0].wrapping_add(GLITCH_COUNTS)
+            Fault::EncoderGlitch if tick == at => {
+                raw.counts[0] = raw.counts[0].wrapping_add(GLITCH_COUNTS)
             }
-            Fault::DriverFault if tick >= at_tick => *n_fault = true,
+            Fault::DriverFault if tick >= at => raw.driver_fault = true,
             _ => {}
         }
     }

@@ -6,6 +6,7 @@
 //! `scripts/pil` builds the firmware and this tool and runs it; see that script for the options.
 
 pub mod faults;
+pub mod operator;
 pub mod qemu;
 pub mod reference;
 pub mod report;
@@ -33,7 +34,8 @@ pub struct Args {
     /// Control rate, Hz (default: the scene's); 25 MHz must be a multiple of it.
     #[arg(long)]
     pub rate_hz: Option<u32>,
-    /// Simulated seconds to run (default: the scene's duration).
+    /// Simulated seconds of the scene after arming (default: the scene's duration); homing and
+    /// arming come first.
     #[arg(long)]
     pub duration_s: Option<f64>,
     /// Print the summary as JSON.
@@ -48,7 +50,7 @@ pub struct Args {
     /// Inject a fault.
     #[arg(long, value_enum, default_value = "none")]
     pub fault: Fault,
-    /// When to inject it, simulated seconds.
+    /// When to inject it: simulated seconds after the scene starts (homed and armed).
     #[arg(long, default_value_t = 1.0)]
     pub fault_at_s: f64,
     /// Fail (exit 2) on any overrun, any difference from the in-process run, a fault not
@@ -61,7 +63,7 @@ pub struct Args {
     /// The firmware ELF for the emulated board.
     #[arg(
         long,
-        default_value = "firmware/target/thumbv7em-none-eabihf/release/softfinger-pil"
+        default_value = "firmware/pil/target/thumbv7em-none-eabihf/release/softfinger-pil"
     )]
     pub elf: PathBuf,
     /// The QEMU executable.
@@ -122,6 +124,7 @@ fn settings(args: &Args, scene: &Scene) -> Result<session::Settings, String> {
             "--rate-hz {rate_hz}: must be within 1000..=20000 and divide 25 MHz"
         ));
     }
+    let timing = closed_loop::board_timing(f64::from(rate_hz))?;
     let duration_s = args.duration_s.unwrap_or(scene.duration_s);
     if !(duration_s.is_finite() && duration_s > 0.0 && duration_s <= MAX_DURATION_S) {
         return Err(format!(
@@ -132,15 +135,15 @@ fn settings(args: &Args, scene: &Scene) -> Result<session::Settings, String> {
         && !(args.fault_at_s.is_finite() && (0.0..duration_s).contains(&args.fault_at_s))
     {
         return Err(format!(
-            "--fault-at-s {}: must be within the run (0..{duration_s} s)",
+            "--fault-at-s {}: must be within the scene (0..{duration_s} s)",
             args.fault_at_s
         ));
     }
     Ok(session::Settings {
-        rate_hz,
-        ticks: (duration_s * f64::from(rate_hz)).round() as u64,
+        timing,
+        scene_ticks: (duration_s * f64::from(rate_hz)).round() as u64,
         fault: args.fault,
-        fault_tick: (args.fault_at_s * f64::from(rate_hz)).round() as u64,
+        fault_offset: (args.fault_at_s * f64::from(rate_hz)).round() as u64,
     })
 }
 
@@ -196,7 +199,7 @@ fn run_board(
         let mut emu = qemu::Emulator::start(&args.qemu, &elf, &dir, limit)?;
         let served = session::run(&mut emu, plant.clone(), s);
         let status = emu.finish();
-        let (trace, _) = served?;
+        let trace = served?;
         let status = status?;
         if !trace.done || !status.success() {
             return Err(format!(
@@ -248,12 +251,19 @@ pub fn main(args: &Args) -> Result<(), String> {
     if let Some(path) = &args.defmt_raw {
         std::fs::write(path, &raw).map_err(|e| format!("{}: {e}", path.display()))?;
     }
-    let cfg = trace.config.ok_or("the board never announced itself")?;
-    let reference = reference::run(&plant, &cfg, &s)?;
+    if trace.homing_timed_out {
+        return Err("the board did not finish homing in time".into());
+    }
+    let scene = Scene {
+        rate_hz: f64::from(s.rate_hz()),
+        ..scene
+    };
+    let config = closed_loop::plane_config(&scene, contact)?;
+    let reference = reference::run(&plant, config, &s)?;
     let log = telemetry::decode(&read(&args.elf)?, &raw)?;
     let rows = telemetry::telemetry_rows(&log);
     if let Some(path) = &args.telemetry_csv {
-        telemetry::write_csv(path, &rows, s.rate_hz)?;
+        telemetry::write_csv(path, &rows, s.rate_hz())?;
     }
     let summary = summarize(&scene, &s, &trace, &reference, &log, &rows);
     if args.json {
@@ -275,7 +285,7 @@ fn summarize(
     scene: &Scene,
     s: &session::Settings,
     trace: &session::Trace,
-    reference: &[reference::RefTick],
+    reference: &reference::RefRun,
     log: &telemetry::Log,
     rows: &[Vec<(String, String)>],
 ) -> Summary {
@@ -284,13 +294,15 @@ fn summarize(
         trace.reports.get(&key).copied().unwrap_or(0)
     };
     // Panic and hang cannot be mirrored: compare the ticks before the fault only.
-    let limit = if s.fault.mirrored_in_reference() {
-        s.ticks
-    } else {
-        s.fault_tick
+    let fault_tick = s.fault_tick(trace.scene_start);
+    let limit = match fault_tick {
+        Some(t) if !s.fault.mirrored_in_reference() => t,
+        _ => u64::MAX,
     };
-    let (compared, identical, max_diff, first) = report::compare(trace, reference, limit);
-    let dt = 1.0 / f64::from(s.rate_hz);
+    let full_scale = f64::from(s.timing.pwm_period_counts());
+    let (compared, identical, max_diff, first) =
+        report::compare(trace, &reference.ticks, limit, full_scale);
+    let dt = 1.0 / f64::from(s.rate_hz());
     let field = |row: &[(String, String)], name: &str| {
         row.iter()
             .find(|(c, _)| c == name)
@@ -306,11 +318,11 @@ fn summarize(
         (Some(a), Some(b)) if b > a => (b - a) * dt,
         _ => 0.0,
     };
-    let mut fault: FaultReport = report::observe_fault(trace, s.fault, s.fault_tick);
-    let period_instructions = qemu::INSTRUCTIONS_PER_SECOND / u64::from(s.rate_hz);
+    let mut fault: FaultReport = report::observe_fault(trace, s.fault, fault_tick);
+    let period_instructions = qemu::INSTRUCTIONS_PER_SECOND / u64::from(s.rate_hz());
     let summary = Summary {
         scene: scene.name.clone(),
-        rate_hz: s.rate_hz,
+        rate_hz: s.rate_hz(),
         icount_shift: qemu::ICOUNT_SHIFT,
         instructions_per_second: qemu::INSTRUCTIONS_PER_SECOND,
         period_instructions,
@@ -318,6 +330,8 @@ fn summarize(
         overruns: figure("overruns"),
         max_tick_instructions: figure("max_tick_instructions"),
         max_start_latency_instructions: figure("max_start_latency_instructions"),
+        scene_start_tick: trace.scene_start,
+        scene_start_tick_in_process: reference.scene_start,
         compared_ticks: compared,
         identical_ticks: identical,
         max_duty_diff: max_diff,
@@ -326,13 +340,16 @@ fn summarize(
         defmt_drops: figure("defmt_drops"),
         defmt_malformed: log.malformed,
         telemetry_records: rows.len(),
-        telemetry_drops: figure("telemetry_drops"),
+        telemetry_drops: rows
+            .iter()
+            .map(|r| field(r, "dropped_before").parse::<u64>().unwrap_or(0))
+            .sum(),
         watchdog_resets: trace.resets.len(),
         contact_state_s: report::state_time(
             states.iter().enumerate().map(|(i, st)| (st.as_str(), record_dt(i))),
         ),
         contact_state_s_in_process: report::state_time(
-            reference.iter().map(|r| (r.state.name(), dt)),
+            reference.ticks.iter().map(|r| (r.state.name(), dt)),
         ),
         fault: fault.clone(),
     };
@@ -354,7 +371,9 @@ fn judge(summary: &Summary, s: &session::Settings) -> bool {
         Fault::EncoderGlitch | Fault::DriverFault => off_and_kept(0) && all_identical,
         Fault::Panic => off_and_kept(0),
         // 5 ms watchdog timeout (the firmware's configuration), then the NMI.
-        Fault::Hang => summary.watchdog_resets > 0 && off_and_kept(u64::from(s.rate_hz) / 200 + 1),
+        Fault::Hang => {
+            summary.watchdog_resets > 0 && off_and_kept(u64::from(s.rate_hz()) / 200 + 1)
+        }
     }
 }
 

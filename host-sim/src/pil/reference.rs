@@ -1,80 +1,70 @@
-//! The in-process reference: the same control sequence as the board's tick, on the host, against
-//! the same plant and the same plant-side faults, tick by tick.
-//!
-//! Interim, like `firmware/src/board/mps2/app.rs`: count extension, controller, output guard and
-//! phase/enable mapping in the firmware's order. When `softfinger_core::pipeline::Pipeline` lands,
-//! both become one `Pipeline::tick` call. The f32 operations are the same on both sides (no FMA
-//! contraction: Rust never fuses without being asked), so the outputs should agree to the bit.
+//! The in-process reference: the same pipeline as the board's tick (`Pipeline::<Fast>`, the
+//! firmware's configuration), the same plant, the same operator session and the same plant-side
+//! faults, tick by tick. The f32 operations are the same on both sides (Rust never contracts
+//! a·b+c into an FMA unless asked), so the bridge commands should agree to the bit.
 
+use super::operator::Operator;
 use super::session::Settings;
-use super::wire::{BoardConfig, Pins};
 use crate::plant::Plant;
 use softfinger_core::contact_state::ContactState;
-use softfinger_core::controller::{Controller, ControllerConfig, TickInput};
-use softfinger_core::encoder::EncoderBank;
-use softfinger_core::output_guard::{phase_enable, GuardConfig, OutputGuard};
-use softfinger_core::{Fast, Flags};
+use softfinger_core::pipeline::{BridgeCommands, Mode, Pipeline, PipelineConfig, RawInput};
+use softfinger_core::surface::Plane;
+use softfinger_core::Fast;
 
-/// One reference tick: the outputs it writes and the contact state after it.
+/// One reference tick.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RefTick {
-    pub pins: Pins,
+    pub bridges: BridgeCommands,
     pub state: ContactState,
+    pub mode: Mode,
 }
 
-/// Run `s.ticks` ticks with the board's configuration `cfg`. Mirrors the session's timing: one
-/// boot sample in period 0, one idle period, then tick k samples in period k+1.
-pub fn run(plant: &Plant, cfg: &BoardConfig, s: &Settings) -> Result<Vec<RefTick>, String> {
+/// The reference run: every tick, and the tick the scene started at.
+pub struct RefRun {
+    pub ticks: Vec<RefTick>,
+    pub scene_start: Option<u64>,
+}
+
+/// Run until the scene's end. Mirrors the session's timing: one idle period, then tick k.
+pub fn run(plant: &Plant, config: PipelineConfig<Plane>, s: &Settings) -> Result<RefRun, String> {
     let mut plant = plant.clone();
-    let config = ControllerConfig {
-        rate_hz: s.rate_hz as f32,
-        ..ControllerConfig::default()
-    };
-    let mut ctrl = Controller::<Fast>::new(config).map_err(|e| format!("controller: {e:?}"))?;
-    let mut guard = OutputGuard::new(GuardConfig {
-        max_duty: cfg.max_duty,
-        max_overrun_streak: cfg.max_overrun_streak,
-    })
-    .map_err(|e| format!("output guard: {e:?}"))?;
-    let raw = |p: &Plant| p.counts().map(|c| c as u16);
-    let mut bank = EncoderBank::new(raw(&plant), cfg.max_counts_per_tick);
-    let dt = 1.0 / f64::from(s.rate_hz);
-    plant.step_with_enable(Pins::OFF.duties(cfg.full_scale), false, dt);
-    let mut out = Vec::with_capacity(s.ticks as usize);
-    for k in 0..s.ticks {
-        let mut counts = raw(&plant);
-        let mut n_fault = false;
+    let timing = config.timing;
+    let mut pipe = Pipeline::<Fast>::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
+    plant.step_bridges(&BridgeCommands::OFF, &timing);
+    let mut op = Operator::new(s.rate_hz());
+    let mut prev_mode = Mode::Unhomed;
+    let mut ticks = Vec::new();
+    for k in 0.. {
+        if s.finished(k, op.scene_start()) {
+            break;
+        }
+        if op.homing_timed_out(k) {
+            return Err("in-process run: not homed in time".into());
+        }
+        let command = op.before_sample(k, prev_mode, &mut plant);
+        let mut raw = RawInput {
+            counts: plant.raw_counts(),
+            ..RawInput::default()
+        };
         if s.fault.mirrored_in_reference() {
             s.fault
-                .edit_sample(k, s.fault_tick, &mut counts, &mut n_fault);
+                .edit_sample(k, s.fault_tick(op.scene_start()), &mut raw);
         }
-        let (extended, encoder_flags) = bank.update(counts);
-        let input = TickInput {
-            counts: extended,
-            driver_fault: n_fault,
-            overrun: false,
-        };
-        let output = ctrl.tick(&input);
-        let mut events = encoder_flags;
-        if n_fault {
-            events |= Flags::DRIVER_FAULT;
+        let out = pipe.tick(&raw);
+        plant.step_bridges(&out.bridges, &timing);
+        if let Some(c) = command {
+            // A refusal is the pipeline's answer, as on the board.
+            let _ = pipe.command(c);
         }
-        let guarded = guard.apply(&output, events, 0);
-        let mut pins = Pins {
-            pwm_enable: guarded.enable,
-            driver_awake: guarded.enable,
-            ..Pins::OFF
-        };
-        for (i, duty) in guarded.duties.iter().enumerate() {
-            let cmd = phase_enable(if guarded.enable { *duty } else { 0.0 }, cfg.full_scale);
-            pins.phase_forward[i] = cmd.forward;
-            pins.compare[i] = cmd.compare.min(u32::from(u16::MAX)) as u16;
-        }
-        plant.step_with_enable(pins.duties(cfg.full_scale), pins.enabled(), dt);
-        out.push(RefTick {
-            pins,
-            state: output.state,
+        prev_mode = out.mode;
+        ticks.push(RefTick {
+            bridges: out.bridges,
+            state: out.control.state,
+            mode: out.mode,
         });
     }
-    Ok(out)
+    Ok(RefRun {
+        ticks,
+        scene_start: op.scene_start(),
+    })
 }

@@ -4,19 +4,18 @@
 use super::faults::Fault;
 use super::reference::RefTick;
 use super::session::Trace;
-use super::wire::Pins;
+use super::wire::{enabled, signed_compare};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
 /// Keys of the board's end-of-run figures (`Report` messages), in the board's order.
-pub const REPORT_KEYS: [&str; 7] = [
+pub const REPORT_KEYS: [&str; 6] = [
     "ticks",
     "overruns",
     "max_start_latency_instructions",
     "max_tick_instructions",
     "defmt_frames",
     "defmt_drops",
-    "telemetry_drops",
 ];
 
 /// Everything `host-sim pil` reports; the JSON of `--json`.
@@ -35,6 +34,9 @@ pub struct Summary {
     pub max_tick_instructions: u32,
     /// Timer event to the interrupt's first timer read.
     pub max_start_latency_instructions: u32,
+    /// The tick the scene started at (homed and armed), on the board and in-process.
+    pub scene_start_tick: Option<u64>,
+    pub scene_start_tick_in_process: Option<u64>,
     /// Ticks compared with the in-process run, and how many wrote identical bridge commands.
     pub compared_ticks: u64,
     pub identical_ticks: u64,
@@ -45,7 +47,8 @@ pub struct Summary {
     pub defmt_drops: u32,
     pub defmt_malformed: usize,
     pub telemetry_records: usize,
-    pub telemetry_drops: u32,
+    /// Records the tick could not queue (the decoded records' `dropped_before`, summed).
+    pub telemetry_drops: u64,
     pub watchdog_resets: usize,
     /// Seconds in each contact state, from the board's decoded telemetry records.
     pub contact_state_s: BTreeMap<String, f64>,
@@ -70,20 +73,25 @@ pub struct FaultReport {
 }
 
 /// Compare the board's outputs, period by period, with the reference's, over `limit` ticks.
-/// Tick k's outputs are the ones held at the end of period k+1.
-pub fn compare(trace: &Trace, reference: &[RefTick], limit: u64) -> (u64, u64, f64, Option<u64>) {
+/// Tick k's outputs are the ones held at the end of period k+1; `full_scale` is the PWM period in
+/// compare counts.
+pub fn compare(
+    trace: &Trace,
+    reference: &[RefTick],
+    limit: u64,
+    full_scale: f64,
+) -> (u64, u64, f64, Option<u64>) {
     let (mut compared, mut identical, mut max_diff, mut first) = (0, 0, 0.0f64, None);
-    let full_scale = trace.config.map_or(1, |c| c.full_scale.max(1)) as f64;
     for (k, r) in reference.iter().enumerate().take(limit as usize) {
         let Some(p) = trace.pins.get(k + 1) else {
             break;
         };
         compared += 1;
-        if *p == r.pins {
+        if *p == r.bridges {
             identical += 1;
         } else {
             first.get_or_insert(k as u64);
-            let (a, b) = (p.signed_compare(), r.pins.signed_compare());
+            let (a, b) = (signed_compare(p), signed_compare(&r.bridges));
             for i in 0..3 {
                 max_diff = max_diff.max((a[i] - b[i]).abs() as f64 / full_scale);
             }
@@ -93,23 +101,23 @@ pub fn compare(trace: &Trace, reference: &[RefTick], limit: u64) -> (u64, u64, f
 }
 
 /// The plant's view of the fault: when the bridges went off and whether they stayed off.
-pub fn observe_fault(trace: &Trace, fault: Fault, at_tick: u64) -> FaultReport {
+pub fn observe_fault(trace: &Trace, fault: Fault, at_tick: Option<u64>) -> FaultReport {
     let mut r = FaultReport {
         name: fault,
-        at_tick: (fault != Fault::None).then_some(at_tick),
+        at_tick: at_tick.filter(|_| fault != Fault::None),
         outputs_off_at_tick: None,
         outputs_off_after_ticks: None,
         periods_driven_after_off: 0,
         handled: true,
     };
-    if fault == Fault::None {
+    let Some(at_tick) = r.at_tick else {
         return r;
-    }
-    let after: Vec<&Pins> = trace.pins.iter().skip(at_tick as usize + 1).collect();
-    if let Some(i) = after.iter().position(|p| !p.enabled()) {
+    };
+    let after: Vec<_> = trace.pins.iter().skip(at_tick as usize + 1).collect();
+    if let Some(i) = after.iter().position(|p| !enabled(p)) {
         r.outputs_off_at_tick = Some(at_tick + i as u64);
         r.outputs_off_after_ticks = Some(i as u64);
-        r.periods_driven_after_off = after[i..].iter().filter(|p| p.enabled()).count() as u64;
+        r.periods_driven_after_off = after[i..].iter().filter(|p| enabled(p)).count() as u64;
     }
     r
 }

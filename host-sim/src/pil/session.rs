@@ -2,28 +2,28 @@
 //! board's inputs sampled and its outputs applied exactly when its messages say.
 //!
 //! Plant time: every message carries the board time; the host steps the plant, one control period
-//! at a time, up to the period that time falls in, each step with the bridge outputs held at the
-//! end of that period (the PWM keeps running on its last compare values). So a tick that runs late
-//! or not at all, a panic, and a watchdog reset all act on the plant when they act in virtual time.
-//! Step j (from period j to j+1) applies, through the plant's one-period output latch, the outputs
-//! of period j−1, which is what the in-process loop does.
+//! at a time, up to the period that time falls in, each step with the bridge commands held at the
+//! end of that period (the PWM keeps running on its last commands). So a tick that runs late or
+//! not at all, a panic, and a watchdog reset all act on the plant when they act in virtual time.
+//! Step j (period j to j+1) is `Plant::step_bridges` with the commands of period j, which is what
+//! the in-process loop does after tick j−1.
 //!
-//! Ticks: the board samples once at boot (period 0, to seed its count extension); tick k (0-based)
-//! samples in period k+1. The run stops at the first sample in period `ticks + 1`.
+//! Ticks: the tick timer's first event ends period 0; tick k samples in period k+1. The operator
+//! ([`Operator`]) acts before each sample; the run stops `scene_ticks` after the scene starts.
 
 use super::faults::Fault;
+use super::operator::{command_code, Operator};
 use super::qemu::Emulator;
-use super::wire::{self, BoardConfig, Message, Pins};
+use super::wire::{self, Message};
 use crate::plant::Plant;
+use softfinger_core::pipeline::{BoardTiming, BridgeCommands, Mode, RawInput};
 use std::collections::BTreeMap;
 
 /// What the plant saw over the run.
 #[derive(Clone, Debug, Default)]
 pub struct Trace {
-    /// The outputs held at the end of each period, index = period (0 = boot).
-    pub pins: Vec<Pins>,
-    /// The board's configuration at its first boot.
-    pub config: Option<BoardConfig>,
+    /// The bridge commands held at the end of each period, index = period.
+    pub pins: Vec<BridgeCommands>,
     /// Boots after the first, by reset cause.
     pub resets: Vec<u32>,
     /// `ResetPending` messages (watchdog NMI).
@@ -34,15 +34,38 @@ pub struct Trace {
     pub done: bool,
     /// Samples served.
     pub samples: u64,
+    /// The tick the scene started at (armed).
+    pub scene_start: Option<u64>,
+    /// Homing did not finish in time.
+    pub homing_timed_out: bool,
 }
 
 /// The run's settings.
+#[derive(Clone, Copy, Debug)]
 pub struct Settings {
-    pub rate_hz: u32,
-    pub ticks: u64,
+    pub timing: BoardTiming,
+    /// Ticks of the scene after arming.
+    pub scene_ticks: u64,
     pub fault: Fault,
-    /// 0-based tick of the fault.
-    pub fault_tick: u64,
+    /// Ticks from the scene's start to the fault.
+    pub fault_offset: u64,
+}
+
+impl Settings {
+    /// The control rate, Hz.
+    pub fn rate_hz(&self) -> u32 {
+        self.timing.control_hz
+    }
+
+    /// The fault's tick, once the scene has started.
+    pub fn fault_tick(&self, scene_start: Option<u64>) -> Option<u64> {
+        scene_start.map(|s| s + self.fault_offset)
+    }
+
+    /// Tick `k` is past the end of the run.
+    pub fn finished(&self, k: u64, scene_start: Option<u64>) -> bool {
+        scene_start.is_some_and(|s| k >= s + self.scene_ticks)
+    }
 }
 
 /// 25 MHz board counts per control period.
@@ -53,15 +76,16 @@ fn period_counts(rate_hz: u32) -> u64 {
 struct Lockstep<'a> {
     plant: Plant,
     s: &'a Settings,
-    dt: f64,
-    full_scale: u32,
+    op: Operator,
     /// Plant steps done = the current period.
     period: u64,
-    /// Board time of the current session's origin, counts (moves at each reset).
+    /// The next tick the operator acts for.
+    next_tick: u64,
+    /// Board time of the current boot's origin, counts (moves at each reset).
     base: u64,
     /// When a reset is pending: the absolute time it happens.
     reset_at: Option<u64>,
-    pins: Pins,
+    pins: BridgeCommands,
     trace: Trace,
 }
 
@@ -69,76 +93,79 @@ impl Lockstep<'_> {
     fn advance_to(&mut self, target: u64) {
         while self.period < target {
             self.trace.pins.push(self.pins);
-            let duties = self.pins.duties(self.full_scale);
-            self.plant
-                .step_with_enable(duties, self.pins.enabled(), self.dt);
+            self.plant.step_bridges(&self.pins, &self.s.timing);
             self.period += 1;
         }
     }
 
-    fn period_of(&self, time_counts: u64) -> u64 {
-        (self.base + time_counts) / period_counts(self.s.rate_hz)
-    }
-
-    fn sense_reply(&mut self) -> [u8; wire::REPLY_LEN] {
-        let tick = self.period.saturating_sub(1);
-        let mut counts = self.plant.counts().map(|c| c as u16);
-        let mut n_fault = false;
-        self.s
-            .fault
-            .edit_sample(tick, self.s.fault_tick, &mut counts, &mut n_fault);
-        let mut control = 0;
-        if self.period > self.s.ticks {
-            control |= wire::CONTROL_STOP;
+    fn sense_reply(&mut self, mode: Mode) -> [u8; wire::REPLY_LEN] {
+        let k = self.period.saturating_sub(1);
+        let mut command = None;
+        if k >= self.next_tick {
+            command = self.op.before_sample(k, mode, &mut self.plant);
+            self.next_tick = k + 1;
         }
-        if self.s.fault == Fault::LogStall && tick >= self.s.fault_tick {
+        let start = self.op.scene_start();
+        self.trace.scene_start = start;
+        let mut raw = RawInput {
+            counts: self.plant.raw_counts(),
+            ..RawInput::default()
+        };
+        let fault_tick = self.s.fault_tick(start);
+        self.s.fault.edit_sample(k, fault_tick, &mut raw);
+        let mut control = 0;
+        if self.s.finished(k, start) || self.op.homing_timed_out(k) {
+            control |= wire::CONTROL_STOP;
+            self.trace.homing_timed_out = self.op.homing_timed_out(k);
+        }
+        if self.s.fault == Fault::LogStall && fault_tick.is_some_and(|f| k >= f) {
             control |= wire::CONTROL_LOG_STALL;
         }
+        if self.s.fault.board_code() != 0 && fault_tick == Some(k) {
+            control |= wire::CONTROL_INJECT;
+        }
         self.trace.samples += 1;
-        wire::sense_reply(counts, n_fault, control)
+        wire::sense_reply(raw.counts, raw.driver_fault, control, command_code(command))
     }
 }
 
-/// Serve the board until it says `Done` (or QEMU exits). Returns the trace and the plant.
-pub fn run(emu: &mut Emulator, plant: Plant, s: &Settings) -> Result<(Trace, Plant), String> {
+/// Serve the board until it says `Done` (or QEMU exits). Returns the trace.
+pub fn run(emu: &mut Emulator, plant: Plant, s: &Settings) -> Result<Trace, String> {
     let mut l = Lockstep {
         plant,
         s,
-        dt: 1.0 / f64::from(s.rate_hz),
-        full_scale: 1,
+        op: Operator::new(s.rate_hz()),
         period: 0,
+        next_tick: 0,
         base: 0,
         reset_at: None,
-        pins: Pins::OFF,
+        pins: BridgeCommands::OFF,
         trace: Trace::default(),
     };
-    let fault_code = s.fault.board_code();
-    let fault_tick = u32::try_from(s.fault_tick).unwrap_or(u32::MAX);
+    let mut booted = false;
     loop {
         let st = wire::decode(&emu.receive()?)?;
-        if let Message::Hello(cfg) = st.message {
+        if let Message::Hello { reset_cause } = st.message {
             if let Some(at) = l.reset_at.take() {
                 l.base = at;
-                l.trace.resets.push(cfg.reset_cause);
-            } else if l.trace.config.is_some() {
+                l.trace.resets.push(reset_cause);
+            } else if booted {
                 return Err("the board rebooted without a watchdog NMI".into());
             }
-            l.full_scale = cfg.full_scale.max(1);
-            l.trace.config.get_or_insert(cfg);
-            // A reboot answers with no fault: it is injected once.
-            let code = if l.trace.resets.is_empty() { fault_code } else { 0 };
-            emu.reply(&wire::hello_reply(s.rate_hz, code, fault_tick))?;
+            // A fault is injected once: a rebooted board's test hook stays disarmed.
+            let code = if booted { 0 } else { s.fault.board_code() };
+            booted = true;
+            emu.reply(&wire::hello_reply(s.rate_hz(), code))?;
             continue;
         }
-        let target = l.period_of(st.time_counts);
-        l.advance_to(target);
+        l.advance_to((l.base + st.time_counts) / period_counts(s.rate_hz()));
         match st.message {
-            Message::Hello(_) => {}
-            Message::Sense => {
-                let r = l.sense_reply();
+            Message::Hello { .. } => {}
+            Message::Sense { mode } => {
+                let r = l.sense_reply(mode);
                 emu.reply(&r)?;
             }
-            Message::Drive(p) => l.pins = p,
+            Message::Drive(b) => l.pins = b,
             Message::Report { key, value } => {
                 l.trace.reports.insert(key, value);
             }
@@ -153,5 +180,5 @@ pub fn run(emu: &mut Emulator, plant: Plant, s: &Settings) -> Result<(Trace, Pla
             Message::Exited => break,
         }
     }
-    Ok((l.trace, l.plant))
+    Ok(l.trace)
 }

@@ -2,9 +2,9 @@
 //! emulated board's, or the STM32 build's with a raw RTT capture), and the telemetry records in
 //! them written as CSV.
 //!
-//! The decoder renders each frame's message; a `TelemetryRecord` renders as its derived `Format`
-//! (`TelemetryRecord { tick: 3, counts: [..], probe_m: Vec3 { x: .., .. }, state: Rolling, .. }`),
-//! which [`flatten`] turns into named columns (`tick`, `counts_0`.., `probe_m_x`.., `state`..).
+//! The decoder renders each frame's message; a `PipelineRecord` renders as its derived `Format`
+//! (`PipelineRecord { tick: 3, mode: Armed, state: Rolling, motor_counts: [..], .. }`), which
+//! [`flatten`] turns into named columns (`tick`, `mode`, `state`, `motor_counts_0`..).
 
 use defmt_decoder::{DecodeError, Table};
 
@@ -136,12 +136,12 @@ impl Parser<'_> {
     }
 }
 
-/// The telemetry records of a log as rows of (column, value), the record's type name stripped.
+/// The telemetry records of a log as rows of (column, value).
 pub fn telemetry_rows(log: &Log) -> Vec<Vec<(String, String)>> {
     log.frames
         .iter()
-        .filter(|f| f.message.starts_with("TelemetryRecord {"))
-        .filter_map(|f| flatten(f.message.trim_start_matches("TelemetryRecord")))
+        .filter(|f| f.message.starts_with("PipelineRecord {"))
+        .filter_map(|f| flatten(&f.message))
         .collect()
 }
 
@@ -183,7 +183,7 @@ mod tests {
 
     #[test]
     fn flattens_a_rendered_record() {
-        let text = " { tick: 7, counts: [1, -2], probe_m: Vec3 { x: 0.5, y: -1e-3, z: 2 }, state: Rolling, flags: Flags(33), enable: true }";
+        let text = "TelemetryRecord { tick: 7, counts: [1, -2], probe_m: Vec3 { x: 0.5, y: -1e-3, z: 2 }, state: Rolling, flags: Flags(33), enable: true }";
         let cols = flatten(text).unwrap();
         let names: Vec<&str> = cols.iter().map(|(c, _)| c.as_str()).collect();
         assert_eq!(

@@ -1,21 +1,19 @@
-//! Fail-safe paths of the emulated board: panic, HardFault and the watchdog's NMI each drive every
-//! bridge output off first, then wait for the watchdog to reset the MCU. The reset cause survives
-//! the reset in `.uninit` RAM and is reported to the plant at the next boot.
+//! The watchdog's NMI on the emulated board (the app's `failsafe` handles panics and HardFaults:
+//! bridges off, then wait for the watchdog): bridges off, tell the plant when the reset comes,
+//! and leave the reset cause in `.uninit` RAM for the next boot to report.
 #![allow(unsafe_code)]
 
 use core::mem::MaybeUninit;
 use core::sync::atomic::{compiler_fence, Ordering};
 
-use super::link::{self, Kind, Pins};
+use softfinger_core::pipeline::BridgeCommands;
+
+use super::link::{self, Kind};
 
 /// Reset causes as reported in `Hello`.
 pub const CAUSE_POWER_ON: u32 = 0;
 /// The watchdog reset the MCU (a hung tick, or after a panic or HardFault).
 pub const CAUSE_WATCHDOG: u32 = 1;
-/// A panic, then the watchdog reset.
-pub const CAUSE_PANIC: u32 = 2;
-/// A HardFault, then the watchdog reset.
-pub const CAUSE_HARDFAULT: u32 = 3;
 
 const MAGIC: u32 = 0x5AFE_0000;
 
@@ -50,42 +48,15 @@ pub fn set_watchdog_counts(counts: u32) {
     unsafe { *core::ptr::addr_of_mut!(WATCHDOG_COUNTS) = counts };
 }
 
-/// Outputs off, then wait (without petting the watchdog) for the reset.
-fn safe_stop(cause: u32) -> ! {
-    link::drive(&Pins::OFF);
-    mark(cause);
-    loop {
-        cortex_m::asm::wfi();
-    }
-}
-
-#[panic_handler]
-fn panic(_info: &core::panic::PanicInfo) -> ! {
-    link::drive(&Pins::OFF);
-    defmt::error!("PANIC: outputs off, waiting for the watchdog reset");
-    safe_stop(CAUSE_PANIC)
-}
-
-#[cortex_m_rt::exception]
-unsafe fn HardFault(_frame: &cortex_m_rt::ExceptionFrame) -> ! {
-    safe_stop(CAUSE_HARDFAULT)
-}
-
 /// The watchdog's first expiry: the tick has not petted it for a whole timeout. Outputs off, tell
 /// the plant when the reset comes, and wait for it (the second expiry resets the system).
 #[cortex_m_rt::exception]
 unsafe fn NonMaskableInt() {
-    link::drive(&Pins::OFF);
+    link::drive(&BridgeCommands::OFF);
     // SAFETY: written once before the watchdog started.
     let counts = *core::ptr::addr_of!(WATCHDOG_COUNTS);
     link::send(Kind::ResetPending, 0, 0, [0; 3], [counts, 0, 0]);
-    // Keep an earlier, more specific cause (panic, HardFault).
-    let earlier = take_reset_cause();
-    mark(if earlier == CAUSE_POWER_ON {
-        CAUSE_WATCHDOG
-    } else {
-        earlier
-    });
+    mark(CAUSE_WATCHDOG);
     loop {
         cortex_m::asm::wfi();
     }

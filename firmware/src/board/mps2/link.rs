@@ -11,13 +11,16 @@
 //! `[0]` kind, `[1]` bits, `[2..4]` key, `[4..10]` compare\[3\] (u16), `[12..16]` a, `[16..20]` b,
 //! `[20..24]` c (u32), `[24..32]` board time in 25 MHz counts since the time base started (u64).
 //! Reply (plant -> board): `[0..12]` raw encoder counts\[6\] (u16), `[12]` bit 0 nFAULT asserted,
-//! `[13]` control bits ([`CONTROL_STOP`], [`CONTROL_LOG_STALL`]); to `Hello`: `[0..4]` control
-//! rate (Hz), `[4..8]` injected fault, `[8..12]` the tick it is injected at.
+//! `[13]` control bits ([`CONTROL_STOP`], [`CONTROL_LOG_STALL`], [`CONTROL_INJECT`]), `[14]` an
+//! operator command ([`command`]); to `Hello`: `[0..4]` control rate (Hz), `[4..8]` the fault the
+//! test hook injects when asked.
 //! The host side is host-sim/src/pil/wire.rs; both sides must change together.
 #![allow(unsafe_code)]
 
 use core::sync::atomic::{AtomicUsize, Ordering};
 use cortex_m_semihosting::{nr, syscall};
+
+use softfinger_core::pipeline::{BridgeCommands, Command};
 
 use super::cmsdk::FreeRunning;
 
@@ -30,11 +33,10 @@ pub const REPLY_LEN: usize = 16;
 #[derive(Clone, Copy)]
 #[repr(u8)]
 pub enum Kind {
-    /// The board booted: a = reset cause (`faults::CAUSE_*`), b = the guard's duty limit (f32
-    /// bits), c = its overrun streak, key = the glitch threshold (counts per tick), compare\[0\] =
-    /// the PWM full scale. The reply configures the run.
+    /// The board booted: a = reset cause (`faults::CAUSE_*`). The reply configures the run.
     Hello = 1,
-    /// Sample the inputs now (reply: encoder counts, nFAULT, control bits).
+    /// Sample the inputs now; key = the pipeline's mode after the previous tick (the operator's
+    /// view of the status LED). Reply: encoder counts, nFAULT, control bits, operator command.
     Sense = 2,
     /// The bridge outputs change now (bits: phase 0..2, bit 3 PWM enable, bit 4 nSLEEP high).
     Drive = 3,
@@ -50,24 +52,18 @@ pub enum Kind {
 pub const CONTROL_STOP: u8 = 1 << 0;
 /// Reply control bit: the host's log reader has stalled (fault injection).
 pub const CONTROL_LOG_STALL: u8 = 1 << 1;
+/// Reply control bit: the test hook injects its fault in this tick.
+pub const CONTROL_INJECT: u8 = 1 << 2;
 
-/// Bridge commands as the pins carry them.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Pins {
-    pub phase_forward: [bool; 3],
-    pub compare: [u16; 3],
-    pub pwm_enable: bool,
-    pub driver_awake: bool,
-}
-
-impl Pins {
-    /// Every output off: no PWM, drivers asleep.
-    pub const OFF: Pins = Pins {
-        phase_forward: [true; 3],
-        compare: [0; 3],
-        pwm_enable: false,
-        driver_awake: false,
-    };
+/// The operator command of a reply's byte 14 (0: none).
+pub fn command(code: u8) -> Option<Command> {
+    match code {
+        1 => Some(Command::Home),
+        2 => Some(Command::Arm),
+        3 => Some(Command::Disarm),
+        4 => Some(Command::ClearFaults),
+        _ => None,
+    }
 }
 
 /// What the plant's inputs read at one sample.
@@ -76,6 +72,7 @@ pub struct Sensed {
     pub counts: [u16; 6],
     pub n_fault_asserted: bool,
     pub control: u8,
+    pub command: u8,
 }
 
 const NOT_OPEN: usize = usize::MAX;
@@ -148,34 +145,18 @@ fn receive() -> Option<[u8; REPLY_LEN]> {
     Some(r)
 }
 
-/// The firmware's control configuration, announced at boot so the host's in-process reference
-/// runs with the same numbers.
-pub struct BootInfo {
-    pub reset_cause: u32,
-    pub full_scale: u16,
-    pub max_duty: f32,
-    pub max_overrun_streak: u32,
-    pub max_counts_per_tick: u16,
-}
-
-/// Announce a boot; returns (control rate Hz, injected fault, tick of the injection).
-pub fn hello(b: &BootInfo) -> Option<(u32, u32, u32)> {
-    send(
-        Kind::Hello,
-        0,
-        b.max_counts_per_tick,
-        [b.full_scale, 0, 0],
-        [b.reset_cause, b.max_duty.to_bits(), b.max_overrun_streak],
-    );
+/// Announce a boot; returns (control rate Hz, the fault the test hook injects when asked).
+pub fn hello(reset_cause: u32) -> Option<(u32, u32)> {
+    send(Kind::Hello, 0, 0, [0; 3], [reset_cause, 0, 0]);
     let r = receive()?;
     let word = |i: usize| u32::from_le_bytes([r[i], r[i + 1], r[i + 2], r[i + 3]]);
-    Some((word(0), word(4), word(8)))
+    Some((word(0), word(4)))
 }
 
 /// Sample the inputs (the encoder timers and the nFAULT pin).
 #[inline(always)]
-pub fn sense() -> Option<Sensed> {
-    send(Kind::Sense, 0, 0, [0; 3], [0; 3]);
+pub fn sense(mode_code: u8) -> Option<Sensed> {
+    send(Kind::Sense, 0, u16::from(mode_code), [0; 3], [0; 3]);
     let r = receive()?;
     let mut counts = [0u16; 6];
     for (i, c) in counts.iter_mut().enumerate() {
@@ -185,12 +166,13 @@ pub fn sense() -> Option<Sensed> {
         counts,
         n_fault_asserted: r[12] & 1 != 0,
         control: r[13],
+        command: r[14],
     })
 }
 
 /// Write the bridge outputs.
 #[inline(always)]
-pub fn drive(p: &Pins) {
+pub fn drive(p: &BridgeCommands) {
     let mut bits = 0u8;
     for (i, f) in p.phase_forward.iter().enumerate() {
         bits |= u8::from(*f) << i;

@@ -1,44 +1,79 @@
 //! softfinger firmware on the emulated board: QEMU mps2-an386 (Cortex-M4F), processor in the loop
 //! with host-sim's plant (`scripts/pil`, `host-sim pil`).
 //!
-//! The same control code, configuration and logger task as the STM32G474 build; only the board
-//! layer differs: CMSDK timers instead of TIM6/TIM15, the CMSDK watchdog (NMI, then reset) instead
-//! of the IWDG, the plant link ([`link`]: semihosting, lock step) instead of the encoder timers and
-//! TIM1, and a non-blocking defmt ring drained to a host file instead of RTT.
+//! The app is the STM32G474 build's, file for file (`tick`, `logger`, `supervisor`, `failsafe`,
+//! `isr_cell`, `critical_section_basepri`, `config`, the board traits); only the board differs:
+//! CMSDK timers instead of TIM6/TIM15, the CMSDK watchdog (NMI, then reset) instead of the IWDG,
+//! the plant link ([`link`]: semihosting, lock step) instead of the encoder timers, nFAULT and
+//! TIM1, a non-blocking defmt ring drained to a host file instead of RTT, and the operator's
+//! commands from the plant's operator instead of the B1 button (`operator` is not run).
+//! The control rate comes from the host at boot; everything else is the firmware's `config`.
 #![no_std]
 #![no_main]
 #![deny(unsafe_code)]
 
-mod app;
+mod board;
 mod cmsdk;
 #[allow(dead_code)] // the STM32 build's configuration; not every item applies to this board
 #[path = "../../config.rs"]
 mod config;
-mod control;
+#[allow(unsafe_code)] // implementing `critical_section::Impl` is unsafe by definition
+#[path = "../../critical_section_basepri.rs"]
+mod critical_section_basepri;
 mod defmt_sink;
+#[allow(unsafe_code)] // cortex-m-rt requires the HardFault handler to be an `unsafe fn`
+#[allow(dead_code)] // `halt` is for the STM32 start-up
+#[path = "../../failsafe.rs"]
+mod failsafe;
 mod faults;
+mod hw;
+#[allow(dead_code)] // `OperatorButton`: this board's operator is the plant's (commands on the link)
+#[path = "../interface.rs"]
+mod interface;
+#[allow(unsafe_code)] // the lock-free handoff to the interrupt; each block justified in place
+#[path = "../../isr_cell.rs"]
+mod isr_cell;
 mod link;
 #[path = "../../logger.rs"]
 mod logger;
+#[path = "../../supervisor.rs"]
 mod supervisor;
+#[allow(dead_code)] // `hw_mut` is for the STM32 start-up
+#[path = "../../tick.rs"]
+mod tick;
 mod time_driver;
 mod vectors;
 
 use defmt::{error, info, warn};
 use embassy_executor::Spawner;
 use embassy_time::Timer;
-use heapless::spsc::Queue;
-use softfinger_core::controller::{Controller, ControllerConfig};
-use softfinger_core::device::DeviceParams;
-use softfinger_core::encoder::EncoderBank;
-use softfinger_core::output_guard::OutputGuard;
-use softfinger_core::telemetry::{Decimator, TelemetryRecord, TickStats, TickSummary};
+use heapless::spsc::{Consumer, Queue};
+use softfinger_core::pipeline::{
+    BoardTiming, Command, Pipeline, PipelineConfig, PipelineRecord, TimingSummary,
+};
+use softfinger_core::Fast;
 
 use cmsdk::{FreeRunning, Irq, PCLK_HZ};
-use control::{Injected, INSTRUCTIONS_PER_COUNT};
+use tick::{CommandOutcome, ControlLoop, TickQueues};
 
 /// Watchdog timeout in 25 MHz counts (the STM32 build's timeout).
 const WATCHDOG_COUNTS: u32 = config::WATCHDOG_TIMEOUT_US * (PCLK_HZ / 1_000_000);
+
+/// End-of-run figure keys (the host's `report::REPORT_KEYS`, in order from 1).
+const FIGURES: usize = 6;
+
+#[embassy_executor::task]
+async fn logger_task(
+    records: Consumer<'static, PipelineRecord>,
+    summaries: Consumer<'static, TimingSummary>,
+) {
+    logger::run(records, summaries).await
+}
+
+#[embassy_executor::task]
+async fn supervisor_task(outcomes: Consumer<'static, CommandOutcome>) {
+    supervisor::run(hw::Led, outcomes).await
+}
 
 /// End the emulation (semihosting exit), after writing out the log.
 fn exit(success: bool) -> ! {
@@ -59,14 +94,13 @@ async fn finish() -> ! {
     Timer::after_millis(3 * config::LOGGER_POLL_MS).await;
     let (frames, drops) = defmt_sink::counters();
     use core::sync::atomic::Ordering::Relaxed;
-    let figures = [
-        control::TICKS.load(Relaxed),
-        control::OVERRUNS.load(Relaxed),
-        control::MAX_LATENCY.load(Relaxed),
-        control::MAX_DURATION.load(Relaxed),
+    let figures: [u32; FIGURES] = [
+        hw::TICKS.load(Relaxed),
+        hw::OVERRUNS.load(Relaxed),
+        hw::MAX_LATENCY.load(Relaxed),
+        hw::MAX_TICK.load(Relaxed),
         frames,
         drops,
-        control::telemetry_drops(),
     ];
     for (key, value) in figures.into_iter().enumerate() {
         link::report(key as u16 + 1, value);
@@ -75,9 +109,25 @@ async fn finish() -> ! {
     exit(true)
 }
 
+/// The firmware's pipeline configuration at `rate_hz` (the STM32 build's, rate aside).
+fn pipeline_config(rate_hz: u32) -> PipelineConfig {
+    PipelineConfig {
+        timing: BoardTiming {
+            control_hz: rate_hz,
+            pwm_hz: config::TIMING.pwm_hz.max(rate_hz),
+            ..config::TIMING
+        },
+        ..config::pipeline_config()
+    }
+}
+
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
     let reset_cause = faults::take_reset_cause();
+    let Some(mut core) = cortex_m::Peripherals::take() else {
+        exit(false)
+    };
+    hw::set_priorities(&mut core.NVIC);
     FreeRunning::start();
     defmt_sink::open();
     time_driver::start();
@@ -90,84 +140,87 @@ async fn main(spawner: Spawner) {
         error!("no plant link (run under scripts/pil)");
         exit(false);
     }
-    let boot = link::BootInfo {
-        reset_cause,
-        full_scale: DeviceParams::OMEGA_LIKE.pwm_period_counts as u16,
-        max_duty: config::GUARD.max_duty,
-        max_overrun_streak: config::GUARD.max_overrun_streak,
-        max_counts_per_tick: config::MAX_COUNTS_PER_TICK,
-    };
-    let Some((rate_hz, fault_code, fault_tick)) = link::hello(&boot) else {
-        exit(false);
+    let Some((rate_hz, fault_code)) = link::hello(reset_cause) else {
+        exit(false)
     };
     if reset_cause != faults::CAUSE_POWER_ON {
-        warn!("reset by the watchdog (cause {=u32})", reset_cause);
+        warn!("reset by the watchdog");
     }
-    if !(1_000..=20_000).contains(&rate_hz) || PCLK_HZ % rate_hz != 0 {
-        error!("control rate {=u32} Hz not supported", rate_hz);
+    if PCLK_HZ % rate_hz.max(1) != 0 {
+        error!("control rate {=u32} Hz does not divide 25 MHz", rate_hz);
         exit(false);
     }
-    let period_instructions = PCLK_HZ / rate_hz * INSTRUCTIONS_PER_COUNT;
+    let config = pipeline_config(rate_hz);
+    let pipeline = match Pipeline::<Fast>::new(config) {
+        Ok(p) => p,
+        Err(e) => {
+            error!("configuration rejected: {}; control loop not started", e);
+            exit(false)
+        }
+    };
     info!(
-        "softfinger PIL board: control {=u32} Hz ({=u32} instructions per period), telemetry {=u32} Hz",
-        rate_hz, period_instructions, config::LOG_RATE_HZ
+        "softfinger PIL board: control {=u32} Hz, PWM {=u32} Hz, {=u32} instructions per period",
+        rate_hz,
+        config.timing.pwm_hz,
+        PCLK_HZ / rate_hz * hw::INSTRUCTIONS_PER_COUNT
     );
-
-    let controller_config = ControllerConfig {
-        rate_hz: rate_hz as f32,
-        ..ControllerConfig::default()
-    };
-    let (Ok(controller), Ok(guard)) = (
-        Controller::new(controller_config),
-        OutputGuard::new(config::GUARD),
-    ) else {
-        error!("configuration rejected; control loop not started");
-        exit(false);
-    };
-    let Some(records) = cortex_m::singleton!(: Queue<TelemetryRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new())
+    let Some(commands) =
+        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())
     else {
-        exit(false);
+        exit(false)
+    };
+    let Some(outcomes) =
+        cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new())
+    else {
+        exit(false)
+    };
+    let Some(records) =
+        cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new())
+    else {
+        exit(false)
     };
     let Some(summaries) =
-        cortex_m::singleton!(: Queue<TickSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new())
+        cortex_m::singleton!(: Queue<TimingSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new())
     else {
-        exit(false);
+        exit(false)
     };
+    let (command_tx, command_rx) = commands.split();
+    let (outcome_tx, outcome_rx) = outcomes.split();
     let (record_tx, record_rx) = records.split();
     let (summary_tx, summary_rx) = summaries.split();
-    match logger::logger(record_rx, summary_rx) {
+    match logger_task(record_rx, summary_rx) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("logger task not spawned: {}", e),
     }
-    match supervisor::supervisor() {
+    match supervisor_task(outcome_rx) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("supervisor task not spawned: {}", e),
     }
 
-    let Some(first) = link::sense() else {
-        exit(false);
-    };
-    let app = app::App::new(
-        controller,
-        guard,
-        EncoderBank::new(first.counts, config::MAX_COUNTS_PER_TICK),
-        record_tx,
-        summary_tx,
-        Decimator::new(rate_hz, config::LOG_RATE_HZ),
-        TickStats::new(period_instructions),
-        DeviceParams::OMEGA_LIKE.pwm_period_counts,
-        rate_hz,
-    );
-    faults::set_watchdog_counts(WATCHDOG_COUNTS);
-    let fault = Injected::from_code(fault_code);
-    if fault != Injected::None {
-        warn!("fault injection: {} at tick {=u32}", fault, fault_tick);
+    let fault = hw::Injected::from_code(fault_code);
+    if fault != hw::Injected::None {
+        warn!("test hook armed: {}", fault);
     }
-    control::start(app, rate_hz, WATCHDOG_COUNTS, fault, fault_tick);
-    info!("control loop running");
+    let control = hw::Mps2Control::new(config.timing.tick_period_counts(), command_tx, fault);
+    let queues = TickQueues {
+        commands: command_rx,
+        outcomes: outcome_tx,
+        records: record_tx,
+        summaries: summary_tx,
+    };
+    faults::set_watchdog_counts(WATCHDOG_COUNTS);
+    if !hw::start_tick(
+        ControlLoop::new(control, pipeline, queues),
+        rate_hz,
+        WATCHDOG_COUNTS,
+    ) {
+        error!("control loop not started");
+        exit(false);
+    }
+    info!("control loop running; drivers asleep until homed");
     loop {
         Timer::after_millis(config::LOGGER_POLL_MS).await;
-        if control::STOPPED.load(core::sync::atomic::Ordering::Acquire) {
+        if hw::STOPPED.load(core::sync::atomic::Ordering::Acquire) {
             finish().await;
         }
     }
