@@ -57,7 +57,7 @@ pub struct Args {
     /// handled, or a tick over the budget.
     #[arg(long)]
     pub check: bool,
-    /// Instruction budget file (JSON: tolerance_percent, baseline {name: instructions}).
+    /// Instruction budget file (JSON: tolerance_percent, baseline {rate: {name: instructions}}).
     #[arg(long)]
     pub budget: Option<PathBuf>,
     /// The firmware ELF for the emulated board.
@@ -424,8 +424,12 @@ fn over_budget(summary: &Summary, path: &Path) -> Result<Vec<String>, String> {
             summary.max_start_latency_instructions,
         ),
     ] {
-        let Some(base) = v["baseline"][name].as_f64() else {
-            return Err(format!("{}: no baseline for {name}", path.display()));
+        let rate = summary.rate_hz.to_string();
+        let Some(base) = v["baseline"][&rate][name].as_f64() else {
+            return Err(format!(
+                "{}: no baseline for {name} at {rate} Hz",
+                path.display()
+            ));
         };
         if f64::from(value) > base * (1.0 + tol / 100.0) {
             out.push(format!(
