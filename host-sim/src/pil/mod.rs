@@ -108,7 +108,11 @@ pub fn decode_main(args: &DecodeArgs) -> Result<(), String> {
     let rows = telemetry::telemetry_rows(&log);
     if let Some(path) = &args.telemetry_csv {
         telemetry::write_csv(path, &rows, args.rate_hz)?;
-        eprintln!("wrote {} telemetry records to {}", rows.len(), path.display());
+        eprintln!(
+            "wrote {} telemetry records to {}",
+            rows.len(),
+            path.display()
+        );
     }
     if log.malformed > 0 {
         return Err(format!("{} malformed frames in the log", log.malformed));
@@ -346,7 +350,10 @@ fn summarize(
             .sum(),
         watchdog_resets: trace.resets.len(),
         contact_state_s: report::state_time(
-            states.iter().enumerate().map(|(i, st)| (st.as_str(), record_dt(i))),
+            states
+                .iter()
+                .enumerate()
+                .map(|(i, st)| (st.as_str(), record_dt(i))),
         ),
         contact_state_s_in_process: report::state_time(
             reference.ticks.iter().map(|r| (r.state.name(), dt)),

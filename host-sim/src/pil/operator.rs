@@ -18,10 +18,16 @@ pub const HOMING_WAIT_S: f64 = 10.0;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Phase {
     PowerUp,
-    Homing { since: u64 },
-    Settle { arm_at: u64 },
+    Homing {
+        since: u64,
+    },
+    Settle {
+        arm_at: u64,
+    },
     /// Armed after tick `armed_after`; the scene starts with the next tick.
-    Scene { start: u64 },
+    Scene {
+        start: u64,
+    },
 }
 
 /// The operator, tick by tick.
@@ -60,12 +66,7 @@ impl Operator {
 
     /// The operator's actions before tick `k` samples (`prev_mode`: the mode after tick k−1);
     /// returns the command to give after tick `k`.
-    pub fn before_sample(
-        &mut self,
-        k: u64,
-        prev_mode: Mode,
-        plant: &mut Plant,
-    ) -> Option<Command> {
+    pub fn before_sample(&mut self, k: u64, prev_mode: Mode, plant: &mut Plant) -> Option<Command> {
         match self.phase {
             Phase::PowerUp => {
                 if k == 0 {

@@ -35,7 +35,10 @@ pub fn decode(elf: &[u8], raw: &[u8]) -> Result<Log, String> {
     loop {
         match decoder.decode() {
             Ok(f) => log.frames.push(Frame {
-                level: f.level().map(|l| l.as_str().to_string()).unwrap_or_default(),
+                level: f
+                    .level()
+                    .map(|l| l.as_str().to_string())
+                    .unwrap_or_default(),
                 message: f.display_message().to_string(),
             }),
             Err(DecodeError::UnexpectedEof) => break,
@@ -188,7 +191,17 @@ mod tests {
         let names: Vec<&str> = cols.iter().map(|(c, _)| c.as_str()).collect();
         assert_eq!(
             names,
-            ["tick", "counts_0", "counts_1", "probe_m_x", "probe_m_y", "probe_m_z", "state", "flags", "enable"]
+            [
+                "tick",
+                "counts_0",
+                "counts_1",
+                "probe_m_x",
+                "probe_m_y",
+                "probe_m_z",
+                "state",
+                "flags",
+                "enable"
+            ]
         );
         assert_eq!(cols[4].1, "-1e-3");
         assert_eq!(cols[6].1, "Rolling");

@@ -56,14 +56,23 @@ pub fn mode_of(code: u16) -> Mode {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Message {
     /// The board booted; how it came out of reset (0 power-on, 1 watchdog).
-    Hello { reset_cause: u32 },
+    Hello {
+        reset_cause: u32,
+    },
     /// Sample the inputs; the pipeline's mode after the previous tick.
-    Sense { mode: Mode },
+    Sense {
+        mode: Mode,
+    },
     Drive(BridgeCommands),
-    Report { key: u16, value: u32 },
+    Report {
+        key: u16,
+        value: u32,
+    },
     Done,
     /// The watchdog fired; the system resets after `counts` more counts.
-    ResetPending { counts: u32 },
+    ResetPending {
+        counts: u32,
+    },
     /// QEMU exited (written by the host's monitor, not the board).
     Exited,
 }

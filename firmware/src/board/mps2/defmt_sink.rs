@@ -61,14 +61,24 @@ pub static READER_STALLED: AtomicBool = AtomicBool::new(false);
 
 /// Frames logged and frames dropped so far.
 pub fn counters() -> (u32, u32) {
-    (FRAMES.load(Ordering::Relaxed), DROPS.load(Ordering::Relaxed))
+    (
+        FRAMES.load(Ordering::Relaxed),
+        DROPS.load(Ordering::Relaxed),
+    )
 }
 
 /// Open the host log file. Until then frames stay in the ring.
 pub fn open() {
     let path = b"pil-defmt.raw\0";
     // SAFETY: NUL-terminated name valid during the call; OPEN takes (name, mode, length).
-    let fd = unsafe { syscall!(OPEN, path.as_ptr(), nr::open::W_APPEND_BINARY, path.len() - 1) };
+    let fd = unsafe {
+        syscall!(
+            OPEN,
+            path.as_ptr(),
+            nr::open::W_APPEND_BINARY,
+            path.len() - 1
+        )
+    };
     if fd != usize::MAX {
         FD.store(fd, Ordering::Relaxed);
     }

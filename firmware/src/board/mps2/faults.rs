@@ -33,7 +33,11 @@ fn mark(cause: u32) {
 /// Read and clear the reset cause (call once, first thing at boot).
 pub fn take_reset_cause() -> u32 {
     // SAFETY: see `mark`; an uninitialised word is read as a plain u32 (any bit pattern is valid).
-    let raw = unsafe { core::ptr::addr_of!(RESET_MARK).cast::<u32>().read_volatile() };
+    let raw = unsafe {
+        core::ptr::addr_of!(RESET_MARK)
+            .cast::<u32>()
+            .read_volatile()
+    };
     unsafe { (*core::ptr::addr_of_mut!(RESET_MARK)).write(0) };
     if raw & 0xFFFF_0000 == MAGIC {
         raw & 0xFFFF

@@ -146,7 +146,7 @@ async fn main(spawner: Spawner) {
     if reset_cause != faults::CAUSE_POWER_ON {
         warn!("reset by the watchdog");
     }
-    if PCLK_HZ % rate_hz.max(1) != 0 {
+    if !PCLK_HZ.is_multiple_of(rate_hz.max(1)) {
         error!("control rate {=u32} Hz does not divide 25 MHz", rate_hz);
         exit(false);
     }
