@@ -19,7 +19,9 @@ use nalgebra::{Matrix3, Vector3};
 use softfinger_core::contact_state::ContactState;
 use softfinger_core::device::DeviceParams;
 use softfinger_core::devices::OMEGA_LIKE;
-use softfinger_core::pipeline::{BoardTiming, Pipeline, PipelineConfig, PipelineOutput, RawInput};
+use softfinger_core::pipeline::{
+    BoardTiming, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
+};
 use softfinger_core::surface::Plane;
 use softfinger_core::{Fast, Flags, Libm, Vec3};
 
@@ -61,6 +63,8 @@ pub struct TickRecord {
     pub wrong_direction_s: f64,
     /// Phase reversals so far (plant truth).
     pub reversals: u64,
+    /// Largest |arm torque| of the three motors after this tick's step, N·m (plant currents).
+    pub arm_torque_nm: f64,
 }
 
 /// The force the three motors exert at the effector, frame B, N: τ = ratio·k_t·i per arm and
@@ -97,6 +101,8 @@ pub struct ClosedLoop {
     pub k: u64,
     /// The operator's session before tick 0 (None: the loop starts at power-up).
     pub prepared: Option<Prepared>,
+    /// Arm torque per motor ampere, N·m/A (capstan ratio × k_t).
+    torque_per_amp: f64,
 }
 
 impl ClosedLoop {
@@ -117,6 +123,8 @@ impl ClosedLoop {
             dt_s: 1.0 / f64::from(config.timing.control_hz),
             k: 0,
             prepared: None,
+            torque_per_amp: f64::from(device.motor.capstan_ratio)
+                * f64::from(device.motor.torque_constant_nm_per_a),
         })
     }
 
@@ -166,6 +174,11 @@ impl ClosedLoop {
             true_counts: [true_counts[0], true_counts[1], true_counts[2]],
             wrong_direction_s: truth.wrong_direction_s.iter().sum(),
             reversals: truth.reversals,
+            arm_torque_nm: truth
+                .motor_currents_a
+                .iter()
+                .map(|i| (i * self.torque_per_amp).abs())
+                .fold(0.0, f64::max),
         }
     }
 }
@@ -183,8 +196,23 @@ impl Trace {
             .map(|r| r.rendered_n)
             .fold(0.0, f64::max)
     }
+    /// Largest force the motors exert on the handle, N, outside homing (homing drives the arms
+    /// against their stops, where the linkage is near a dead centre and the stops, not the
+    /// handle, take the load; its torque is checked by [`Self::max_homing_torque_nm`]).
     pub fn max_plant_n(&self) -> f64 {
-        self.records.iter().map(|r| r.plant_n).fold(0.0, f64::max)
+        self.records
+            .iter()
+            .filter(|r| r.out.mode != Mode::Homing)
+            .map(|r| r.plant_n)
+            .fold(0.0, f64::max)
+    }
+    /// Largest arm torque of the motors during homing, N·m.
+    pub fn max_homing_torque_nm(&self) -> f64 {
+        self.records
+            .iter()
+            .filter(|r| r.out.mode == Mode::Homing)
+            .map(|r| r.arm_torque_nm)
+            .fold(0.0, f64::max)
     }
     pub fn nan_outputs(&self) -> usize {
         self.records.iter().filter(|r| r.nan).count()

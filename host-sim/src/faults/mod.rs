@@ -76,13 +76,13 @@ pub fn main(args: &Args) -> Result<(), String> {
     }
     let _ = writeln!(
         text,
-        "{:<20} {:>8} {:>7} {:>7} {:>7} {:>9} {:>9} {:>4}  states / detail",
+        "{:<26} {:>8} {:>7} {:>7} {:>7} {:>9} {:>9} {:>4}  states / detail",
         "scenario", "result", "inject", "detect", "safe", "render N", "motors N", "NaN"
     );
     for o in &r.scenarios {
         let _ = writeln!(
             text,
-            "{:<20} {:>8} {:>7} {:>7} {:>7} {:>9.3} {:>9.3} {:>4}  {} {}",
+            "{:<26} {:>8} {:>7} {:>7} {:>7} {:>9.3} {:>9.3} {:>4}  {} {}",
             o.name,
             if o.survived { "survived" } else { "FAILED" },
             opt(o.inject_tick),

@@ -26,7 +26,7 @@ pub static SCENARIOS: [Scenario; 4] = [
     Scenario {
         name: "arm_ramp",
         injection: "Arm while the fingertip is pressed 2 mm into the surface",
-        criterion: "first armed tick renders < 5 mN; no tick-to-tick force change above 0.1 N (one encoder count's worth) while the force ramps to its full value",
+        criterion: "first armed tick renders < 5 mN; while ramping the force stays under gain x the 12 N force limit + 5 mN",
         injected: true,
         setup: arm_ramp_setup,
         judge: arm_ramp_judge,
@@ -41,7 +41,7 @@ pub static SCENARIOS: [Scenario; 4] = [
     },
     Scenario {
         name: "driver_fault_while_asleep",
-        injection: "nFAULT asserted while asleep (0-0.3 s) and during both wake times (after Home and after ClearFaults); one real fault at 3.0 s",
+        injection: "nFAULT asserted while asleep (0-0.3 s) and during both wake times (after Home and after ClearFaults); one real fault at 4.0 s",
         criterion: "no latch while asleep or waking; DRIVER_FAULT on the real fault's tick with zero torque; ClearFaults leads to Disarmed, not Armed",
         injected: true,
         setup: asleep_setup,
@@ -189,15 +189,16 @@ fn arm_ramp_setup(c: &Ctx) -> Setup {
     powered(
         c,
         c.touch.script(),
-        40_000,
+        50_000,
         Operator::new(100, ARM_RAMP_DELAY, true),
     )
 }
 
-/// Largest tick-to-tick change of the rendered force during the ramp, N: one encoder count (13 µm
-/// at the effector) moves the 2 N/mm wall force by 26 mN and the damping force through the 300 Hz
-/// velocity filter by about 41 mN; the ramp itself adds full force / 5000 per tick.
-const RAMP_STEP_BOUND_N: f64 = 0.1;
+/// Absolute floor of the ramp envelope, N (the first armed tick's bound too): during the ramp the
+/// rendered force must stay below gain × the force limit + this. While disarmed the hand pushes
+/// the handle deeper than the armed wall lets it (the unramped contact force reaches the 12 N
+/// limit at the arming here), so the limit, not the later force, bounds the unramped force.
+const RAMP_FLOOR_N: f64 = 5e-3;
 
 fn arm_ramp_judge(t: &Trace, _: &ClosedLoop, c: &Ctx) -> Judged {
     let mut f = no_latch(t);
@@ -206,22 +207,31 @@ fn arm_ramp_judge(t: &Trace, _: &ClosedLoop, c: &Ctx) -> Judged {
         return judged(f, None, None, String::new());
     };
     let ramp = (f64::from(c.base.device.arm_ramp_s) * super::scenarios::RATE_HZ) as usize;
-    let span = &t.records[a as usize..(a as usize + ramp + 1).min(t.records.len())];
+    let n = t.records.len();
+    let span = &t.records[a as usize..(a as usize + ramp + 1).min(n)];
+    let after = &t.records[(a as usize + ramp).min(n)..];
+    let max_step = |s: &[TickRecord]| {
+        s.windows(2)
+            .map(|w| (w[1].rendered_n - w[0].rendered_n).abs())
+            .fold(0.0, f64::max)
+    };
     let first_n = span.first().map_or(f64::NAN, |r| r.rendered_n);
-    let step = span
-        .windows(2)
-        .map(|w| (w[1].rendered_n - w[0].rendered_n).abs())
-        .fold(0.0, f64::max);
-    let plant_step = span
-        .windows(2)
-        .map(|w| (w[1].plant_n - w[0].plant_n).abs())
-        .fold(0.0, f64::max);
+    let (step, noise) = (max_step(span), max_step(after));
     let full = span.last().map_or(0.0, |r| r.rendered_n);
-    if !(first_n < 5e-3) {
+    if first_n.is_nan() || first_n >= RAMP_FLOOR_N {
         f.push(format!("first armed tick renders {first_n:.4} N"));
     }
-    if step > RAMP_STEP_BOUND_N {
-        f.push(format!("force step {step:.3} N"));
+    if after.len() < 2 * ramp {
+        f.push("run too short after the ramp".into());
+    }
+    let envelope = |r: &TickRecord| f64::from(r.out.ramp_gain) * c.limit_n + RAMP_FLOOR_N;
+    if let Some(r) = span.iter().find(|r| r.rendered_n > envelope(r)) {
+        f.push(format!(
+            "{:.3} N at tick {} above the ramp envelope {:.3} N",
+            r.rendered_n,
+            r.k,
+            envelope(r)
+        ));
     }
     if full < 1.0 {
         f.push(format!("only {full:.3} N after the ramp: not pressing"));
@@ -230,7 +240,7 @@ fn arm_ramp_judge(t: &Trace, _: &ClosedLoop, c: &Ctx) -> Judged {
         f,
         Some(a),
         None,
-        format!("{full:.2} N after the ramp (the step an unramped Arm would make); largest step rendered {step:.3} N, motors {plant_step:.3} N"),
+        format!("{full:.2} N after the ramp (the step an unramped Arm would make); largest tick-to-tick change while ramping {step:.3} N, in the second after {noise:.3} N (encoder quantisation)"),
     )
 }
 
@@ -282,15 +292,15 @@ fn reversal_judge(t: &Trace, _: &ClosedLoop, _: &Ctx) -> Judged {
 }
 
 const ASLEEP_HOME: u64 = 3_000;
-const REAL_FAULT: u64 = 30_000;
-const CLEAR_AT: u64 = 31_000;
+const REAL_FAULT: u64 = 40_000;
+const CLEAR_AT: u64 = 41_000;
 
 fn asleep_setup(c: &Ctx) -> Setup {
     let wake = (f64::from(c.base.device.driver_wake_s) * super::scenarios::RATE_HZ).round() as u64;
     let mut s = powered(
         c,
         c.touch.script(),
-        33_000,
+        43_000,
         Operator::new(ASLEEP_HOME, 5_000, false),
     );
     let mut op = Operator::new(ASLEEP_HOME, 5_000, false);

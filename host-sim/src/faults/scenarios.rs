@@ -52,6 +52,8 @@ pub struct Outcome {
     pub safe_tick: Option<u64>,
     pub max_rendered_force_n: f64,
     pub max_plant_force_n: f64,
+    /// Largest arm torque during homing, N·m (0 when the run does not home).
+    pub max_homing_torque_nm: f64,
     pub nan_outputs: usize,
     /// Wrong-direction drive at the plant over the run, s.
     pub wrong_direction_s: f64,
@@ -203,9 +205,22 @@ fn first_visits<T: PartialEq + Copy>(items: impl Iterator<Item = T>) -> Vec<T> {
     v
 }
 
-/// The checks every scenario shares: bounded forces, no NaN, no wrong-direction drive.
-fn common_failures(trace: &Trace, limit: f64) -> Vec<String> {
+/// The homing torque may exceed its limit by this factor: the duty is set from the quasi-static
+/// motor model and the winding current overshoots it while the arm decelerates at the stop.
+pub const HOMING_TORQUE_MARGIN: f64 = 1.2;
+
+/// The checks every scenario shares: bounded forces and homing torque, no NaN, no
+/// wrong-direction drive.
+fn common_failures(trace: &Trace, ctx: &Ctx) -> Vec<String> {
+    let limit = ctx.limit_n;
     let mut f = Vec::new();
+    let homing_limit = f64::from(ctx.base.device.homing.max_torque_nm) * HOMING_TORQUE_MARGIN;
+    if trace.max_homing_torque_nm() > homing_limit {
+        f.push(format!(
+            "homing torque {:.3} N·m > {homing_limit:.3} N·m",
+            trace.max_homing_torque_nm()
+        ));
+    }
     // The rescale to max_force_n rounds in f32: a few ulps above is the limit itself.
     if trace.max_rendered_n() > limit * (1.0 + 1e-6) {
         f.push(format!(
@@ -268,7 +283,7 @@ pub fn run_scenario(s: &Scenario, ctx: &Ctx) -> Result<Outcome, String> {
     let ticks = setup.ticks;
     let (trace, lp) = run(setup).map_err(|e| format!("{}: {e}", s.name))?;
     let mut j = (s.judge)(&trace, &lp, ctx);
-    let common = common_failures(&trace, ctx.limit_n);
+    let common = common_failures(&trace, ctx);
     if !common.is_empty() {
         j.detail = if j.survived {
             common.join("; ")
@@ -289,6 +304,7 @@ pub fn run_scenario(s: &Scenario, ctx: &Ctx) -> Result<Outcome, String> {
         safe_tick: trace.safe_from(),
         max_rendered_force_n: trace.max_rendered_n(),
         max_plant_force_n: trace.max_plant_n(),
+        max_homing_torque_nm: trace.max_homing_torque_nm(),
         nan_outputs: trace.nan_outputs(),
         wrong_direction_s: trace.records.last().map_or(0.0, |r| r.wrong_direction_s),
         states: first_visits(trace.states().map(|s| s.name())),
