@@ -9,8 +9,8 @@
 //! and asleep at once on nFAULT or a break flag, nFAULT ignored while asleep); it exits with
 //! failure if a check fails. The script drives the device through the
 //! real command sequence: power-up (Unhomed), Home, homing drive with the arms moving, the stall at
-//! the stops, Disarmed, Arm (the force ramping in), then the arms moved down until the probe
-//! touches the plane, Armed in contact.
+//! the stops, the arms moved to the park angle, Disarmed, Arm (the force ramping in), then the arms
+//! moved down until the probe touches the plane, Armed in contact.
 //!
 //! Not included (no instructions, or not the app's): exception entry/exit (hardware stacking, 12
 //! cycles each way on the M4), wait states.
@@ -241,6 +241,7 @@ fn run_phases(q: &mut Queues) {
     report("homing_moving", measure(&mut |c| move_motors_of(c, -3)));
     let o = outputs();
     check(o.moe && o.awake && o.compare != [0; 3], "homing: driving");
+    park(q);
     run_until(q, Mode::Disarmed, 0, 20_000);
     report("disarmed", measure(&mut |_| {}));
     expect(Mode::Disarmed, AWAKE_OFF, "disarmed: awake, outputs off");
@@ -331,11 +332,31 @@ fn ticks(q: &mut Queues, n: u32) {
     q.drain();
 }
 
+/// Hold the arms still at their stops for longer than the stall time, then move them from the stop
+/// angle to the park angle (the device's homing spec), where homing ends.
+fn park(q: &mut Queues) {
+    let spec = config::DEVICE.homing;
+    let stall_ticks = (spec.stall_s * config::CONTROL_RATE_HZ as f32) as u32;
+    ticks(q, stall_ticks + 200);
+    let rad_per_count = config::DEVICE.params.arm_rad_per_motor_count();
+    let mut left = ((spec.park_angle_rad - spec.stop_angle_rad) / rad_per_count) as i32;
+    while left != 0 {
+        let step = left.clamp(-3, 3);
+        move_motors(step);
+        left -= step;
+        isr();
+    }
+    q.drain();
+}
+
 /// Lower the arms until the probe presses the plane (a record shows a force), still armed.
 fn lower_until_contact(q: &mut Queues) {
-    for _ in 0..200 {
-        for _ in 0..100 {
-            move_motors(2);
+    for _ in 0..3_000 {
+        // 20 counts per telemetry record (one record per 100 ticks).
+        for k in 0..100 {
+            if k % 5 == 0 {
+                move_motors(1);
+            }
             isr();
         }
         q.drain();
