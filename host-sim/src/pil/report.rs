@@ -110,7 +110,7 @@ pub fn observe_fault(trace: &Trace, fault: Fault, at_tick: Option<u64>) -> Fault
         periods_driven_after_off: 0,
         handled: true,
     };
-    let Some(at_tick) = r.at_tick else {
+    let Some(at_tick) = r.at_tick.filter(|_| fault.expects_outputs_off()) else {
         return r;
     };
     let after: Vec<_> = trace.pins.iter().skip(at_tick as usize + 1).collect();
