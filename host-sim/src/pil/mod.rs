@@ -446,3 +446,6 @@ fn over_budget(summary: &Summary, path: &Path) -> Result<Vec<String>, String> {
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests;
