@@ -12,6 +12,7 @@ pub mod reference;
 pub mod report;
 pub mod session;
 pub mod telemetry;
+pub mod views;
 pub mod wire;
 
 use crate::closed_loop;
@@ -44,6 +45,12 @@ pub struct Args {
     /// Write the decoded telemetry records as CSV.
     #[arg(long)]
     pub telemetry_csv: Option<PathBuf>,
+    /// Chart the telemetry's rendered force (SVG).
+    #[arg(long)]
+    pub chart: Option<PathBuf>,
+    /// Write the telemetry's wrist orientations as `host-sim replay` input.
+    #[arg(long)]
+    pub replay_csv: Option<PathBuf>,
     /// Keep the raw defmt log the board wrote.
     #[arg(long)]
     pub defmt_raw: Option<PathBuf>,
@@ -87,6 +94,12 @@ pub struct DecodeArgs {
     /// Write the telemetry records as CSV.
     #[arg(long)]
     pub telemetry_csv: Option<PathBuf>,
+    /// Chart the telemetry's rendered force (SVG).
+    #[arg(long)]
+    pub chart: Option<PathBuf>,
+    /// Write the telemetry's wrist orientations as `host-sim replay` input.
+    #[arg(long)]
+    pub replay_csv: Option<PathBuf>,
     /// The control rate the records' ticks count at, Hz (for the t_s column).
     #[arg(long, default_value_t = 10_000)]
     pub rate_hz: u32,
@@ -114,8 +127,30 @@ pub fn decode_main(args: &DecodeArgs) -> Result<(), String> {
             path.display()
         );
     }
+    write_views(
+        args.chart.as_deref(),
+        args.replay_csv.as_deref(),
+        &rows,
+        args.rate_hz,
+    )?;
     if log.malformed > 0 {
         return Err(format!("{} malformed frames in the log", log.malformed));
+    }
+    Ok(())
+}
+
+/// The chart and the replay input, when asked for.
+fn write_views(
+    chart: Option<&Path>,
+    replay: Option<&Path>,
+    rows: &[Vec<(String, String)>],
+    rate_hz: u32,
+) -> Result<(), String> {
+    if let Some(path) = chart {
+        views::force_chart(path, rows, rate_hz)?;
+    }
+    if let Some(path) = replay {
+        views::replay_csv(path, rows, rate_hz)?;
     }
     Ok(())
 }
@@ -269,6 +304,12 @@ pub fn main(args: &Args) -> Result<(), String> {
     if let Some(path) = &args.telemetry_csv {
         telemetry::write_csv(path, &rows, s.rate_hz())?;
     }
+    write_views(
+        args.chart.as_deref(),
+        args.replay_csv.as_deref(),
+        &rows,
+        s.rate_hz(),
+    )?;
     let summary = summarize(&scene, &s, &trace, &reference, &log, &rows);
     if args.json {
         println!(
