@@ -28,6 +28,11 @@ pub enum Command {
     /// The paper's §3.1 validation: every method x backend against the classical rolling equations
     /// (RK45), accuracy and time per step, with the paper's figures beside ours.
     Validate(crate::validate::Args),
+    /// Processor in the loop: the firmware on an emulated Cortex-M4F (QEMU mps2-an386) in lock step
+    /// with the plant, compared tick by tick with the in-process run (see scripts/pil).
+    Pil(crate::pil::Args),
+    /// Decode a raw defmt log against its firmware ELF (telemetry records as CSV).
+    PilDecode(crate::pil::DecodeArgs),
     /// Speed against accuracy as SVG charts (per method x backend x sampling rate, RK45 at several
     /// tolerances, Pareto front), the paper's Fig. 3, and the MCU instruction counts against accuracy.
     Chart(crate::chart::Args),
@@ -54,6 +59,8 @@ where
         Some(Command::Soak(args)) => crate::faults::soak::main(&args),
         Some(Command::Validate(args)) => crate::validate::main(&args),
         Some(Command::Chart(args)) => crate::chart::main(&args),
+        Some(Command::Pil(args)) => crate::pil::main(&args),
+        Some(Command::PilDecode(args)) => crate::pil::decode_main(&args),
         Some(Command::Stability(args)) => crate::stability::main(&args),
         None => crate::run::main(&crate::run::Args::default()),
     };

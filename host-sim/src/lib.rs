@@ -6,6 +6,7 @@ pub mod chart;
 pub mod cli;
 pub mod closed_loop;
 pub mod faults;
+pub mod pil;
 pub mod plant;
 pub mod reference;
 pub mod replay;

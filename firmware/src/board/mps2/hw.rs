@@ -1,0 +1,231 @@
+//! The emulated board's hardware layer for the app: [`Mps2Control`] implements `ControlHw` (the
+//! tick timer, the plant link's encoder counts, nFAULT and bridges, the watchdog), [`Led`] the
+//! status LED, and the tick interrupt runs the app's `ControlLoop` at the highest priority.
+//!
+//! Timing: under `-icount shift=3` one instruction is 8 ns of virtual time (125 M instructions/s,
+//! standing for the STM32G474's 170 MHz at 1.36 cycles per instruction; mcu-bench/README.md plans
+//! with 1.1-1.5). The CMSDK timers count at 25 MHz (5 instructions per count); the app and the
+//! pipeline get counts of the STM32's 170 MHz timer clock, scaled by 6.8 (34/5), so the pipeline's
+//! timing figures mean the same on both boards.
+#![allow(unsafe_code)]
+
+use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+
+use cortex_m::peripheral::NVIC;
+use heapless::spsc::Producer;
+use softfinger_core::pipeline::{BridgeCommands, Command};
+
+use super::cmsdk::{FreeRunning, Irq, Watchdog, PCLK_HZ, TICK_TIMER};
+use super::defmt_sink::READER_STALLED;
+use super::link::{self, CONTROL_INJECT, CONTROL_LOG_STALL, CONTROL_STOP};
+use crate::board::{ControlHw, Indicator, RawSample};
+use crate::isr_cell::IsrCell;
+use crate::tick::{ControlLoop, STATUS};
+
+/// The critical section's BASEPRI: masks everything below the tick (priority 0x00).
+pub const BASEPRI_BELOW_TICK: u8 = 0x20;
+/// Priority of the embassy-time base interrupt (below the tick, above thread mode).
+pub const TIME_BASE_PRIORITY: u8 = 0x80;
+/// Instructions per 25 MHz timer count at `-icount shift=3`.
+pub const INSTRUCTIONS_PER_COUNT: u32 = 5;
+
+/// A 25 MHz count in 170 MHz timer counts (×6.8).
+#[inline(always)]
+fn timer_counts(c25: u32) -> u32 {
+    c25 * 34 / 5
+}
+
+/// Bridges off, from any context (panic, HardFault, NMI).
+pub fn emergency_stop() {
+    link::drive(&BridgeCommands::OFF);
+}
+
+/// A fault the test hook injects in the tick when the plant asks (emulated board only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, defmt::Format)]
+pub enum Injected {
+    None,
+    /// `panic!` inside the tick.
+    Panic,
+    /// The tick never returns (the watchdog must reset the MCU).
+    Hang,
+}
+
+impl Injected {
+    /// From the `Hello` reply's code (1 panic, 2 hang; others are the plant's to make).
+    pub fn from_code(code: u32) -> Injected {
+        match code {
+            1 => Injected::Panic,
+            2 => Injected::Hang,
+            _ => Injected::None,
+        }
+    }
+}
+
+/// The run is over (or the host went away): the tick stops after this one.
+static STOP_REQUESTED: AtomicBool = AtomicBool::new(false);
+/// The tick is stopped.
+pub static STOPPED: AtomicBool = AtomicBool::new(false);
+/// Largest start latency (timer event to the interrupt's first timer read), instructions.
+pub static MAX_LATENCY: AtomicU32 = AtomicU32::new(0);
+/// Largest whole interrupt (timer event to its last timer read), instructions.
+pub static MAX_TICK: AtomicU32 = AtomicU32::new(0);
+/// Ticks run, and ticks that ran into the next period.
+pub static TICKS: AtomicU32 = AtomicU32::new(0);
+pub static OVERRUNS: AtomicU32 = AtomicU32::new(0);
+
+/// Everything the control interrupt touches on this board.
+pub struct Mps2Control {
+    /// Tick period in 170 MHz timer counts.
+    period_counts: u32,
+    /// Operator commands from the plant's operator, into the tick's command queue.
+    commands: Producer<'static, Command>,
+    fault: Injected,
+}
+
+impl Mps2Control {
+    pub fn new(period_counts: u32, commands: Producer<'static, Command>, fault: Injected) -> Self {
+        Mps2Control {
+            period_counts,
+            commands,
+            fault,
+        }
+    }
+}
+
+impl ControlHw for Mps2Control {
+    fn tick_period_counts(&self) -> u32 {
+        self.period_counts
+    }
+
+    #[inline(always)]
+    fn tick_timer_count(&self) -> u32 {
+        timer_counts(TICK_TIMER.reload_value().wrapping_sub(TICK_TIMER.value()))
+    }
+
+    #[inline(always)]
+    fn ack_tick(&mut self) {
+        TICK_TIMER.clear();
+    }
+
+    #[inline(always)]
+    fn tick_event_pending(&self) -> bool {
+        TICK_TIMER.pending()
+    }
+
+    #[inline(always)]
+    fn read_inputs(&mut self) -> RawSample {
+        let Some(s) = link::sense(STATUS.mode.load(Ordering::Relaxed)) else {
+            // The plant is gone: stop, and report a driver fault so this tick drives nothing.
+            STOP_REQUESTED.store(true, Ordering::Relaxed);
+            return RawSample {
+                counts: [0; 6],
+                driver_fault: true,
+            };
+        };
+        if s.control & CONTROL_STOP != 0 {
+            STOP_REQUESTED.store(true, Ordering::Relaxed);
+        }
+        READER_STALLED.store(s.control & CONTROL_LOG_STALL != 0, Ordering::Relaxed);
+        if s.control & CONTROL_INJECT != 0 {
+            match self.fault {
+                Injected::None => {}
+                Injected::Panic => panic!("injected panic in the tick"),
+                #[allow(clippy::empty_loop)]
+                Injected::Hang => loop {},
+            }
+        }
+        if let Some(c) = link::command(s.command) {
+            // Served at the end of this tick, in effect from the next (as a button press would be).
+            let _ = self.commands.enqueue(c);
+        }
+        RawSample {
+            counts: s.counts,
+            driver_fault: s.n_fault_asserted,
+        }
+    }
+
+    #[inline(always)]
+    fn write_bridges(&mut self, cmd: &BridgeCommands) {
+        link::drive(cmd);
+    }
+
+    #[inline(always)]
+    fn pet_watchdog(&mut self) {
+        Watchdog::pet();
+    }
+}
+
+/// The status LED: the FPGA's LED 0 (QEMU hw/misc/mps2-fpgaio.c).
+pub struct Led;
+
+impl Indicator for Led {
+    fn set(&mut self, on: bool) {
+        // SAFETY: the FPGAIO LED register of mps2-an386.
+        unsafe { (0x4002_8000 as *mut u32).write_volatile(u32::from(on)) };
+    }
+}
+
+static CONTROL: IsrCell<ControlLoop<Mps2Control>> = IsrCell::new();
+
+/// Set the interrupt priorities: the tick highest, the time base below it.
+pub fn set_priorities(nvic: &mut NVIC) {
+    // SAFETY: done before either interrupt is unmasked.
+    unsafe {
+        nvic.set_priority(Irq::Timer0, 0x00);
+        nvic.set_priority(Irq::Timer1, TIME_BASE_PRIORITY);
+    }
+}
+
+/// Hand the loop to the interrupt and start it: watchdog, then the tick timer (board time 0).
+pub fn start_tick(control: ControlLoop<Mps2Control>, rate_hz: u32, watchdog_counts: u32) -> bool {
+    if CONTROL.install(control).is_err() {
+        return false;
+    }
+    TICK_TIMER.configure(PCLK_HZ / rate_hz);
+    Watchdog::start(watchdog_counts);
+    // Board time restarts with the tick timer, so the plant's control periods line up with it.
+    FreeRunning::start();
+    TICK_TIMER.start();
+    // SAFETY: the loop is installed; it is touched by this interrupt only from now on.
+    unsafe { NVIC::unmask(Irq::Timer0) };
+    true
+}
+
+/// The run is over: tick and watchdog stopped, bridges off.
+fn stop() {
+    TICK_TIMER.stop();
+    NVIC::mask(Irq::Timer0);
+    Watchdog::stop();
+    emergency_stop();
+    STOPPED.store(true, Ordering::Release);
+}
+
+/// APB timer 0: the control tick, and the board's measurement of it.
+#[allow(unsafe_code)] // `no_mangle`: the vector table (vectors.rs) names it
+#[no_mangle]
+extern "C" fn TIMER0() {
+    let reload = TICK_TIMER.reload_value();
+    let entry = TICK_TIMER.value();
+    let since_event = reload.wrapping_sub(entry);
+    // SAFETY: after `start_tick` only this handler touches the loop, and it does not re-enter
+    // (highest priority).
+    if let Some(control) = unsafe { CONTROL.get_mut() } {
+        control.run(timer_counts(since_event));
+    }
+    let end = TICK_TIMER.value();
+    let ran_over = TICK_TIMER.pending();
+    let latency = since_event * INSTRUCTIONS_PER_COUNT;
+    let mut whole = reload.wrapping_sub(end);
+    if ran_over {
+        whole += reload + 1;
+    }
+    MAX_LATENCY.fetch_max(latency, Ordering::Relaxed);
+    MAX_TICK.fetch_max(whole * INSTRUCTIONS_PER_COUNT, Ordering::Relaxed);
+    TICKS.fetch_add(1, Ordering::Relaxed);
+    if ran_over {
+        OVERRUNS.fetch_add(1, Ordering::Relaxed);
+    }
+    if STOP_REQUESTED.load(Ordering::Relaxed) {
+        stop();
+    }
+}

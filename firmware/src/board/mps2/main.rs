@@ -1,0 +1,227 @@
+//! softfinger firmware on the emulated board: QEMU mps2-an386 (Cortex-M4F), processor in the loop
+//! with host-sim's plant (`scripts/pil`, `host-sim pil`).
+//!
+//! The app is the STM32G474 build's, file for file (`tick`, `logger`, `supervisor`, `failsafe`,
+//! `isr_cell`, `critical_section_basepri`, `config`, the board traits); only the board differs:
+//! CMSDK timers instead of TIM6/TIM15, the CMSDK watchdog (NMI, then reset) instead of the IWDG,
+//! the plant link ([`link`]: semihosting, lock step) instead of the encoder timers, nFAULT and
+//! TIM1, a non-blocking defmt ring drained to a host file instead of RTT, and the operator's
+//! commands from the plant's operator instead of the B1 button (`operator` is not run).
+//! The control rate comes from the host at boot; everything else is the firmware's `config`.
+#![no_std]
+#![no_main]
+#![deny(unsafe_code)]
+
+mod board;
+mod cmsdk;
+#[allow(dead_code)] // the STM32 build's configuration; not every item applies to this board
+#[path = "../../config.rs"]
+mod config;
+#[allow(unsafe_code)] // implementing `critical_section::Impl` is unsafe by definition
+#[path = "../../critical_section_basepri.rs"]
+mod critical_section_basepri;
+mod defmt_sink;
+#[allow(unsafe_code)] // cortex-m-rt requires the HardFault handler to be an `unsafe fn`
+#[allow(dead_code)] // `halt` is for the STM32 start-up
+#[path = "../../failsafe.rs"]
+mod failsafe;
+mod faults;
+mod hw;
+#[allow(dead_code)] // `OperatorButton`: this board's operator is the plant's (commands on the link)
+#[path = "../interface.rs"]
+mod interface;
+#[allow(unsafe_code)] // the lock-free handoff to the interrupt; each block justified in place
+#[path = "../../isr_cell.rs"]
+mod isr_cell;
+mod link;
+#[path = "../../logger.rs"]
+mod logger;
+#[path = "../../supervisor.rs"]
+mod supervisor;
+#[allow(dead_code)] // `hw_mut` is for the STM32 start-up
+#[path = "../../tick.rs"]
+mod tick;
+mod time_driver;
+mod vectors;
+
+use defmt::{error, info, warn};
+use embassy_executor::Spawner;
+use embassy_time::Timer;
+use heapless::spsc::{Consumer, Queue};
+use softfinger_core::pipeline::{
+    BoardTiming, Command, Pipeline, PipelineConfig, PipelineRecord, TimingSummary,
+};
+use softfinger_core::Fast;
+
+use cmsdk::{FreeRunning, Irq, PCLK_HZ};
+use tick::{CommandOutcome, ControlLoop, TickQueues};
+
+/// Watchdog timeout in 25 MHz counts (the STM32 build's timeout).
+const WATCHDOG_COUNTS: u32 = config::WATCHDOG_TIMEOUT_US * (PCLK_HZ / 1_000_000);
+
+/// End-of-run figure keys (the host's `report::REPORT_KEYS`, in order from 1).
+const FIGURES: usize = 6;
+
+#[embassy_executor::task]
+async fn logger_task(
+    records: Consumer<'static, PipelineRecord>,
+    summaries: Consumer<'static, TimingSummary>,
+) {
+    logger::run(records, summaries).await
+}
+
+#[embassy_executor::task]
+async fn supervisor_task(outcomes: Consumer<'static, CommandOutcome>) {
+    supervisor::run(hw::Led, outcomes).await
+}
+
+/// End the emulation (semihosting exit), after writing out the log.
+fn exit(success: bool) -> ! {
+    defmt_sink::drain();
+    cortex_m_semihosting::debug::exit(if success {
+        cortex_m_semihosting::debug::EXIT_SUCCESS
+    } else {
+        cortex_m_semihosting::debug::EXIT_FAILURE
+    });
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+/// Report the run's figures to the plant, then end the emulation.
+async fn finish() -> ! {
+    // Let the logger task empty the queues and the reader drain the ring.
+    Timer::after_millis(3 * config::LOGGER_POLL_MS).await;
+    let (frames, drops) = defmt_sink::counters();
+    use core::sync::atomic::Ordering::Relaxed;
+    let figures: [u32; FIGURES] = [
+        hw::TICKS.load(Relaxed),
+        hw::OVERRUNS.load(Relaxed),
+        hw::MAX_LATENCY.load(Relaxed),
+        hw::MAX_TICK.load(Relaxed),
+        frames,
+        drops,
+    ];
+    for (key, value) in figures.into_iter().enumerate() {
+        link::report(key as u16 + 1, value);
+    }
+    link::send(link::Kind::Done, 0, 0, [0; 3], [0; 3]);
+    exit(true)
+}
+
+/// The firmware's pipeline configuration at `rate_hz` (the STM32 build's, rate aside).
+fn pipeline_config(rate_hz: u32) -> PipelineConfig {
+    PipelineConfig {
+        timing: BoardTiming {
+            control_hz: rate_hz,
+            pwm_hz: config::TIMING.pwm_hz.max(rate_hz),
+            ..config::TIMING
+        },
+        ..config::pipeline_config()
+    }
+}
+
+#[embassy_executor::main]
+async fn main(spawner: Spawner) {
+    let reset_cause = faults::take_reset_cause();
+    let Some(mut core) = cortex_m::Peripherals::take() else {
+        exit(false)
+    };
+    hw::set_priorities(&mut core.NVIC);
+    FreeRunning::start();
+    defmt_sink::open();
+    time_driver::start();
+    // SAFETY: the time base's state is behind critical sections.
+    #[allow(unsafe_code)]
+    unsafe {
+        cortex_m::peripheral::NVIC::unmask(Irq::Timer1);
+    }
+    if !link::open_link() {
+        error!("no plant link (run under scripts/pil)");
+        exit(false);
+    }
+    let Some((rate_hz, fault_code)) = link::hello(reset_cause) else {
+        exit(false)
+    };
+    if reset_cause != faults::CAUSE_POWER_ON {
+        warn!("reset by the watchdog");
+    }
+    if !PCLK_HZ.is_multiple_of(rate_hz.max(1)) {
+        error!("control rate {=u32} Hz does not divide 25 MHz", rate_hz);
+        exit(false);
+    }
+    let config = pipeline_config(rate_hz);
+    let pipeline = match Pipeline::<Fast>::new(config) {
+        Ok(p) => p,
+        Err(e) => {
+            error!("configuration rejected: {}; control loop not started", e);
+            exit(false)
+        }
+    };
+    info!(
+        "softfinger PIL board: control {=u32} Hz, PWM {=u32} Hz, {=u32} instructions per period",
+        rate_hz,
+        config.timing.pwm_hz,
+        PCLK_HZ / rate_hz * hw::INSTRUCTIONS_PER_COUNT
+    );
+    let Some(commands) =
+        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())
+    else {
+        exit(false)
+    };
+    let Some(outcomes) =
+        cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new())
+    else {
+        exit(false)
+    };
+    let Some(records) =
+        cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new())
+    else {
+        exit(false)
+    };
+    let Some(summaries) =
+        cortex_m::singleton!(: Queue<TimingSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new())
+    else {
+        exit(false)
+    };
+    let (command_tx, command_rx) = commands.split();
+    let (outcome_tx, outcome_rx) = outcomes.split();
+    let (record_tx, record_rx) = records.split();
+    let (summary_tx, summary_rx) = summaries.split();
+    match logger_task(record_rx, summary_rx) {
+        Ok(t) => spawner.spawn(t),
+        Err(e) => error!("logger task not spawned: {}", e),
+    }
+    match supervisor_task(outcome_rx) {
+        Ok(t) => spawner.spawn(t),
+        Err(e) => error!("supervisor task not spawned: {}", e),
+    }
+
+    let fault = hw::Injected::from_code(fault_code);
+    if fault != hw::Injected::None {
+        warn!("test hook armed: {}", fault);
+    }
+    let control = hw::Mps2Control::new(config.timing.tick_period_counts(), command_tx, fault);
+    let queues = TickQueues {
+        commands: command_rx,
+        outcomes: outcome_tx,
+        records: record_tx,
+        summaries: summary_tx,
+    };
+    faults::set_watchdog_counts(WATCHDOG_COUNTS);
+    if !hw::start_tick(
+        ControlLoop::new(control, pipeline, queues),
+        rate_hz,
+        WATCHDOG_COUNTS,
+    ) {
+        error!("control loop not started");
+        exit(false);
+    }
+    info!("control loop running; drivers asleep until homed");
+    loop {
+        Timer::after_millis(config::LOGGER_POLL_MS).await;
+        if hw::STOPPED.load(core::sync::atomic::Ordering::Acquire) {
+            finish().await;
+        }
+    }
+}

@@ -1,0 +1,492 @@
+//! `host-sim pil`: processor in the loop. The firmware built for the emulated board
+//! (`softfinger-pil`, QEMU mps2-an386) runs its real interrupt-driven loop in lock step with this
+//! crate's plant; its outputs are compared tick by tick with the same control sequence run
+//! in-process against the same plant; its defmt log is decoded against its ELF.
+//!
+//! `scripts/pil` builds the firmware and this tool and runs it; see that script for the options.
+
+pub mod faults;
+pub mod operator;
+pub mod qemu;
+pub mod reference;
+pub mod report;
+pub mod session;
+pub mod telemetry;
+pub mod views;
+pub mod wire;
+
+use crate::closed_loop;
+use crate::scene::{Scene, SurfaceSpec};
+use faults::Fault;
+use report::{FaultReport, Summary, REPORT_KEYS};
+use softfinger_core::params::ContactParams;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// Longest run: the board's 32-bit 25 MHz time base wraps after 171.8 s.
+pub const MAX_DURATION_S: f64 = 150.0;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scene: a built-in name or a TOML file (plane scenes with the default contact parameters:
+    /// the firmware renders those).
+    #[arg(long, default_value = "finger-on-plane")]
+    pub scene: String,
+    /// Control rate, Hz (default: the scene's); 25 MHz must be a multiple of it.
+    #[arg(long)]
+    pub rate_hz: Option<u32>,
+    /// Simulated seconds of the scene after arming (default: the scene's duration); homing and
+    /// arming come first.
+    #[arg(long)]
+    pub duration_s: Option<f64>,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Write the decoded telemetry records as CSV.
+    #[arg(long)]
+    pub telemetry_csv: Option<PathBuf>,
+    /// Chart the telemetry's rendered force (SVG).
+    #[arg(long)]
+    pub chart: Option<PathBuf>,
+    /// Write the telemetry's wrist orientations as `host-sim replay` input.
+    #[arg(long)]
+    pub replay_csv: Option<PathBuf>,
+    /// Keep the raw defmt log the board wrote.
+    #[arg(long)]
+    pub defmt_raw: Option<PathBuf>,
+    /// Inject a fault.
+    #[arg(long, value_enum, default_value = "none")]
+    pub fault: Fault,
+    /// When to inject it: simulated seconds after the scene starts (homed and armed).
+    #[arg(long, default_value_t = 1.0)]
+    pub fault_at_s: f64,
+    /// Fail (exit 2) on any overrun, any difference from the in-process run, a fault not
+    /// handled, or a tick over the budget.
+    #[arg(long)]
+    pub check: bool,
+    /// Instruction budget file (JSON: tolerance_percent, baseline {rate: {name: instructions}}).
+    #[arg(long)]
+    pub budget: Option<PathBuf>,
+    /// The firmware ELF for the emulated board.
+    #[arg(
+        long,
+        default_value = "firmware/pil/target/thumbv7em-none-eabihf/release/softfinger-pil"
+    )]
+    pub elf: PathBuf,
+    /// The QEMU executable.
+    #[arg(long, default_value = "qemu-system-arm")]
+    pub qemu: String,
+    /// Wall-clock limit for QEMU, s.
+    #[arg(long, default_value_t = 600)]
+    pub timeout_s: u64,
+}
+
+/// `host-sim pil-decode`: a raw defmt log (e.g. RTT bytes captured from the STM32 build) decoded
+/// against its ELF.
+#[derive(Debug, clap::Args)]
+pub struct DecodeArgs {
+    /// The firmware ELF the log came from.
+    #[arg(long)]
+    pub elf: PathBuf,
+    /// The raw log: rzCOBS-encoded defmt frames.
+    #[arg(long)]
+    pub log: PathBuf,
+    /// Write the telemetry records as CSV.
+    #[arg(long)]
+    pub telemetry_csv: Option<PathBuf>,
+    /// Chart the telemetry's rendered force (SVG).
+    #[arg(long)]
+    pub chart: Option<PathBuf>,
+    /// Write the telemetry's wrist orientations as `host-sim replay` input.
+    #[arg(long)]
+    pub replay_csv: Option<PathBuf>,
+    /// The control rate the records' ticks count at, Hz (for the t_s column).
+    #[arg(long, default_value_t = 10_000)]
+    pub rate_hz: u32,
+}
+
+fn read(path: &Path) -> Result<Vec<u8>, String> {
+    std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// `host-sim pil-decode`.
+pub fn decode_main(args: &DecodeArgs) -> Result<(), String> {
+    if args.rate_hz == 0 {
+        return Err("--rate-hz must be positive".into());
+    }
+    let log = telemetry::decode(&read(&args.elf)?, &read(&args.log)?)?;
+    for f in &log.frames {
+        println!("{:<5} {}", f.level, f.message);
+    }
+    let rows = telemetry::telemetry_rows(&log);
+    if let Some(path) = &args.telemetry_csv {
+        telemetry::write_csv(path, &rows, args.rate_hz)?;
+        eprintln!(
+            "wrote {} telemetry records to {}",
+            rows.len(),
+            path.display()
+        );
+    }
+    write_views(
+        args.chart.as_deref(),
+        args.replay_csv.as_deref(),
+        &rows,
+        args.rate_hz,
+    )?;
+    if log.malformed > 0 {
+        return Err(format!("{} malformed frames in the log", log.malformed));
+    }
+    Ok(())
+}
+
+/// The chart and the replay input, when asked for.
+fn write_views(
+    chart: Option<&Path>,
+    replay: Option<&Path>,
+    rows: &[Vec<(String, String)>],
+    rate_hz: u32,
+) -> Result<(), String> {
+    if let Some(path) = chart {
+        views::force_chart(path, rows, rate_hz)?;
+    }
+    if let Some(path) = replay {
+        views::replay_csv(path, rows, rate_hz)?;
+    }
+    Ok(())
+}
+
+/// The run's settings from the arguments and the scene.
+fn settings(args: &Args, scene: &Scene) -> Result<session::Settings, String> {
+    let rate_hz = args.rate_hz.unwrap_or(scene.rate_hz as u32);
+    if !(1_000..=20_000).contains(&rate_hz) || 25_000_000 % rate_hz != 0 {
+        return Err(format!(
+            "--rate-hz {rate_hz}: must be within 1000..=20000 and divide 25 MHz"
+        ));
+    }
+    let timing = closed_loop::board_timing(f64::from(rate_hz))?;
+    let duration_s = args.duration_s.unwrap_or(scene.duration_s);
+    if !(duration_s.is_finite() && duration_s > 0.0 && duration_s <= MAX_DURATION_S) {
+        return Err(format!(
+            "--duration-s {duration_s}: must be within (0, {MAX_DURATION_S}]"
+        ));
+    }
+    if args.fault != Fault::None
+        && !(args.fault_at_s.is_finite() && (0.0..duration_s).contains(&args.fault_at_s))
+    {
+        return Err(format!(
+            "--fault-at-s {}: must be within the scene (0..{duration_s} s)",
+            args.fault_at_s
+        ));
+    }
+    Ok(session::Settings {
+        timing,
+        scene_ticks: (duration_s * f64::from(rate_hz)).round() as u64,
+        fault: args.fault,
+        fault_offset: (args.fault_at_s * f64::from(rate_hz)).round() as u64,
+    })
+}
+
+/// The scene, checked against what the firmware renders.
+fn load_scene(name: &str) -> Result<(Scene, ContactParams), String> {
+    let scene = Scene::load(name)?;
+    if scene.surface != SurfaceSpec::Plane {
+        return Err(format!(
+            "scene '{}': the firmware renders a plane; this scene needs another surface",
+            scene.name
+        ));
+    }
+    let contact = closed_loop::contact_params(&scene)?;
+    if contact != ContactParams::DEFAULT {
+        return Err(format!(
+            "scene '{}': the firmware renders the default contact parameters; this scene changes them",
+            scene.name
+        ));
+    }
+    Ok((scene, contact))
+}
+
+/// A fresh, empty work directory for one run.
+fn work_dir() -> Result<PathBuf, String> {
+    let dir = std::env::temp_dir().join(format!("softfinger-pil-{}", std::process::id()));
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    Ok(dir)
+}
+
+/// Run the board against the plant; returns the trace and the raw defmt log.
+fn run_board(
+    args: &Args,
+    plant: &crate::plant::Plant,
+    s: &session::Settings,
+) -> Result<(session::Trace, Vec<u8>), String> {
+    if !args.elf.is_file() {
+        return Err(format!(
+            "{}: no firmware ELF (build it with scripts/pil, or cargo build --release \
+             --no-default-features --features mps2-an386 in firmware/)",
+            args.elf.display()
+        ));
+    }
+    let elf = args
+        .elf
+        .canonicalize()
+        .map_err(|e| format!("{}: {e}", args.elf.display()))?;
+    let dir = work_dir()?;
+    let limit = Duration::from_secs(args.timeout_s);
+    let result = (|| {
+        let mut emu = qemu::Emulator::start(&args.qemu, &elf, &dir, limit)?;
+        let served = session::run(&mut emu, plant.clone(), s);
+        let status = emu.finish();
+        let trace = served?;
+        let status = status?;
+        if !trace.done || !status.success() {
+            return Err(format!(
+                "the board did not finish the run (QEMU {status}, {} samples served){}{}",
+                trace.samples,
+                std::fs::read_to_string(dir.join("qemu.stderr"))
+                    .map(|e| format!("; QEMU: {}", e.trim()))
+                    .unwrap_or_default(),
+                last_log_lines(&args.elf, &dir.join(qemu::DEFMT_LOG))
+            ));
+        }
+        Ok((trace, read(&dir.join(qemu::DEFMT_LOG))?))
+    })();
+    match result {
+        Ok(r) => {
+            let _ = std::fs::remove_dir_all(&dir);
+            Ok(r)
+        }
+        Err(e) => Err(format!("{e} (work directory kept: {})", dir.display())),
+    }
+}
+
+/// The board's last log messages, for an error report (empty if none decode).
+fn last_log_lines(elf: &Path, raw: &Path) -> String {
+    let (Ok(elf), Ok(raw)) = (read(elf), read(raw)) else {
+        return String::new();
+    };
+    let Ok(log) = telemetry::decode(&elf, &raw) else {
+        return String::new();
+    };
+    let n = log.frames.len();
+    let lines: Vec<String> = log.frames[n.saturating_sub(5)..]
+        .iter()
+        .map(|f| format!("{} {}", f.level, f.message))
+        .collect();
+    if lines.is_empty() {
+        String::new()
+    } else {
+        format!("; board log ends: {}", lines.join(" | "))
+    }
+}
+
+/// `host-sim pil`.
+pub fn main(args: &Args) -> Result<(), String> {
+    let (scene, contact) = load_scene(&args.scene)?;
+    let s = settings(args, &scene)?;
+    let plant = closed_loop::plant(&scene, &contact).map_err(|e| format!("plant: {e:?}"))?;
+    let (trace, raw) = run_board(args, &plant, &s)?;
+    if let Some(path) = &args.defmt_raw {
+        std::fs::write(path, &raw).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    if trace.homing_timed_out {
+        return Err("the board did not finish homing in time".into());
+    }
+    let scene = Scene {
+        rate_hz: f64::from(s.rate_hz()),
+        ..scene
+    };
+    let config = closed_loop::plane_config(&scene, contact)?;
+    let reference = reference::run(&plant, config, &s)?;
+    let log = telemetry::decode(&read(&args.elf)?, &raw)?;
+    let rows = telemetry::telemetry_rows(&log);
+    if let Some(path) = &args.telemetry_csv {
+        telemetry::write_csv(path, &rows, s.rate_hz())?;
+    }
+    write_views(
+        args.chart.as_deref(),
+        args.replay_csv.as_deref(),
+        &rows,
+        s.rate_hz(),
+    )?;
+    let summary = summarize(&scene, &s, &trace, &reference, &log, &rows);
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?
+        );
+    } else {
+        summary.print();
+    }
+    if args.check {
+        check(&summary, args.budget.as_deref())?;
+    }
+    Ok(())
+}
+
+/// Assemble the summary.
+fn summarize(
+    scene: &Scene,
+    s: &session::Settings,
+    trace: &session::Trace,
+    reference: &reference::RefRun,
+    log: &telemetry::Log,
+    rows: &[Vec<(String, String)>],
+) -> Summary {
+    let figure = |name: &str| {
+        let key = REPORT_KEYS.iter().position(|k| *k == name).unwrap_or(0) as u16 + 1;
+        trace.reports.get(&key).copied().unwrap_or(0)
+    };
+    // Panic and hang cannot be mirrored: compare the ticks before the fault only.
+    let fault_tick = s.fault_tick(trace.scene_start);
+    let limit = match fault_tick {
+        Some(t) if !s.fault.mirrored_in_reference() => t,
+        _ => u64::MAX,
+    };
+    let full_scale = f64::from(s.timing.pwm_period_counts());
+    let (compared, identical, max_diff, first) =
+        report::compare(trace, &reference.ticks, limit, full_scale);
+    let dt = 1.0 / f64::from(s.rate_hz());
+    let field = |row: &[(String, String)], name: &str| {
+        row.iter()
+            .find(|(c, _)| c == name)
+            .map(|(_, v)| v.clone())
+            .unwrap_or_default()
+    };
+    let ticks_of: Vec<f64> = rows
+        .iter()
+        .map(|r| field(r, "tick").parse().unwrap_or(0.0))
+        .collect();
+    let states: Vec<String> = rows.iter().map(|r| field(r, "state")).collect();
+    let record_dt = |i: usize| match (ticks_of.get(i), ticks_of.get(i + 1)) {
+        (Some(a), Some(b)) if b > a => (b - a) * dt,
+        _ => 0.0,
+    };
+    let mut fault: FaultReport = report::observe_fault(trace, s.fault, fault_tick);
+    let period_instructions = qemu::INSTRUCTIONS_PER_SECOND / u64::from(s.rate_hz());
+    let summary = Summary {
+        scene: scene.name.clone(),
+        rate_hz: s.rate_hz(),
+        icount_shift: qemu::ICOUNT_SHIFT,
+        instructions_per_second: qemu::INSTRUCTIONS_PER_SECOND,
+        period_instructions,
+        ticks: figure("ticks"),
+        overruns: figure("overruns"),
+        max_tick_instructions: figure("max_tick_instructions"),
+        max_start_latency_instructions: figure("max_start_latency_instructions"),
+        scene_start_tick: trace.scene_start,
+        scene_start_tick_in_process: reference.scene_start,
+        compared_ticks: compared,
+        identical_ticks: identical,
+        max_duty_diff: max_diff,
+        first_difference_tick: first,
+        defmt_frames: figure("defmt_frames"),
+        defmt_drops: figure("defmt_drops"),
+        defmt_malformed: log.malformed,
+        telemetry_records: rows.len(),
+        telemetry_drops: rows
+            .iter()
+            .map(|r| field(r, "dropped_before").parse::<u64>().unwrap_or(0))
+            .sum(),
+        watchdog_resets: trace.resets.len(),
+        contact_state_s: report::state_time(
+            states
+                .iter()
+                .enumerate()
+                .map(|(i, st)| (st.as_str(), record_dt(i))),
+        ),
+        contact_state_s_in_process: report::state_time(
+            reference.ticks.iter().map(|r| (r.state.name(), dt)),
+        ),
+        fault: fault.clone(),
+    };
+    fault.handled = judge(&summary, s);
+    Summary { fault, ..summary }
+}
+
+/// Whether the fault was handled as the firmware must: outputs off at once (a hung tick: within
+/// the watchdog's reset) and kept off; a stalled log reader only drops frames.
+fn judge(summary: &Summary, s: &session::Settings) -> bool {
+    let f = &summary.fault;
+    let off_and_kept = |within: u64| {
+        f.outputs_off_after_ticks.is_some_and(|t| t <= within) && f.periods_driven_after_off == 0
+    };
+    let all_identical = summary.identical_ticks == summary.compared_ticks;
+    match s.fault {
+        Fault::None => true,
+        Fault::LogStall => summary.defmt_drops > 0 && summary.overruns == 0 && all_identical,
+        Fault::EncoderGlitch | Fault::DriverFault => off_and_kept(0) && all_identical,
+        Fault::Panic => off_and_kept(0),
+        // 5 ms watchdog timeout (the firmware's configuration), then the NMI.
+        Fault::Hang => {
+            summary.watchdog_resets > 0 && off_and_kept(u64::from(s.rate_hz()) / 200 + 1)
+        }
+    }
+}
+
+/// `--check`: every failure in one error.
+fn check(summary: &Summary, budget: Option<&Path>) -> Result<(), String> {
+    let mut failures = Vec::new();
+    if summary.overruns > 0 {
+        failures.push(format!("{} overruns", summary.overruns));
+    }
+    if summary.identical_ticks != summary.compared_ticks || summary.compared_ticks == 0 {
+        failures.push(format!(
+            "{} of {} ticks differ from the in-process run (max duty diff {:e})",
+            summary.compared_ticks - summary.identical_ticks,
+            summary.compared_ticks,
+            summary.max_duty_diff
+        ));
+    }
+    if !summary.fault.handled {
+        failures.push(format!("fault {:?} not handled", summary.fault.name));
+    }
+    if summary.max_tick_instructions as u64 > summary.period_instructions {
+        failures.push(format!(
+            "tick of {} instructions exceeds the period ({})",
+            summary.max_tick_instructions, summary.period_instructions
+        ));
+    }
+    if let Some(path) = budget {
+        failures.extend(over_budget(summary, path)?);
+    }
+    if failures.is_empty() {
+        Ok(())
+    } else {
+        Err(format!("pil --check failed: {}", failures.join("; ")))
+    }
+}
+
+/// Figures over the budget file's baselines by more than its tolerance.
+fn over_budget(summary: &Summary, path: &Path) -> Result<Vec<String>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let v: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let tol = v["tolerance_percent"].as_f64().unwrap_or(10.0);
+    let mut out = Vec::new();
+    for (name, value) in [
+        ("max_tick_instructions", summary.max_tick_instructions),
+        (
+            "max_start_latency_instructions",
+            summary.max_start_latency_instructions,
+        ),
+    ] {
+        let rate = summary.rate_hz.to_string();
+        let Some(base) = v["baseline"][&rate][name].as_f64() else {
+            return Err(format!(
+                "{}: no baseline for {name} at {rate} Hz",
+                path.display()
+            ));
+        };
+        if f64::from(value) > base * (1.0 + tol / 100.0) {
+            out.push(format!(
+                "{name} {value} over its budget {base} (+{tol} % allowed)"
+            ));
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,70 @@
+//! The in-process reference: the same pipeline as the board's tick (`Pipeline::<Fast>`, the
+//! firmware's configuration), the same plant, the same operator session and the same plant-side
+//! faults, tick by tick. The f32 operations are the same on both sides (Rust never contracts
+//! a·b+c into an FMA unless asked), so the bridge commands should agree to the bit.
+
+use super::operator::Operator;
+use super::session::Settings;
+use crate::plant::Plant;
+use softfinger_core::contact_state::ContactState;
+use softfinger_core::pipeline::{BridgeCommands, Mode, Pipeline, PipelineConfig, RawInput};
+use softfinger_core::surface::Plane;
+use softfinger_core::Fast;
+
+/// One reference tick.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RefTick {
+    pub bridges: BridgeCommands,
+    pub state: ContactState,
+    pub mode: Mode,
+}
+
+/// The reference run: every tick, and the tick the scene started at.
+pub struct RefRun {
+    pub ticks: Vec<RefTick>,
+    pub scene_start: Option<u64>,
+}
+
+/// Run until the scene's end. Mirrors the session's timing: one idle period, then tick k.
+pub fn run(plant: &Plant, config: PipelineConfig<Plane>, s: &Settings) -> Result<RefRun, String> {
+    let mut plant = plant.clone();
+    let timing = config.timing;
+    let mut pipe = Pipeline::<Fast>::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
+    plant.step_bridges(&BridgeCommands::OFF, &timing);
+    let mut op = Operator::new(s.rate_hz());
+    let mut prev_mode = Mode::Unhomed;
+    let mut ticks = Vec::new();
+    for k in 0.. {
+        if s.finished(k, op.scene_start()) {
+            break;
+        }
+        if op.homing_timed_out(k) {
+            return Err("in-process run: not homed in time".into());
+        }
+        let command = op.before_sample(k, prev_mode, &mut plant);
+        let mut raw = RawInput {
+            counts: plant.raw_counts(),
+            ..RawInput::default()
+        };
+        if s.fault.mirrored_in_reference() {
+            s.fault
+                .edit_sample(k, s.fault_tick(op.scene_start()), &mut raw);
+        }
+        let out = pipe.tick(&raw);
+        plant.step_bridges(&out.bridges, &timing);
+        if let Some(c) = command {
+            // A refusal is the pipeline's answer, as on the board.
+            let _ = pipe.command(c);
+        }
+        prev_mode = out.mode;
+        ticks.push(RefTick {
+            bridges: out.bridges,
+            state: out.control.state,
+            mode: out.mode,
+        });
+    }
+    Ok(RefRun {
+        ticks,
+        scene_start: op.scene_start(),
+    })
+}

@@ -1,0 +1,184 @@
+//! The lock-step session: the plant advanced in control periods by the board's own clock, the
+//! board's inputs sampled and its outputs applied exactly when its messages say.
+//!
+//! Plant time: every message carries the board time; the host steps the plant, one control period
+//! at a time, up to the period that time falls in, each step with the bridge commands held at the
+//! end of that period (the PWM keeps running on its last commands). So a tick that runs late or
+//! not at all, a panic, and a watchdog reset all act on the plant when they act in virtual time.
+//! Step j (period j to j+1) is `Plant::step_bridges` with the commands of period j, which is what
+//! the in-process loop does after tick j−1.
+//!
+//! Ticks: the tick timer's first event ends period 0; tick k samples in period k+1. The operator
+//! ([`Operator`]) acts before each sample; the run stops `scene_ticks` after the scene starts.
+
+use super::faults::Fault;
+use super::operator::{command_code, Operator};
+use super::qemu::Emulator;
+use super::wire::{self, Message};
+use crate::plant::Plant;
+use softfinger_core::pipeline::{BoardTiming, BridgeCommands, Mode, RawInput};
+use std::collections::BTreeMap;
+
+/// What the plant saw over the run.
+#[derive(Clone, Debug, Default)]
+pub struct Trace {
+    /// The bridge commands held at the end of each period, index = period.
+    pub pins: Vec<BridgeCommands>,
+    /// Boots after the first, by reset cause.
+    pub resets: Vec<u32>,
+    /// `ResetPending` messages (watchdog NMI).
+    pub watchdog_nmis: u32,
+    /// End-of-run figures by key.
+    pub reports: BTreeMap<u16, u32>,
+    /// The board said `Done`.
+    pub done: bool,
+    /// Samples served.
+    pub samples: u64,
+    /// The tick the scene started at (armed).
+    pub scene_start: Option<u64>,
+    /// Homing did not finish in time.
+    pub homing_timed_out: bool,
+}
+
+/// The run's settings.
+#[derive(Clone, Copy, Debug)]
+pub struct Settings {
+    pub timing: BoardTiming,
+    /// Ticks of the scene after arming.
+    pub scene_ticks: u64,
+    pub fault: Fault,
+    /// Ticks from the scene's start to the fault.
+    pub fault_offset: u64,
+}
+
+impl Settings {
+    /// The control rate, Hz.
+    pub fn rate_hz(&self) -> u32 {
+        self.timing.control_hz
+    }
+
+    /// The fault's tick, once the scene has started.
+    pub fn fault_tick(&self, scene_start: Option<u64>) -> Option<u64> {
+        scene_start.map(|s| s + self.fault_offset)
+    }
+
+    /// Tick `k` is past the end of the run.
+    pub fn finished(&self, k: u64, scene_start: Option<u64>) -> bool {
+        scene_start.is_some_and(|s| k >= s + self.scene_ticks)
+    }
+}
+
+/// 25 MHz board counts per control period.
+fn period_counts(rate_hz: u32) -> u64 {
+    25_000_000 / u64::from(rate_hz)
+}
+
+struct Lockstep<'a> {
+    plant: Plant,
+    s: &'a Settings,
+    op: Operator,
+    /// Plant steps done = the current period.
+    period: u64,
+    /// The next tick the operator acts for.
+    next_tick: u64,
+    /// Board time of the current boot's origin, counts (moves at each reset).
+    base: u64,
+    /// When a reset is pending: the absolute time it happens.
+    reset_at: Option<u64>,
+    pins: BridgeCommands,
+    trace: Trace,
+}
+
+impl Lockstep<'_> {
+    fn advance_to(&mut self, target: u64) {
+        while self.period < target {
+            self.trace.pins.push(self.pins);
+            self.plant.step_bridges(&self.pins, &self.s.timing);
+            self.period += 1;
+        }
+    }
+
+    fn sense_reply(&mut self, mode: Mode) -> [u8; wire::REPLY_LEN] {
+        let k = self.period.saturating_sub(1);
+        let mut command = None;
+        if k >= self.next_tick {
+            command = self.op.before_sample(k, mode, &mut self.plant);
+            self.next_tick = k + 1;
+        }
+        let start = self.op.scene_start();
+        self.trace.scene_start = start;
+        let mut raw = RawInput {
+            counts: self.plant.raw_counts(),
+            ..RawInput::default()
+        };
+        let fault_tick = self.s.fault_tick(start);
+        self.s.fault.edit_sample(k, fault_tick, &mut raw);
+        let mut control = 0;
+        if self.s.finished(k, start) || self.op.homing_timed_out(k) {
+            control |= wire::CONTROL_STOP;
+            self.trace.homing_timed_out = self.op.homing_timed_out(k);
+        }
+        if self.s.fault == Fault::LogStall && fault_tick.is_some_and(|f| k >= f) {
+            control |= wire::CONTROL_LOG_STALL;
+        }
+        if self.s.fault.board_code() != 0 && fault_tick == Some(k) {
+            control |= wire::CONTROL_INJECT;
+        }
+        self.trace.samples += 1;
+        wire::sense_reply(raw.counts, raw.driver_fault, control, command_code(command))
+    }
+}
+
+/// Serve the board until it says `Done` (or QEMU exits). Returns the trace.
+pub fn run(emu: &mut Emulator, plant: Plant, s: &Settings) -> Result<Trace, String> {
+    let mut l = Lockstep {
+        plant,
+        s,
+        op: Operator::new(s.rate_hz()),
+        period: 0,
+        next_tick: 0,
+        base: 0,
+        reset_at: None,
+        pins: BridgeCommands::OFF,
+        trace: Trace::default(),
+    };
+    let mut booted = false;
+    loop {
+        let st = wire::decode(&emu.receive()?)?;
+        if let Message::Hello { reset_cause } = st.message {
+            if let Some(at) = l.reset_at.take() {
+                l.base = at;
+                l.trace.resets.push(reset_cause);
+            } else if booted {
+                return Err("the board rebooted without a watchdog NMI".into());
+            }
+            // A fault is injected once: a rebooted board's test hook stays disarmed.
+            let code = if booted { 0 } else { s.fault.board_code() };
+            booted = true;
+            emu.reply(&wire::hello_reply(s.rate_hz(), code))?;
+            continue;
+        }
+        l.advance_to((l.base + st.time_counts) / period_counts(s.rate_hz()));
+        match st.message {
+            Message::Hello { .. } => {}
+            Message::Sense { mode } => {
+                let r = l.sense_reply(mode);
+                emu.reply(&r)?;
+            }
+            Message::Drive(b) => l.pins = b,
+            Message::Report { key, value } => {
+                l.trace.reports.insert(key, value);
+            }
+            Message::ResetPending { counts } => {
+                l.trace.watchdog_nmis += 1;
+                l.reset_at = Some(l.base + st.time_counts + u64::from(counts));
+            }
+            Message::Done => {
+                l.trace.done = true;
+                break;
+            }
+            Message::Exited => break,
+        }
+    }
+    Ok(l.trace)
+}

@@ -1,0 +1,157 @@
+//! Tests of the PIL host's checks: the tick-by-tick comparison, the plant's view of a fault, the
+//! budget and the `--check` verdict, each just inside and just outside its threshold.
+
+use super::faults::Fault;
+use super::reference::RefTick;
+use super::report::{self, FaultReport, Summary};
+use super::session::Trace;
+use softfinger_core::contact_state::ContactState;
+use softfinger_core::pipeline::{BridgeCommands, Mode};
+use std::collections::BTreeMap;
+
+fn on(compare: u16) -> BridgeCommands {
+    BridgeCommands {
+        phase_forward: [true, false, true],
+        compare: [compare, 10, 0],
+        pwm_enable: true,
+        driver_awake: true,
+    }
+}
+
+fn reference(b: &[BridgeCommands]) -> Vec<RefTick> {
+    b.iter()
+        .map(|&bridges| RefTick {
+            bridges,
+            state: ContactState::Broken,
+            mode: Mode::Armed,
+        })
+        .collect()
+}
+
+fn trace(per_tick: &[BridgeCommands]) -> Trace {
+    // Period 0 (before the first tick) is off; tick k's commands end period k+1.
+    let mut pins = vec![BridgeCommands::OFF];
+    pins.extend_from_slice(per_tick);
+    Trace {
+        pins,
+        ..Trace::default()
+    }
+}
+
+#[test]
+fn comparison_counts_identical_ticks_and_the_largest_duty_difference() {
+    let board = [on(100), on(100), on(108), on(100)];
+    let refs = reference(&[on(100), on(100), on(100), on(100)]);
+    let (compared, identical, diff, first) =
+        report::compare(&trace(&board), &refs, u64::MAX, 8500.0);
+    assert_eq!((compared, identical, first), (4, 3, Some(2)));
+    assert_eq!(diff, 8.0 / 8500.0);
+    // A limit stops the comparison before the difference.
+    let (compared, identical, _, first) = report::compare(&trace(&board), &refs, 2, 8500.0);
+    assert_eq!((compared, identical, first), (2, 2, None));
+    // A phase flip with the bridges off is no duty difference, but not identical either.
+    let off_a = BridgeCommands::OFF;
+    let off_b = BridgeCommands {
+        phase_forward: [false; 3],
+        ..BridgeCommands::OFF
+    };
+    let (_, identical, diff, _) =
+        report::compare(&trace(&[off_a]), &reference(&[off_b]), 9, 8500.0);
+    assert_eq!((identical, diff), (0, 0.0));
+}
+
+#[test]
+fn fault_view_finds_when_the_bridges_went_off_and_whether_they_stayed_off() {
+    let t = trace(&[
+        on(5),
+        on(5),
+        on(5),
+        BridgeCommands::OFF,
+        BridgeCommands::OFF,
+    ]);
+    let r = report::observe_fault(&t, Fault::Hang, Some(1));
+    assert_eq!(r.outputs_off_at_tick, Some(3));
+    assert_eq!(r.outputs_off_after_ticks, Some(2));
+    assert_eq!(r.periods_driven_after_off, 0);
+    let t = trace(&[on(5), BridgeCommands::OFF, on(5)]);
+    let r = report::observe_fault(&t, Fault::Panic, Some(1));
+    assert_eq!(
+        (r.outputs_off_after_ticks, r.periods_driven_after_off),
+        (Some(0), 1)
+    );
+    // Faults that must not turn the bridges off report nothing about them.
+    let r = report::observe_fault(&t, Fault::LogStall, Some(1));
+    assert_eq!(r.outputs_off_at_tick, None);
+}
+
+fn summary(max_tick: u32, latency: u32) -> Summary {
+    Summary {
+        scene: "s".into(),
+        rate_hz: 10_000,
+        icount_shift: 3,
+        instructions_per_second: 125_000_000,
+        period_instructions: 12_500,
+        ticks: 10,
+        overruns: 0,
+        max_tick_instructions: max_tick,
+        max_start_latency_instructions: latency,
+        scene_start_tick: Some(1),
+        scene_start_tick_in_process: Some(1),
+        compared_ticks: 10,
+        identical_ticks: 10,
+        max_duty_diff: 0.0,
+        first_difference_tick: None,
+        defmt_frames: 1,
+        defmt_drops: 0,
+        defmt_malformed: 0,
+        telemetry_records: 1,
+        telemetry_drops: 0,
+        watchdog_resets: 0,
+        contact_state_s: BTreeMap::new(),
+        contact_state_s_in_process: BTreeMap::new(),
+        fault: FaultReport {
+            name: Fault::None,
+            at_tick: None,
+            outputs_off_at_tick: None,
+            outputs_off_after_ticks: None,
+            periods_driven_after_off: 0,
+            handled: true,
+        },
+    }
+}
+
+#[test]
+fn check_fails_just_above_the_budget_and_on_any_difference_or_overrun() {
+    let dir = std::env::temp_dir().join(format!("pil-budget-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let budget = dir.join("b.json");
+    std::fs::write(
+        &budget,
+        r#"{"tolerance_percent": 10, "baseline": {"10000": {"max_tick_instructions": 1000, "max_start_latency_instructions": 10}}}"#,
+    )
+    .unwrap();
+    // 10 % over 1000 is the limit: 1100 passes, 1105 (the next 5-instruction step) fails.
+    assert!(super::check(&summary(1100, 11), Some(&budget)).is_ok());
+    let e = super::check(&summary(1105, 11), Some(&budget)).unwrap_err();
+    assert!(e.contains("max_tick_instructions 1105"), "{e}");
+    let e = super::check(&summary(1000, 12), Some(&budget)).unwrap_err();
+    assert!(e.contains("max_start_latency_instructions"), "{e}");
+    // A tick longer than its period fails without a budget.
+    assert!(super::check(&summary(12_500, 5), None).is_ok());
+    assert!(super::check(&summary(12_505, 5), None).is_err());
+    let mut s = summary(1000, 5);
+    s.identical_ticks = 9;
+    assert!(super::check(&s, None)
+        .unwrap_err()
+        .contains("1 of 10 ticks differ"));
+    let mut s = summary(1000, 5);
+    s.overruns = 1;
+    assert!(super::check(&s, None).unwrap_err().contains("1 overruns"));
+    // A rate without a baseline is an error, not a pass.
+    let mut s = summary(1000, 5);
+    s.rate_hz = 20_000;
+    assert!(super::check(&s, Some(&budget))
+        .unwrap_err()
+        .contains("no baseline"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
