@@ -312,16 +312,8 @@ pub fn haptic_charts(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), Str
     let b = d.damping;
     let black = RGBColor(0, 0, 0);
     let (blue, red) = (PALETTE[0], PALETTE[3]);
-    let eig = |delay: usize| {
-        move |t: f64| {
-            haptic::eigen_kmax(&haptic::Loop {
-                device: *d,
-                period_s: t,
-                delay_ticks: delay,
-                b_virtual: 0.0,
-            })
-            .unwrap_or(f64::NAN)
-        }
+    let eig = |delay: f64| {
+        move |t: f64| haptic::eigen_kmax(&haptic::Loop::wall(*d, 1.0 / t, delay, 0.0)).unwrap_or(f64::NAN)
     };
     let series = vec![
         line(
@@ -330,7 +322,7 @@ pub fn haptic_charts(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), Str
             Style::Line,
             &|t| haptic::colgate_kmax(b, 0.0, t),
         ),
-        line("eigenvalue limit, no delay", blue, Style::Dashed, &eig(0)),
+        line("eigenvalue limit, no delay", blue, Style::Dashed, &eig(0.0)),
         pts("measured (simulation), no delay", blue, &|r| {
             r.measured_no_delay
         }),
@@ -344,7 +336,7 @@ pub fn haptic_charts(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), Str
             "eigenvalue limit, one tick delay",
             red,
             Style::Dashed,
-            &eig(1),
+            &eig(1.0),
         ),
         pts("measured (simulation), one tick delay", red, &|r| {
             r.measured_delay
@@ -467,13 +459,8 @@ pub fn haptic_notes(d: &Device, duration_s: f64) -> String {
          0.5 %. Criterion threshold vs the exact eigenvalue limit (linear regime), per rate:\n",
     );
     for rate in haptic::RATES_HZ {
-        for delay in [0usize, 1] {
-            let l = haptic::Loop {
-                device: *d,
-                period_s: 1.0 / rate,
-                delay_ticks: delay,
-                b_virtual: 0.0,
-            };
+        for delay in [0.0, 1.0] {
+            let l = haptic::Loop::wall(*d, rate, delay, 0.0);
             if let (Some(e), Some(c)) = (
                 haptic::eigen_kmax(&l),
                 haptic::criterion_kmax(&l, duration_s),
