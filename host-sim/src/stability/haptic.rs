@@ -39,7 +39,7 @@
 //! like a negative damper −K·τ at low frequency, so b > K·(T/2 + t_d) + |B| gives
 //! K_max ≈ 2(b − |B|)/(T + 2·t_d) = 2(b − |B|)/(3T) for t_d = T: one tick of delay costs a factor 3.
 
-use nalgebra::DMatrix;
+pub use super::haptic_eigen::{criterion_kmax, eigen_kmax, spectral_radius, transition};
 use softfinger_core::pipeline::passivity::{Passivity, PassivityConfig};
 use softfinger_core::vec3::Vec3;
 use std::collections::VecDeque;
@@ -93,16 +93,16 @@ pub fn delayed_estimate_kmax(b: f64, b_virtual: f64, period_s: f64, delay_s: f64
 
 /// Exact one-period solution of m·v' = −b·v + F with F constant: returns (e^(−bT/m), the map).
 #[derive(Clone, Copy, Debug)]
-struct Zoh {
+pub(super) struct Zoh {
     /// x[k+1] = x + cxv·v + cxf·F ; v[k+1] = cvv·v + cvf·F
-    cxv: f64,
-    cxf: f64,
-    cvv: f64,
-    cvf: f64,
+    pub(super) cxv: f64,
+    pub(super) cxf: f64,
+    pub(super) cvv: f64,
+    pub(super) cvf: f64,
 }
 
 impl Zoh {
-    fn new(d: &Device, t: f64) -> Zoh {
+    pub(super) fn new(d: &Device, t: f64) -> Zoh {
         let a = d.damping / d.mass_kg;
         let e = (-a * t).exp();
         // v(t) = F/b + (v0 − F/b)·e ; x(t) = x0 + (F/b)·t + (v0 − F/b)·(1 − e)/a.
@@ -147,7 +147,7 @@ impl Loop {
     }
 
     /// Whole ticks n and fraction f of the delay d = n + f.
-    fn delay_parts(&self) -> (usize, f64) {
+    pub(super) fn delay_parts(&self) -> (usize, f64) {
         let d = self.delay_ticks.clamp(0.0, 3.999);
         let n = d.floor();
         (n as usize, d - n)
@@ -174,25 +174,30 @@ pub fn periods(l: &Loop, duration_s: f64) -> usize {
     (duration_s / l.period_s).round().max(10.0) as usize
 }
 
-/// Simulate the wall hit with stiffness `k` for `duration_s` seconds.
-pub fn simulate(l: &Loop, k: f64, duration_s: f64) -> Outcome {
+/// One tick of a wall run, for traces: time at the tick's end (s), position (m, > 0 inside the
+/// wall), velocity (m/s), and the force acting at the tick's end (N, on the probe, user's push
+/// excluded).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceSample {
+    pub time_s: f64,
+    pub x_m: f64,
+    pub v_m_s: f64,
+    pub force_n: f64,
+}
+
+/// Run the wall hit with stiffness `k` for `duration_s` seconds from the surface at `hit_speed`,
+/// calling `observe` after every tick; stops early when the state is no longer finite.
+pub fn run_wall(
+    l: &Loop,
+    k: f64,
+    hit_speed: f64,
+    duration_s: f64,
+    mut observe: impl FnMut(TraceSample),
+) {
     let samples = periods(l, duration_s);
     let d = &l.device;
     let t = l.period_s;
-    let x_eq = d.user_force_n / k;
-    // U(x) − U(x_eq) written without cancellation: ½K(x − x_eq)² inside the wall,
-    // ½K·x_eq² − K·x_eq·x outside (continuous at x = 0).
-    let energy = |x: f64, v: f64| {
-        let u = if x >= 0.0 {
-            0.5 * k * (x - x_eq).powi(2)
-        } else {
-            0.5 * k * x_eq * x_eq - k * x_eq * x
-        };
-        0.5 * d.mass_kg * v * v + u
-    };
-    // Start at the wall surface moving in.
-    let (mut x, mut v) = (0.0f64, d.hit_speed);
-    let e_hit = energy(x, v);
+    let (mut x, mut v) = (0.0f64, hit_speed);
     let mut x_prev = x;
     // Commands of the last n + 2 ticks (oldest first): the force acting over [k, k + f) is
     // F[k − n − 1], over [k + f, k + 1) F[k − n].
@@ -206,8 +211,6 @@ pub fn simulate(l: &Loop, k: f64, duration_s: f64) -> Outcome {
         };
         Passivity::new(c, t as f32, k as f32, 1e6).ok()
     });
-    let (e0, e1, l0) = (2 * samples / 5, samples / 2, samples - samples / 10);
-    let (mut early, mut late, mut peak) = (0.0f64, 0.0f64, e_hit);
     for i in 0..samples {
         // Controller: sample, compute.
         let mut cmd = if x > 0.0 {
@@ -224,14 +227,46 @@ pub fn simulate(l: &Loop, k: f64, duration_s: f64) -> Outcome {
         cmds.pop_front();
         cmds.push_back(cmd);
         let (first, second) = (cmds[0], cmds[1]);
-        let (mut nx, mut nv) = (x, v);
         if frac > 0.0 {
-            (nx, nv) = zoh_a.step(nx, nv, first + d.user_force_n);
+            (x, v) = zoh_a.step(x, v, first + d.user_force_n);
         }
-        (nx, nv) = zoh_b.step(nx, nv, second + d.user_force_n);
-        x = nx;
-        v = nv;
-        let e = energy(x, v);
+        (x, v) = zoh_b.step(x, v, second + d.user_force_n);
+        observe(TraceSample {
+            time_s: (i + 1) as f64 * t,
+            x_m: x,
+            v_m_s: v,
+            force_n: second,
+        });
+        if !(x.is_finite() && v.is_finite()) {
+            return;
+        }
+    }
+}
+
+/// Simulate the wall hit with stiffness `k` for `duration_s` seconds.
+pub fn simulate(l: &Loop, k: f64, duration_s: f64) -> Outcome {
+    let samples = periods(l, duration_s);
+    let d = &l.device;
+    let x_eq = d.user_force_n / k;
+    // U(x) − U(x_eq) written without cancellation: ½K(x − x_eq)² inside the wall,
+    // ½K·x_eq² − K·x_eq·x outside (continuous at x = 0).
+    let energy = |x: f64, v: f64| {
+        let u = if x >= 0.0 {
+            0.5 * k * (x - x_eq).powi(2)
+        } else {
+            0.5 * k * x_eq * x_eq - k * x_eq * x
+        };
+        0.5 * d.mass_kg * v * v + u
+    };
+    // Start at the wall surface moving in.
+    let e_hit = energy(0.0, d.hit_speed);
+    let (e0, e1, l0) = (2 * samples / 5, samples / 2, samples - samples / 10);
+    let (mut early, mut late, mut peak) = (0.0f64, 0.0f64, e_hit);
+    let mut i = 0usize;
+    let mut finite = true;
+    run_wall(l, k, d.hit_speed, duration_s, |s| {
+        let e = energy(s.x_m, s.v_m_s);
+        finite &= e.is_finite();
         peak = peak.max(e);
         if (e0..e1).contains(&i) {
             early = early.max(e);
@@ -239,15 +274,16 @@ pub fn simulate(l: &Loop, k: f64, duration_s: f64) -> Outcome {
         if i >= l0 {
             late = late.max(e);
         }
-        if !e.is_finite() {
-            return Outcome {
-                hit_j: e_hit,
-                early_j: early,
-                late_j: f64::INFINITY,
-                peak_j: f64::INFINITY,
-                stable: false,
-            };
-        }
+        i += 1;
+    });
+    if !finite {
+        return Outcome {
+            hit_j: e_hit,
+            early_j: early,
+            late_j: f64::INFINITY,
+            peak_j: f64::INFINITY,
+            stable: false,
+        };
     }
     Outcome {
         hit_j: e_hit,
@@ -291,113 +327,6 @@ pub fn measured_kmax(l: &Loop, duration_s: f64) -> (Option<f64>, Vec<(f64, Outco
         _ => None,
     };
     (kmax, sweep)
-}
-
-/// The one-period transition matrix of the linear (bilateral spring) loop without the
-/// passivity stage, state (x[k], v[k], x[k−1], …, x[k−n−2]) for a delay d = n + f.
-pub fn transition(l: &Loop, k: f64) -> DMatrix<f64> {
-    let (n, frac) = l.delay_parts();
-    let t = l.period_s;
-    let m = n + 2; // oldest position kept: x[k − m]
-    let dim = 2 + m;
-    // Index of x[k − j] in the state.
-    let ix = |j: usize| if j == 0 { 0 } else { 1 + j };
-    let bt = l.b_virtual / t;
-    // F[k − i] = −(K + B/T)·x[k − i] + (B/T)·x[k − i − 1] as a row over the state.
-    let force_row = |i: usize| {
-        let mut r = vec![0.0; dim];
-        r[ix(i)] += -k - bt;
-        r[ix(i + 1)] += bt;
-        r
-    };
-    let (za, zb) = (Zoh::new(&l.device, frac * t), Zoh::new(&l.device, (1.0 - frac) * t));
-    // (x, v) after the two pieces: Φb·Φa·(x, v) + Φb·Γa·F[k−n−1] + Γb·F[k−n].
-    let phi = |z: &Zoh| [[1.0, z.cxv], [0.0, z.cvv]];
-    let (pa, pb) = (phi(&za), phi(&zb));
-    let mul = |p: [[f64; 2]; 2], q: [[f64; 2]; 2]| {
-        let mut r = [[0.0; 2]; 2];
-        for i in 0..2 {
-            for j in 0..2 {
-                r[i][j] = p[i][0] * q[0][j] + p[i][1] * q[1][j];
-            }
-        }
-        r
-    };
-    let pp = if frac > 0.0 { mul(pb, pa) } else { pb };
-    let ga = [za.cxf, za.cvf];
-    let gba = [pb[0][0] * ga[0] + pb[0][1] * ga[1], pb[1][0] * ga[0] + pb[1][1] * ga[1]];
-    let gb = [zb.cxf, zb.cvf];
-    let (fa, fb) = (force_row(n + 1), force_row(n));
-    let mut mat = DMatrix::zeros(dim, dim);
-    for r in 0..2 {
-        mat[(r, 0)] += pp[r][0];
-        mat[(r, 1)] += pp[r][1];
-        for j in 0..dim {
-            if frac > 0.0 {
-                mat[(r, j)] += gba[r] * fa[j];
-            }
-            mat[(r, j)] += gb[r] * fb[j];
-        }
-    }
-    // Shift the history: x[k+1−1] = x[k], x[k+1−j] = x[k−(j−1)].
-    mat[(ix(1), ix(0))] = 1.0;
-    for j in 2..=m {
-        mat[(ix(j), ix(j - 1))] = 1.0;
-    }
-    mat
-}
-
-/// Spectral radius of the loop's transition matrix at stiffness `k`.
-pub fn spectral_radius(l: &Loop, k: f64) -> f64 {
-    transition(l, k)
-        .complex_eigenvalues()
-        .iter()
-        .map(|z| z.norm())
-        .fold(0.0, f64::max)
-}
-
-/// The exact stability limit of the linear sampled loop: the K where the spectral radius reaches
-/// 1, by bisection to 1e-9 relative. Searched in [1e-2, 1e9] N/m.
-pub fn eigen_kmax(l: &Loop) -> Option<f64> {
-    let unstable = |k: f64| spectral_radius(l, k) > 1.0 + 1e-12;
-    let mut hi = 1e-2;
-    while !unstable(hi) {
-        hi *= 1.25;
-        if hi > 1e9 {
-            return None;
-        }
-    }
-    let mut lo = hi / 1.25;
-    while hi / lo > 1.0 + 1e-9 {
-        let mid = (lo * hi).sqrt();
-        if unstable(mid) {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Some(lo)
-}
-
-/// The K at which the simulation's criterion switches in the linear regime: where the spectral
-/// radius equals 0.5^(1/N), N the periods in `duration_s` (see the module doc). Used to state the
-/// detection's resolution against [`eigen_kmax`].
-pub fn criterion_kmax(l: &Loop, duration_s: f64) -> Option<f64> {
-    let target = (0.5f64.ln() / periods(l, duration_s) as f64).exp();
-    let top = eigen_kmax(l)?;
-    let (mut lo, mut hi) = (top * 0.5, top);
-    if spectral_radius(l, lo) > target {
-        return None;
-    }
-    while hi / lo > 1.0 + 1e-9 {
-        let mid = (lo * hi).sqrt();
-        if spectral_radius(l, mid) > target {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Some(lo)
 }
 
 /// One row of the table.

@@ -89,12 +89,9 @@ pub fn run_all(device: &Device, duration_s: f64) -> Vec<TimingRow> {
     haptic::RATES_HZ
         .iter()
         .map(|&rate| {
-            let delay = firmware_delay_ticks(
-                rate,
-                PIPELINE_TICK_INSTRUCTIONS,
-                CCM_CYCLES_PER_INSTRUCTION,
-            )
-            .unwrap_or(1.0);
+            let delay =
+                firmware_delay_ticks(rate, PIPELINE_TICK_INSTRUCTIONS, CCM_CYCLES_PER_INSTRUCTION)
+                    .unwrap_or(1.0);
             let fw = firmware_loop(device, rate, delay, false);
             let with_pc = firmware_loop(device, rate, delay, true);
             let (measured_firmware, _) = haptic::measured_kmax(&fw, duration_s);
@@ -148,7 +145,26 @@ mod probe {
     #[ignore]
     fn print_rows() {
         for r in run_all(&Device::DEFAULT, 5.0) {
-            println!("{:?}", (r.rate_hz, r.delay_ticks, r.ratio_firmware(), r.eigen_firmware.map(|k| k / r.bound), r.measured_one_tick.map(|k| k / r.bound), r.measured_passivity.map(|k| k / r.bound), r.passivity_bounded(), r.at_multiple.map(|(k, a, b)| (k, a.stable, a.peak_j / a.hit_j, b.stable, b.peak_j / b.hit_j, b.late_j / b.hit_j))));
+            println!(
+                "{:?}",
+                (
+                    r.rate_hz,
+                    r.delay_ticks,
+                    r.ratio_firmware(),
+                    r.eigen_firmware.map(|k| k / r.bound),
+                    r.measured_one_tick.map(|k| k / r.bound),
+                    r.measured_passivity.map(|k| k / r.bound),
+                    r.passivity_bounded(),
+                    r.at_multiple.map(|(k, a, b)| (
+                        k,
+                        a.stable,
+                        a.peak_j / a.hit_j,
+                        b.stable,
+                        b.peak_j / b.hit_j,
+                        b.late_j / b.hit_j
+                    ))
+                )
+            );
         }
     }
 }

@@ -16,6 +16,7 @@ pub mod chatter;
 pub mod decomp_map;
 pub mod drift;
 pub mod haptic;
+pub mod haptic_eigen;
 pub mod haptic_timing;
 pub mod present;
 pub mod rng;

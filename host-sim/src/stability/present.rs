@@ -313,7 +313,9 @@ pub fn haptic_charts(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), Str
     let black = RGBColor(0, 0, 0);
     let (blue, red) = (PALETTE[0], PALETTE[3]);
     let eig = |delay: f64| {
-        move |t: f64| haptic::eigen_kmax(&haptic::Loop::wall(*d, 1.0 / t, delay, 0.0)).unwrap_or(f64::NAN)
+        move |t: f64| {
+            haptic::eigen_kmax(&haptic::Loop::wall(*d, 1.0 / t, delay, 0.0)).unwrap_or(f64::NAN)
+        }
     };
     let series = vec![
         line(
