@@ -118,6 +118,55 @@ pub fn run_all(device: &Device, duration_s: f64) -> Vec<TimingRow> {
         .collect()
 }
 
+/// Speed of the fast impact, m/s (a quick tap on a desktop device).
+pub const IMPACT_SPEED: f64 = 0.2;
+/// Duration of the impact traces, s.
+pub const IMPACT_SECONDS: f64 = 0.1;
+
+/// A fast impact on the wall at one stiffness, without and with the passivity stage.
+#[derive(Clone, Debug)]
+pub struct Impact {
+    pub rate_hz: f64,
+    pub delay_ticks: f64,
+    pub stiffness: f64,
+    pub without: Vec<haptic::TraceSample>,
+    pub with: Vec<haptic::TraceSample>,
+    /// Peak force of an ideal continuous spring of this stiffness hit at the same speed with the
+    /// same push (no damping): F_h + sqrt(F_h² + K·m·v₀²), N.
+    pub ideal_peak_n: f64,
+}
+
+impl Impact {
+    /// Largest |force| of a trace, N.
+    pub fn peak_n(trace: &[haptic::TraceSample]) -> f64 {
+        trace.iter().map(|s| s.force_n.abs()).fold(0.0, f64::max)
+    }
+
+    /// Peak force with passivity over the ideal spring's, minus one.
+    pub fn overshoot_with(&self) -> f64 {
+        Self::peak_n(&self.with) / self.ideal_peak_n - 1.0
+    }
+}
+
+/// The fast impact at `rate_hz` on a wall of `stiffness` N/m at the firmware timing.
+pub fn impact(device: &Device, rate_hz: f64, delay_ticks: f64, stiffness: f64) -> Impact {
+    let trace = |pc| {
+        let mut v = Vec::new();
+        let l = firmware_loop(device, rate_hz, delay_ticks, pc);
+        haptic::run_wall(&l, stiffness, IMPACT_SPEED, IMPACT_SECONDS, |s| v.push(s));
+        v
+    };
+    let f = device.user_force_n;
+    Impact {
+        rate_hz,
+        delay_ticks,
+        stiffness,
+        without: trace(false),
+        with: trace(true),
+        ideal_peak_n: f + (f * f + stiffness * device.mass_kg * IMPACT_SPEED.powi(2)).sqrt(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -135,36 +184,5 @@ mod tests {
         assert!((d - (8_500.0 - 51.0) / 17_000.0).abs() < 1e-6, "{d}");
         // 30 kHz control is not a divisor of 40 kHz PWM.
         assert!(firmware_delay_ticks(30_000.0, 2_500, 1.25).is_none());
-    }
-}
-
-#[cfg(test)]
-mod probe {
-    use super::*;
-    #[test]
-    #[ignore]
-    fn print_rows() {
-        for r in run_all(&Device::DEFAULT, 5.0) {
-            println!(
-                "{:?}",
-                (
-                    r.rate_hz,
-                    r.delay_ticks,
-                    r.ratio_firmware(),
-                    r.eigen_firmware.map(|k| k / r.bound),
-                    r.measured_one_tick.map(|k| k / r.bound),
-                    r.measured_passivity.map(|k| k / r.bound),
-                    r.passivity_bounded(),
-                    r.at_multiple.map(|(k, a, b)| (
-                        k,
-                        a.stable,
-                        a.peak_j / a.hit_j,
-                        b.stable,
-                        b.peak_j / b.hit_j,
-                        b.late_j / b.hit_j
-                    ))
-                )
-            );
-        }
     }
 }

@@ -4,7 +4,6 @@ use super::charts::{self, Axes, HeatPanel, Series, Style};
 use super::chatter::{self, ChatterRun};
 use super::decomp_map::{self, Grid, MethodMap};
 use super::drift::DriftRun;
-use super::haptic::{self, Device, RateRow};
 use super::table::{sci, Table};
 use plotters::style::RGBColor;
 use softfinger_core::decompose::Method;
@@ -29,7 +28,7 @@ fn backend_style(b: &str) -> Style {
     }
 }
 
-const PALETTE: [RGBColor; 5] = [
+pub(super) const PALETTE: [RGBColor; 5] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
@@ -286,199 +285,6 @@ pub fn drift_table(runs: &[DriftRun]) -> Table {
         ]);
     }
     t
-}
-
-// ---------------------------------------------------------------- part 3
-
-pub fn haptic_charts(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), String> {
-    let fine: Vec<f64> = (0..=40)
-        .map(|i| 1_000.0 * 20f64.powf(i as f64 / 40.0))
-        .collect();
-    let line = |label: &str, color, style, f: &dyn Fn(f64) -> f64| Series {
-        label: label.into(),
-        color,
-        style,
-        points: fine.iter().map(|&r| (r, f(1.0 / r))).collect(),
-    };
-    let pts = |label: &str, color, get: &dyn Fn(&RateRow) -> Option<f64>| Series {
-        label: label.into(),
-        color,
-        style: Style::Markers,
-        points: rows
-            .iter()
-            .filter_map(|r| get(r).map(|k| (r.rate_hz, k)))
-            .collect(),
-    };
-    let b = d.damping;
-    let black = RGBColor(0, 0, 0);
-    let (blue, red) = (PALETTE[0], PALETTE[3]);
-    let eig = |delay: f64| {
-        move |t: f64| {
-            haptic::eigen_kmax(&haptic::Loop::wall(*d, 1.0 / t, delay, 0.0)).unwrap_or(f64::NAN)
-        }
-    };
-    let series = vec![
-        line(
-            "Colgate-Schenkel passivity bound 2b/T",
-            black,
-            Style::Line,
-            &|t| haptic::colgate_kmax(b, 0.0, t),
-        ),
-        line("eigenvalue limit, no delay", blue, Style::Dashed, &eig(0.0)),
-        pts("measured (simulation), no delay", blue, &|r| {
-            r.measured_no_delay
-        }),
-        line(
-            "estimate 2b/(3T) with one tick delay",
-            black,
-            Style::Dotted,
-            &|t| haptic::delayed_estimate_kmax(b, 0.0, t, t),
-        ),
-        line(
-            "eigenvalue limit, one tick delay",
-            red,
-            Style::Dashed,
-            &eig(1.0),
-        ),
-        pts("measured (simulation), one tick delay", red, &|r| {
-            r.measured_delay
-        }),
-    ];
-    charts::line_chart(
-        &out.join("haptic_kmax.svg"),
-        1000,
-        640,
-        &[(
-            Axes {
-                title: format!(
-                    "Virtual wall K_max vs control rate (m = {} kg, b = {} N s/m, B = 0)",
-                    d.mass_kg, d.damping
-                ),
-                x_label: "control rate 1/T (Hz)".into(),
-                y_label: "largest stable wall stiffness K_max (N/m)".into(),
-                x: (900.0, 22_000.0),
-                y: (1e3, 2e5),
-                x_log: true,
-                y_log: true,
-            },
-            series,
-        )],
-    )?;
-    // Energy ratio late/early over the K sweep, per rate, both delays.
-    let panel = |delay: usize| {
-        let s: Vec<Series> = rows
-            .iter()
-            .enumerate()
-            .map(|(i, r)| Series {
-                label: format!("{} kHz", r.rate_hz / 1e3),
-                color: PALETTE[i % PALETTE.len()],
-                style: Style::LineMarkers,
-                points: r.sweeps[delay]
-                    .iter()
-                    .map(|(k, o)| {
-                        // Decayed to rounding (both windows may then hold noise): the floor.
-                        let ratio = if o.late_j < haptic::ENERGY_FLOOR * o.hit_j {
-                            1e-12
-                        } else if o.early_j > 0.0 {
-                            o.late_j / o.early_j
-                        } else {
-                            f64::NAN
-                        };
-                        (*k, ratio.clamp(1e-12, 1e6))
-                    })
-                    .collect(),
-            })
-            .collect();
-        (
-            Axes {
-                title: format!(
-                    "Energy late / early after a wall hit, {}",
-                    if delay == 0 {
-                        "no delay"
-                    } else {
-                        "one tick delay"
-                    }
-                ),
-                x_label: "wall stiffness K (N/m)".into(),
-                y_label: "energy ratio late/early (< 0.5 stable; 1e-12: decayed)".into(),
-                x: (haptic::K_SWEEP.0, haptic::K_SWEEP.1),
-                y: (1e-12, 1e6),
-                x_log: true,
-                y_log: true,
-            },
-            s,
-        )
-    };
-    charts::line_chart(
-        &out.join("haptic_energy.svg"),
-        700,
-        560,
-        &[panel(0), panel(1)],
-    )
-}
-
-pub fn haptic_table(d: &Device, rows: &[RateRow], duration_s: f64) -> Table {
-    let mut t = Table::new(
-        &format!(
-            "Part 3. Virtual wall K_max (N/m): m = {} kg, b = {} N s/m, B = 0, user push {} N, hit at {} m/s, {} s per run",
-            d.mass_kg, d.damping, d.user_force_n, d.hit_speed, duration_s
-        ),
-        &[
-            "rate (kHz)",
-            "Colgate 2b/T",
-            "eigen, no delay",
-            "measured, no delay",
-            "meas/Colgate",
-            "eigen, 1 tick",
-            "measured, 1 tick",
-            "2b/(3T)",
-            "meas 1 tick/Colgate",
-        ],
-    );
-    let o = |v: Option<f64>| v.map_or("none".to_string(), |k| format!("{k:.0}"));
-    for r in rows {
-        let ratio = |v: Option<f64>| v.map_or("-".to_string(), |k| format!("{:.3}", k / r.colgate));
-        t.row(vec![
-            format!("{}", r.rate_hz / 1e3),
-            format!("{:.0}", r.colgate),
-            o(r.eigen_no_delay),
-            o(r.measured_no_delay),
-            ratio(r.measured_no_delay),
-            o(r.eigen_delay),
-            o(r.measured_delay),
-            format!("{:.0}", r.estimate_delay),
-            ratio(r.measured_delay),
-        ]);
-    }
-    t
-}
-
-/// The detection's resolution, in words and numbers.
-pub fn haptic_notes(d: &Device, duration_s: f64) -> String {
-    let mut s = String::from(
-        "Detection: stable when the oscillation energy over the last 10 % of the run is below half its \
-         maximum over [40 %, 50 %) (or below 1e-12 of the hit's energy); K_max by a 81-point log sweep over 1e2..1e6 N/m then bisection to \
-         0.5 %. Criterion threshold vs the exact eigenvalue limit (linear regime), per rate:\n",
-    );
-    for rate in haptic::RATES_HZ {
-        for delay in [0.0, 1.0] {
-            let l = haptic::Loop::wall(*d, rate, delay, 0.0);
-            if let (Some(e), Some(c)) = (
-                haptic::eigen_kmax(&l),
-                haptic::criterion_kmax(&l, duration_s),
-            ) {
-                s += &format!(
-                    "  {:>4} kHz, delay {}: criterion switches at {:.0} N/m, {:.3} % below the limit {:.0}\n",
-                    rate / 1e3,
-                    delay,
-                    c,
-                    100.0 * (1.0 - c / e),
-                    e
-                );
-            }
-        }
-    }
-    s
 }
 
 // ---------------------------------------------------------------- part 4
