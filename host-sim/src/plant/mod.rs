@@ -35,6 +35,7 @@ pub mod mechanism;
 pub mod motor;
 pub mod params;
 pub mod pwm;
+pub mod timing;
 
 use softfinger_core::device::{DeviceParamError, DeviceParams};
 
