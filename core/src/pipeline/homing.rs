@@ -12,6 +12,12 @@
 //! jammed) or its encoder is dead, and either way the count read there cannot be trusted. Arms
 //! that reach their stop keep pushing until all three have; then the offsets are set together.
 //!
+//! Then the arms **park**: with the same torque limit they are driven to `park_angle_rad` and
+//! homing ends when all three have stayed within `park_tolerance_rad` of it for the stall time.
+//! With all three arms at a common stop a delta linkage can sit beyond its dead centre (for the
+//! Omega-like geometry, all arms above −0.5 rad: a downward pull on the handle then pushes the
+//! arms further into their stops), so the device is never handed over there.
+//!
 //! The wrist has no motors, so it cannot be driven to a stop: its zero is the calibration pose in
 //! which the operator holds the handle when giving `Home` (the command is the confirmation). The
 //! arms' motion does not turn the wrist joints, whose angles are relative to the platform.
@@ -39,6 +45,10 @@ pub struct HomingSpec {
     pub timeout_s: f32,
     /// Arm angle at the stop under the homing torque, rad (device frame, see `crate::delta`).
     pub stop_angle_rad: f32,
+    /// Arm angle the arms are driven to after the stops are found, rad.
+    pub park_angle_rad: f32,
+    /// Parking is done when every arm is this close to the park angle, rad.
+    pub park_tolerance_rad: f32,
 }
 
 impl HomingSpec {
@@ -55,6 +65,10 @@ impl HomingSpec {
         if !self.stop_angle_rad.is_finite() {
             return Err(ParamError::NotFinite("homing.stop_angle_rad"));
         }
+        if !self.park_angle_rad.is_finite() {
+            return Err(ParamError::NotFinite("homing.park_angle_rad"));
+        }
+        positive("homing.park_tolerance_rad", self.park_tolerance_rad)?;
         Ok(())
     }
 }
@@ -89,6 +103,26 @@ pub struct Homing {
     anchor: [i32; 3],
     still: [u32; 3],
     velocity: [f32; 3],
+    /// Set when all three stops are found; then the arms park.
+    offsets: Option<[i32; 3]>,
+    zero_angle_rad: f32,
+}
+
+/// Position gain of the park loop: speed command per rad of error, 1/s.
+const PARK_GAIN_PER_S: f32 = 10.0;
+
+/// `x` limited to ±`m` (`m` ≥ 0); NaN → 0. Not `f32::clamp`, whose assertion would link panic
+/// formatting.
+fn limit(x: f32, m: f32) -> f32 {
+    if x > m {
+        m
+    } else if x < -m {
+        -m
+    } else if x.is_nan() {
+        0.0
+    } else {
+        x
+    }
 }
 
 /// Seconds to ticks at `rate_hz`, rounded to nearest, at least 1, saturating.
@@ -125,6 +159,8 @@ impl Homing {
             anchor: [0; 3],
             still: [0; 3],
             velocity: [0.0; 3],
+            offsets: None,
+            zero_angle_rad: device.arm_angle_at_zero_count_rad,
         }
     }
 
@@ -134,6 +170,12 @@ impl Homing {
         self.elapsed = 0;
         self.still = [0; 3];
         self.velocity = [0.0; 3];
+        self.offsets = None;
+    }
+
+    /// The offsets once all three stops are found (while parking), else `None`.
+    pub const fn found_offsets(&self) -> Option<[i32; 3]> {
+        self.offsets
     }
 
     /// The homed count at the stop.
@@ -153,13 +195,23 @@ impl Homing {
         if self.elapsed > self.timeout_ticks {
             return HomingStep::Failed;
         }
-        let mut duties = [0.0f32; 3];
-        let mut at_stop = 0;
         for i in 0..3 {
             let step = counts[i].wrapping_sub(self.prev[i]) as f32;
             self.prev[i] = counts[i];
             let v_raw = step * self.rad_per_count * self.rate_hz;
             self.velocity[i] += (v_raw - self.velocity[i]) * self.alpha;
+        }
+        match self.offsets {
+            None => self.seek(counts, device),
+            Some(offsets) => self.park(counts, offsets, device),
+        }
+    }
+
+    /// Velocity loop towards the stops; stall detection.
+    fn seek(&mut self, counts: [i32; 3], device: &DeviceParams) -> HomingStep {
+        let mut duties = [0.0f32; 3];
+        let mut at_stop = 0;
+        for i in 0..3 {
             if counts[i].wrapping_sub(self.anchor[i]).unsigned_abs() > self.spec.stall_window_counts
             {
                 self.anchor[i] = counts[i];
@@ -177,24 +229,46 @@ impl Homing {
             } else {
                 let t = self.spec.velocity_gain_nm_s_per_rad
                     * (self.spec.speed_rad_s - self.velocity[i]);
-                // Not `f32::clamp` (its assertion would link panic formatting); NaN → 0 below.
-                let m = self.spec.max_torque_nm;
-                if t > m {
-                    m
-                } else if t < -m {
-                    -m
-                } else if t.is_nan() {
-                    0.0
-                } else {
-                    t
-                }
+                limit(t, self.spec.max_torque_nm)
             };
             duties[i] = device.arm_torque_to_duty(torque, self.velocity[i]);
         }
         if at_stop == 3 {
-            return HomingStep::Done(counts.map(|c| self.target_count.wrapping_sub(c)));
+            self.offsets = Some(counts.map(|c| self.target_count.wrapping_sub(c)));
+            self.still = [0; 3];
         }
         HomingStep::Drive(duties)
+    }
+
+    /// Position loop (through the velocity loop) to the park angle, with the homed counts.
+    fn park(&mut self, counts: [i32; 3], offsets: [i32; 3], device: &DeviceParams) -> HomingStep {
+        let mut duties = [0.0f32; 3];
+        let mut settled = 0;
+        let speed = self.spec.speed_rad_s.abs();
+        for i in 0..3 {
+            let homed = counts[i].wrapping_add(offsets[i]);
+            let angle = self.zero_angle_rad + homed as f32 * self.rad_per_count;
+            let error = self.spec.park_angle_rad - angle;
+            self.still[i] = if error.abs() <= self.spec.park_tolerance_rad {
+                self.still[i].saturating_add(1)
+            } else {
+                0
+            };
+            if self.still[i] >= self.stall_ticks {
+                settled += 1;
+            }
+            let v_ref = limit(PARK_GAIN_PER_S * error, speed);
+            let torque = limit(
+                self.spec.velocity_gain_nm_s_per_rad * (v_ref - self.velocity[i]),
+                self.spec.max_torque_nm,
+            );
+            duties[i] = device.arm_torque_to_duty(torque, self.velocity[i]);
+        }
+        if settled == 3 {
+            HomingStep::Done(offsets)
+        } else {
+            HomingStep::Drive(duties)
+        }
     }
 }
 
@@ -251,17 +325,47 @@ mod tests {
     }
 
     #[test]
-    fn stalls_after_travel_set_the_offsets_so_the_stop_reads_its_angle() {
+    fn stalls_after_travel_set_the_offsets_so_the_stop_reads_its_angle_then_park() {
+        let dev = OMEGA_LIKE.params;
         let mut h = homing();
         // 400 ticks at −1 count/tick: 400 counts of travel (above 391), then still.
-        let (k, step) = run(&mut h, 1000, -1, 400, 10_000);
-        // Done on the 1000th still tick.
-        assert_eq!(k, 400 + 1000);
+        let (k, step) = run(&mut h, 1000, -1, 400, 1_400);
+        assert!(matches!(step, HomingStep::Drive(_)));
+        assert_eq!(k, 1_400);
+        // Found on the 1000th still tick.
         let c = 1000 - 400;
-        assert_eq!(
-            step,
-            HomingStep::Done([-5461 - c, -5461 - (c + 7), -5461 - (c - 3)])
-        );
+        let off = [-5461 - c, -5461 - (c + 7), -5461 - (c - 3)];
+        assert_eq!(h.found_offsets(), Some(off));
+        // Parking: at the stop the arms are driven towards the park angle (θ increasing).
+        let at_stop = [c, c + 7, c - 3];
+        let HomingStep::Drive(d) = h.tick(at_stop, &dev) else {
+            panic!("not parking")
+        };
+        assert!(d.iter().all(|&x| x > 0.0), "{d:?}");
+        // Counts at the park angle (homed 0 ↔ 0 rad) for the stall time: done.
+        let parked = off.map(|o| -o);
+        let mut done = None;
+        for k in 1..=1_000 {
+            if let HomingStep::Done(o) = h.tick(parked, &dev) {
+                done = Some((k, o));
+                break;
+            }
+        }
+        assert_eq!(done, Some((1_000, off)));
+    }
+
+    #[test]
+    fn park_tolerance_is_bracketed() {
+        let dev = OMEGA_LIKE.params;
+        // 0.03 rad is 234.7 counts: 234 counts off is parked, 236 is not.
+        for (off_counts, parks) in [(234, true), (236, false)] {
+            let mut h = homing();
+            let _ = run(&mut h, 1000, -1, 400, 1_400);
+            let off = h.found_offsets().unwrap_or_default();
+            let near = off.map(|o| -o + off_counts);
+            let parked = (0..2_000).any(|_| matches!(h.tick(near, &dev), HomingStep::Done(_)));
+            assert_eq!(parked, parks, "{off_counts}");
+        }
     }
 
     #[test]
@@ -289,7 +393,8 @@ mod tests {
             let mut done = false;
             for k in 0..3_000 {
                 let x = if k % 2 == 0 { base } else { base - jitter };
-                if let HomingStep::Done(_) = h.tick([x; 3], &dev) {
+                let _ = h.tick([x; 3], &dev);
+                if h.found_offsets().is_some() {
                     done = true;
                     break;
                 }

@@ -284,6 +284,8 @@ impl<M: Math, S: Surface> Pipeline<M, S> {
             control.enable = false;
         }
         let flags = g.flags | bridges.1;
+        // After the mode's work: on the tick homing ends these are already the homed counts.
+        let counts = self.homed_counts();
         let telemetry = self.record(&control, &counts, &bridges.0, flags, raw);
         self.tick = self.tick.wrapping_add(1);
         PipelineOutput {
