@@ -16,6 +16,7 @@ pub mod chatter;
 pub mod decomp_map;
 pub mod drift;
 pub mod haptic;
+pub mod haptic_device;
 pub mod haptic_eigen;
 pub mod haptic_present;
 pub mod haptic_timing;
