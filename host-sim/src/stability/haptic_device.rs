@@ -167,6 +167,9 @@ pub struct DeviceRow {
     pub passivity_3x_stable: Option<bool>,
     pub passivity_3x_without_stable: Option<bool>,
     pub passivity_3x_peak_force_n: Option<f64>,
+    /// Late peak-to-peak amplitude of the 3x wall without and with passivity, m.
+    pub passivity_3x_late_amp_without_m: Option<f64>,
+    pub passivity_3x_late_amp_with_m: Option<f64>,
 }
 
 /// The device figures at `rate_hz` with the firmware's delay `delay_ticks`.
@@ -193,18 +196,7 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
         passivity_3x_stable: with.map(|o| o.stable),
         passivity_3x_without_stable: without.map(|o| o.stable),
         passivity_3x_peak_force_n: with.map(|o| o.peak_force_n),
+        passivity_3x_late_amp_without_m: without.map(|o| o.late_amp_m),
+        passivity_3x_late_amp_with_m: with.map(|o| o.late_amp_m),
     })
-}
-
-#[cfg(test)]
-mod probe {
-    use super::*;
-    #[test]
-    #[ignore]
-    fn print() {
-        for (rate, d) in [(10_000.0, 0.247), (20_000.0, 0.494)] {
-            let t = std::time::Instant::now();
-            println!("{:?} {:?}", row(rate, d), t.elapsed());
-        }
-    }
 }

@@ -3,6 +3,7 @@
 use super::charts::{self, Axes, Series, Style};
 use super::haptic::TraceSample;
 use super::haptic::{self, Device, RateRow};
+use super::haptic_device::DeviceRow;
 use super::haptic_timing::{Impact, TimingRow, IMPACT_SECONDS, IMPACT_SPEED};
 use super::present::PALETTE;
 use super::table::Table;
@@ -410,10 +411,12 @@ pub struct HapticJson {
     pub passivity_3x_peak_energy_over_hit: Vec<Option<f64>>,
     /// Fast impact at 10 kHz: peak force with passivity over the ideal spring's, minus one.
     pub impact_overshoot_with_passivity: f64,
+    /// The same walls in closed loop with the device plant.
+    pub device_plant: Vec<DeviceRow>,
 }
 
 /// The JSON figures of part 3.
-pub fn haptic_json(rows: &[TimingRow], imp: &Impact) -> HapticJson {
+pub fn haptic_json(rows: &[TimingRow], imp: &Impact, device_plant: Vec<DeviceRow>) -> HapticJson {
     let ratio = |f: &dyn Fn(&TimingRow) -> Option<f64>| {
         rows.iter().map(|r| f(r).map(|k| k / r.bound)).collect()
     };
@@ -430,5 +433,42 @@ pub fn haptic_json(rows: &[TimingRow], imp: &Impact) -> HapticJson {
             .map(|r| r.at_multiple.as_ref().map(|(_, _, b)| b.peak_j / b.hit_j))
             .collect(),
         impact_overshoot_with_passivity: imp.overshoot_with(),
+        device_plant,
     }
+}
+
+/// The device-plant table.
+pub fn device_table(rows: &[DeviceRow]) -> Table {
+    let mut t = Table::new(
+        "Part 3c. Largest passive wall in closed loop with the device plant (plane, contact damping 0, ~1 N push; settled = last 0.1 s within one encoder count, 13 um)",
+        &[
+            "rate (kHz)",
+            "delay (ticks)",
+            "K_max one tick (N/m)",
+            "K_max firmware (N/m)",
+            "gain",
+            "3x wall p-p without (um)",
+            "3x wall p-p with passivity (um)",
+            "settled with passivity",
+        ],
+    );
+    let k = |v: Option<f64>| v.map_or("-".to_string(), |k| format!("{k:.0}"));
+    let um = |v: Option<f64>| v.map_or("-".to_string(), |a| format!("{:.1}", a * 1e6));
+    for r in rows {
+        let gain = match (r.kmax_firmware_timing, r.kmax_one_tick) {
+            (Some(a), Some(b)) => format!("{:.2}", a / b),
+            _ => "-".into(),
+        };
+        t.row(vec![
+            format!("{}", r.rate_hz / 1e3),
+            format!("{:.3}", r.firmware_delay_ticks),
+            k(r.kmax_one_tick),
+            k(r.kmax_firmware_timing),
+            gain,
+            um(r.passivity_3x_late_amp_without_m),
+            um(r.passivity_3x_late_amp_with_m),
+            r.passivity_3x_stable.map_or("-".into(), |s| s.to_string()),
+        ]);
+    }
+    t
 }

@@ -119,7 +119,13 @@ pub fn main(args: &Args) -> Result<(), String> {
     haptic_present::impact_chart(out, &imp)?;
     emit(haptic_present::timing_table(&device, &timing, args.haptic_seconds).render());
     emit(haptic_present::impact_notes(&imp));
-    let haptic_json = haptic_present::haptic_json(&timing, &imp);
+    let device_rows = timing
+        .iter()
+        .filter(|r| r.rate_hz >= 10_000.0)
+        .map(|r| haptic_device::row(r.rate_hz, r.delay_ticks))
+        .collect::<Result<Vec<_>, _>>()?;
+    emit(haptic_present::device_table(&device_rows).render());
+    let haptic_json = haptic_present::haptic_json(&timing, &imp, device_rows);
     emit(format!("(part 3: {:.1} s)\n", t.elapsed().as_secs_f64()));
 
     if !args.haptic_only {
