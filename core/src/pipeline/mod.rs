@@ -165,6 +165,15 @@ impl<M: Math, S: Surface> Pipeline<M, S> {
         self.mode
     }
 
+    /// Replace the passivity stage's parameters (see [`passivity`]); the board's output delay is
+    /// the caller's to keep. Invalid values are rejected and the old ones stay.
+    pub fn set_passivity(
+        &mut self,
+        config: passivity::PassivityConfig,
+    ) -> Result<(), crate::params::ParamError> {
+        self.controller.set_passivity(config)
+    }
+
     /// Latched faults.
     pub fn latched(&self) -> Flags {
         self.guard.latched()

@@ -413,6 +413,8 @@ pub struct HapticJson {
     pub impact_overshoot_with_passivity: f64,
     /// The same walls in closed loop with the device plant.
     pub device_plant: Vec<DeviceRow>,
+    /// The default scene with the stage on vs observing only.
+    pub default_scene: Option<super::passivity_scene::SceneDifference>,
 }
 
 /// The JSON figures of part 3.
@@ -434,6 +436,7 @@ pub fn haptic_json(rows: &[TimingRow], imp: &Impact, device_plant: Vec<DeviceRow
             .collect(),
         impact_overshoot_with_passivity: imp.overshoot_with(),
         device_plant,
+        default_scene: None,
     }
 }
 

@@ -20,6 +20,7 @@ pub mod haptic_device;
 pub mod haptic_eigen;
 pub mod haptic_present;
 pub mod haptic_timing;
+pub mod passivity_scene;
 pub mod present;
 pub mod rng;
 pub mod table;
@@ -125,7 +126,18 @@ pub fn main(args: &Args) -> Result<(), String> {
         .map(|r| haptic_device::row(r.rate_hz, r.delay_ticks))
         .collect::<Result<Vec<_>, _>>()?;
     emit(haptic_present::device_table(&device_rows).render());
-    let haptic_json = haptic_present::haptic_json(&timing, &imp, device_rows);
+    let scene_diff = passivity_scene::compare()?;
+    emit(format!(
+        "Default scene with the passivity stage on vs observing only ({} ticks): largest force difference {:e} N (largest force {:.2} N), observed energy into the user from {:e} to {:e} J, {} ticks damped.\n",
+        scene_diff.ticks,
+        scene_diff.max_force_difference_n,
+        scene_diff.max_force_n,
+        scene_diff.min_observed_energy_j,
+        scene_diff.max_observed_energy_j,
+        scene_diff.damped_ticks
+    ));
+    let mut haptic_json = haptic_present::haptic_json(&timing, &imp, device_rows);
+    haptic_json.default_scene = Some(scene_diff);
     emit(format!("(part 3: {:.1} s)\n", t.elapsed().as_secs_f64()));
 
     if !args.haptic_only {
