@@ -52,7 +52,7 @@ fn run(enabled: bool) -> Result<(Vec<[f32; 3]>, (f64, f64), u64), String> {
             forces.push(out.control.force_n.to_array());
             let e = f64::from(pipe.controller().passivity().energy_j());
             max_e = max_e.max(e);
-        min_e = min_e.min(e);
+            min_e = min_e.min(e);
             if enabled && e > 0.0 {
                 damped += 1;
             }
