@@ -77,10 +77,9 @@ impl OutputTiming {
         let pwm = board.pwm_period_counts();
         let tick = board.tick_period_counts();
         let write = sample_counts.saturating_add(compute_counts);
-        let effect = if pwm == 0 {
-            sample_counts.saturating_add(tick)
-        } else {
-            (write / pwm + 1).saturating_mul(pwm)
+        let effect = match write.checked_div(pwm) {
+            Some(n) => (n + 1).saturating_mul(pwm),
+            None => sample_counts.saturating_add(tick),
         };
         OutputTiming {
             tick_counts: tick,

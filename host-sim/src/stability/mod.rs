@@ -46,6 +46,10 @@ pub struct Args {
     /// Run part 3 (haptic stability) only.
     #[arg(long)]
     pub haptic_only: bool,
+    /// Skip part 3's closed-loop runs with the device plant (the device-wall K_max and the
+    /// default scene with and without the passivity stage; about 10 s in a release build).
+    #[arg(long)]
+    pub skip_closed_loop: bool,
     /// State-machine steps per chatter configuration (10 kHz: 10⁵ steps = 10 s).
     #[arg(long, default_value_t = (chatter::RATE_HZ * chatter::DURATION_S) as u64)]
     pub chatter_steps: u64,
@@ -120,24 +124,29 @@ pub fn main(args: &Args) -> Result<(), String> {
     haptic_present::impact_chart(out, &imp)?;
     emit(haptic_present::timing_table(&device, &timing, args.haptic_seconds).render());
     emit(haptic_present::impact_notes(&imp));
-    let device_rows = timing
-        .iter()
-        .filter(|r| r.rate_hz >= 10_000.0)
-        .map(|r| haptic_device::row(r.rate_hz, r.delay_ticks))
-        .collect::<Result<Vec<_>, _>>()?;
-    emit(haptic_present::device_table(&device_rows).render());
-    let scene_diff = passivity_scene::compare()?;
-    emit(format!(
-        "Default scene with the passivity stage on vs observing only ({} ticks): largest force difference {:e} N (largest force {:.2} N), observed energy into the user from {:e} to {:e} J, {} ticks damped.\n",
-        scene_diff.ticks,
-        scene_diff.max_force_difference_n,
-        scene_diff.max_force_n,
-        scene_diff.min_observed_energy_j,
-        scene_diff.max_observed_energy_j,
-        scene_diff.damped_ticks
-    ));
+    let (device_rows, scene_diff) = if args.skip_closed_loop {
+        (Vec::new(), None)
+    } else {
+        let device_rows = timing
+            .iter()
+            .filter(|r| r.rate_hz >= 10_000.0)
+            .map(|r| haptic_device::row(r.rate_hz, r.delay_ticks))
+            .collect::<Result<Vec<_>, _>>()?;
+        emit(haptic_present::device_table(&device_rows).render());
+        let scene_diff = passivity_scene::compare()?;
+        emit(format!(
+            "Default scene with the passivity stage on vs observing only ({} ticks): largest force difference {:e} N (largest force {:.2} N), observed energy into the user from {:e} to {:e} J, {} ticks damped.\n",
+            scene_diff.ticks,
+            scene_diff.max_force_difference_n,
+            scene_diff.max_force_n,
+            scene_diff.min_observed_energy_j,
+            scene_diff.max_observed_energy_j,
+            scene_diff.damped_ticks
+        ));
+        (device_rows, Some(scene_diff))
+    };
     let mut haptic_json = haptic_present::haptic_json(&timing, &imp, device_rows);
-    haptic_json.default_scene = Some(scene_diff);
+    haptic_json.default_scene = scene_diff;
     emit(format!("(part 3: {:.1} s)\n", t.elapsed().as_secs_f64()));
 
     if !args.haptic_only {

@@ -25,8 +25,15 @@ pub struct SceneDifference {
     pub damped_ticks: u64,
 }
 
-/// Forces (per tick) and the stage's figures of one run of the default scene.
-fn run(enabled: bool) -> Result<(Vec<[f32; 3]>, (f64, f64), u64), String> {
+/// One run: rendered forces per tick, (largest, smallest) observed energy, damped ticks.
+struct Run {
+    forces: Vec<[f32; 3]>,
+    energy_range_j: (f64, f64),
+    damped_ticks: u64,
+}
+
+/// One run of the default scene.
+fn run(enabled: bool) -> Result<Run, String> {
     let scene = Scene::default_scene();
     if scene.surface != SurfaceSpec::Plane {
         return Err("the default scene is expected on the plane".into());
@@ -58,13 +65,21 @@ fn run(enabled: bool) -> Result<(Vec<[f32; 3]>, (f64, f64), u64), String> {
             }
         },
     );
-    Ok((forces, (max_e, min_e), damped))
+    Ok(Run {
+        forces,
+        energy_range_j: (max_e, min_e),
+        damped_ticks: damped,
+    })
 }
 
 /// Run the default scene with the stage on and observing only, and compare.
 pub fn compare() -> Result<SceneDifference, String> {
-    let (on, (max_e, min_e), damped) = run(true)?;
-    let (off, _, _) = run(false)?;
+    let Run {
+        forces: on,
+        energy_range_j: (max_e, min_e),
+        damped_ticks: damped,
+    } = run(true)?;
+    let off = run(false)?.forces;
     let norm = |v: [f32; 3]| v.iter().map(|c| f64::from(*c).powi(2)).sum::<f64>().sqrt();
     let diff = on
         .iter()
