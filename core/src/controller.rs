@@ -1,18 +1,19 @@
-//! The hardware-independent controller tick: six encoder counts in, three motor duties out.
+//! The hardware-independent control law: six encoder counts in, three motor duties out.
 //!
-//! Each tick: fault inputs → encoder checks → motor angles → delta forward kinematics (probe
-//! position) → wrist orientation → contact step (rolling, spin torque, state machine, proxy force)
-//! → Jacobian-transpose motor torques → duties → independent output limits. The firmware calls it
-//! from its highest-priority timer interrupt; host-sim calls it against the plant model, so both run
-//! exactly the same code.
+//! [`Controller::compute`]: motor angles → delta forward kinematics (probe position) → wrist
+//! orientation → contact step (rolling, spin torque, state machine, proxy force) → Jacobian-transpose
+//! motor torques → duties. [`Controller::tick`] runs it through an [`OutputGuard`] (fault inputs,
+//! encoder checks, the latch, the output limits). The firmware and host-sim run it inside the
+//! control pipeline ([`crate::pipeline`]), which calls `compute` and its own guard.
 //!
 //! Frames: the device **base frame** is the delta's (see [`crate::delta`]); the object (scene) frame
 //! is the base frame translated by `object_origin_m` (no rotation), so forces computed in the object
 //! frame apply unchanged in the base frame.
 //!
-//! Safety: any fault — driver fault input, encoder glitch, encoder stuck under drive, non-finite
-//! output, an overrun streak — is latched: duties are zero and `enable` is false from that tick on,
-//! until [`Controller::clear_faults`].
+//! Safety (through the guard): any fault — driver fault input, encoder glitch, encoder stuck under
+//! drive, non-finite output, an overrun streak — is latched: duties are zero and `enable` is false
+//! from that tick on, until [`Controller::clear_faults`]. The latching set and the thresholds are
+//! defined once, in [`crate::output_guard`] and [`Limits`].
 
 use crate::contact::{ContactInput, ContactModel, ContactOutput};
 use crate::contact_state::ContactState;
@@ -372,9 +373,11 @@ impl<M: Math, S: Surface> Controller<M, S> {
         guarded_output(raw, &g)
     }
 
-    /// The control law alone: counts (homed, extended) in, duties out, no fault latch. Non-finite
-    /// results are replaced by zero and reported as [`Flags::NON_FINITE_OUTPUT`] (which a guard
-    /// latches); duties are not limited here beyond the device's ±1 (the guard limits them).
+    /// The control law alone: counts (homed, extended) in, duties out, no fault latch. A
+    /// non-finite duty is replaced by zero and reported as [`Flags::NON_FINITE_OUTPUT`]; a
+    /// non-finite force or torque is passed on for the guard, which flags and latches it (and then
+    /// reports zero); duties are not limited here beyond the device's ±1 (the guard limits them).
+    /// Use it only through a guard ([`Self::tick`] or the pipeline).
     pub fn compute(&mut self, counts: &[i32; 6]) -> TickOutput {
         let mut flags = self.pending;
         self.pending = Flags::NONE;
@@ -473,18 +476,18 @@ impl<M: Math, S: Surface> Controller<M, S> {
             }
             duties[i] = d;
         }
-        let tau = contact.tau_n_nm * self.force_scale;
-        if !force_n.is_finite() || !tau.is_finite() {
-            flags |= Flags::NON_FINITE_OUTPUT;
-        }
-        let finite = |v: Vec3| if v.is_finite() { v } else { Vec3::ZERO };
+        let probe_m = if probe_dev.is_finite() {
+            probe_dev
+        } else {
+            Vec3::ZERO
+        };
         TickOutput {
             duties,
             enable: true,
             flags,
-            probe_m: finite(probe_dev),
-            force_n: finite(force_n),
-            tau_n_nm: if tau.is_finite() { tau } else { 0.0 },
+            probe_m,
+            force_n,
+            tau_n_nm: contact.tau_n_nm * self.force_scale,
             state: contact.state,
         }
     }
