@@ -34,11 +34,11 @@ pub const CCM_CYCLES_PER_INSTRUCTION: f32 = 1.25;
 /// stacking) and six timer-register reads, rounded up.
 pub const SAMPLE_INSTRUCTIONS: u32 = 40;
 
-/// Instructions of the pipeline tick between the sample and the compare write, as planned: the
-/// `control_tick` budget of `mcu-bench/budget.json` (2 000; measured 1 864 with the fast
-/// backend) plus 500 for the count extension, guard and bridge mapping. Only whole PWM periods
-/// matter: with 40 kHz PWM any figure up to 3 350 gives the same delay.
-pub const PIPELINE_TICK_INSTRUCTIONS: u32 = 2_500;
+/// Instructions of the pipeline tick, an upper bound of those between the sample and the compare
+/// write: `scripts/mcu-bench`'s `pipeline_tick` row (fast backend, passivity stage included:
+/// 2 580 measured). At 1.25 cycles per instruction that is 19.0 µs at 170 MHz. Only whole PWM
+/// periods matter: with 40 kHz PWM any figure up to 3 350 gives the same delay.
+pub const PIPELINE_TICK_INSTRUCTIONS: u32 = 2_580;
 
 /// The low-latency board timings: 40 kHz PWM (4 250 counts per period at 170 MHz), four PWM
 /// periods per 10 kHz tick and two per 20 kHz tick.
@@ -170,6 +170,25 @@ mod tests {
         // A compute longer than the tick: the delay exceeds a tick.
         let t = OutputTiming::new(&BoardTiming::STM32G474_20KHZ, 0, 8_500);
         assert!(!t.within_tick() && t.delay_ticks() == 2.0);
+    }
+
+    /// The measured pipeline tick fits the first 40 kHz PWM period: a quarter tick at 10 kHz,
+    /// half a tick at 20 kHz (less the sample instant). Fails when the tick outgrows 25 µs.
+    #[test]
+    fn planned_tick_fits_the_first_pwm_period() {
+        for (b, ticks) in [(LOW_LATENCY_10KHZ, 0.25f32), (LOW_LATENCY_20KHZ, 0.5)] {
+            let t = OutputTiming::planned(&b);
+            assert_eq!(t.effect_counts, 4_250);
+            assert!(t.write_counts < 4_250 && t.within_tick());
+            assert!(
+                (t.delay_ticks() - ticks).abs() < 0.01,
+                "{}",
+                t.delay_ticks()
+            );
+        }
+        // On today's 20 kHz PWM the same tick waits half a 10 kHz tick.
+        let t = OutputTiming::planned(&BoardTiming::STM32G474_10KHZ);
+        assert_eq!(t.effect_counts, 8_500);
     }
 
     #[test]
