@@ -13,7 +13,7 @@ fn tmpdir(name: &str) -> PathBuf {
 }
 
 /// The charts the command promises, each a non-trivial SVG document.
-const CHARTS: [&str; 8] = [
+const CHARTS: [&str; 10] = [
     "decomp_map_paper-verbatim.svg",
     "decomp_map_rpy.svg",
     "decomp_map_exact.svg",
@@ -21,6 +21,8 @@ const CHARTS: [&str; 8] = [
     "drift.svg",
     "haptic_kmax.svg",
     "haptic_energy.svg",
+    "haptic_kmax_timing.svg",
+    "haptic_impact.svg",
     "chatter.svg",
 ];
 
@@ -37,6 +39,7 @@ fn short_run_writes_every_chart_and_the_tables() {
         "10000",
         "--haptic-seconds",
         "2",
+        "--skip-closed-loop",
         "--chatter-steps",
         "20000",
     ]);

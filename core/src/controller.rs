@@ -23,6 +23,7 @@ use crate::math::Math;
 use crate::output_guard::{GuardConfig, Guarded, OutputGuard};
 pub use crate::params::ParamError;
 use crate::params::{positive, ContactParams};
+use crate::pipeline::passivity::{Passivity, PassivityConfig};
 use crate::quat::Quat;
 use crate::surface::{Plane, Surface};
 use crate::vec3::Vec3;
@@ -241,6 +242,8 @@ pub struct Controller<M: Math, S: Surface = Plane> {
     arm_vel: [f32; 3],
     force_scale: f32,
     pending: Flags,
+    /// The passivity observer and controller (on by default).
+    passivity: Passivity,
 }
 
 /// Faults that latch: the outputs stay at zero torque until an explicit clear (one set, defined
@@ -269,6 +272,12 @@ impl<M: Math, S: Surface> Controller<M, S> {
             arm_vel: [0.0; 3],
             force_scale: 1.0,
             pending: Flags::NONE,
+            passivity: Passivity::new(
+                PassivityConfig::DEFAULT,
+                dt_s,
+                stored_spring(&config.contact),
+                config.contact.max_force_n,
+            )?,
         })
     }
 
@@ -297,6 +306,7 @@ impl<M: Math, S: Surface> Controller<M, S> {
     /// Forget the velocity history and break the contact (after a fault, a re-homing, an arming).
     pub fn restart(&mut self) {
         self.started = false;
+        self.passivity.restart();
         if let Ok(c) = ContactModel::new(
             self.config.contact,
             self.config.surface,
@@ -305,6 +315,19 @@ impl<M: Math, S: Surface> Controller<M, S> {
         ) {
             self.contact = c;
         }
+    }
+
+    /// The passivity stage (read-only, for logs and charts).
+    pub fn passivity(&self) -> &Passivity {
+        &self.passivity
+    }
+
+    /// Replace the passivity stage's parameters (its history restarts). Invalid values are
+    /// rejected and the old ones stay.
+    pub fn set_passivity(&mut self, config: PassivityConfig) -> Result<(), ParamError> {
+        let c = &self.config.contact;
+        self.passivity = Passivity::new(config, self.dt_s, stored_spring(c), c.max_force_n)?;
+        Ok(())
     }
 
     /// Scale the rendered force by `scale` in [0, 1] (the arming ramp). Out-of-range or NaN
@@ -326,6 +349,8 @@ impl<M: Math, S: Surface> Controller<M, S> {
             Ok(c) => {
                 self.config.contact = p;
                 self.contact = c;
+                self.passivity.set_contact(stored_spring(&p), p.max_force_n);
+                self.passivity.restart();
                 Ok(())
             }
             Err(e) => {
@@ -411,6 +436,17 @@ impl<M: Math, S: Surface> Controller<M, S> {
         };
         flags |= contact.flags;
         let force_n = contact.force_n * self.force_scale;
+        // Passivity: observe the energy into the user, damp it away when it turns positive. The
+        // arming ramp scales a stored force up in place (a deliberate, bounded energy source):
+        // the observer starts when the ramp is done.
+        let force_n = if trusted && self.force_scale >= 1.0 {
+            self.passivity
+                .step(force_n, probe_dev, self.probe_vel)
+                .force_n
+        } else {
+            self.passivity.restart();
+            force_n
+        };
 
         // Motor torques and duties.
         let (torques, jflags) = dev.delta.torques_at(&pose, force_n);
@@ -455,6 +491,12 @@ impl<M: Math, S: Surface> Controller<M, S> {
             state: contact.state,
         }
     }
+}
+
+/// The stiffest spring of a contact (normal or tangential), N/m: the passivity observer's
+/// estimate of the energy a rendered force holds (|F|²/(2K) is least for the stiffest).
+fn stored_spring(c: &ContactParams) -> f32 {
+    c.normal_stiffness.max(c.tangential_stiffness)
 }
 
 /// The controller's raw output after a guard: the guard's duties, enable and flags; force and

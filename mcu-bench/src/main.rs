@@ -16,6 +16,7 @@ use softfinger_core::controller::{Controller, ControllerConfig, TickInput};
 use softfinger_core::decompose::{decompose, Method};
 use softfinger_core::device::DeviceParams;
 use softfinger_core::params::ContactParams;
+use softfinger_core::pipeline::passivity::{Passivity, PassivityConfig};
 use softfinger_core::rolling::Rolling;
 use softfinger_core::spin::{torsion_limit, SpinSpring};
 use softfinger_core::surface::{Plane, Sphere};
@@ -149,6 +150,7 @@ fn pipeline(b: &mut Bencher) {
 
     state_machine(b);
     spin_torque(b);
+    passivity_step(b);
     contact_step::<Libm>(b, "contact_step", Method::Exact);
     contact_step::<Micromath>(b, "contact_step", Method::Exact);
     contact_step::<Fast>(b, "contact_step", Method::Exact);
@@ -199,6 +201,35 @@ fn spin_torque(b: &mut Bencher) {
         let tau_max = torsion_limit(p.mu_s, bb(2.0f32), p.patch_radius_m);
         spring.update(bb(dphi), p.spin_stiffness, tau_max)
     });
+}
+
+/// The passivity stage on its active path (the worst case): the probe moves 1 µm per tick along a
+/// 2 N force, so the observed energy grows every tick and the damper is computed and applied
+/// every tick (checked after the measurement). Backend-independent (one `sqrtf` only when the
+/// force limit binds, which it does not here).
+fn passivity_step(b: &mut Bencher) {
+    let Ok(mut p) = Passivity::new(PassivityConfig::DEFAULT, 1.0e-4, 2_000.0, 12.0) else {
+        hprintln!("ERROR passivity_step: the default configuration was rejected");
+        b.fail();
+        return;
+    };
+    let _ = p.step(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+    let mut x = 0.0f32;
+    let force = Vec3::new(2.0, 0.0, 0.0);
+    let v = Vec3::new(0.01, 0.0, 0.0);
+    bench!(b, "passivity_step", _, || {
+        x += 1.0e-6;
+        p.step(bb(force), bb(Vec3::new(x, 0.0, 0.0)), bb(v))
+    });
+    let s = p.step(force, Vec3::new(x + 1.0e-6, 0.0, 0.0), v);
+    if !(s.energy_j > 0.0 && s.damping_n_s_per_m > 0.0) {
+        hprintln!(
+            "ERROR passivity_step: expected the active path; energy {} J, damping {}",
+            s.energy_j,
+            s.damping_n_s_per_m
+        );
+        b.fail();
+    }
 }
 
 /// The full contact step (`ContactModel::contact_step`) on the plane at 10 kHz: orientation and

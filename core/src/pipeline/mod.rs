@@ -25,6 +25,8 @@ pub mod config;
 pub mod driver;
 pub mod homing;
 pub mod mode;
+pub mod output_timing;
+pub mod passivity;
 pub mod ramp;
 pub mod record;
 pub mod timing;
@@ -117,7 +119,16 @@ impl<M: Math, S: Surface> Pipeline<M, S> {
     pub fn new(config: PipelineConfig<S>) -> Result<Self, PipelineError> {
         config.validate()?;
         let cc = config.controller_config();
-        let controller = Controller::new(cc).map_err(PipelineError::Params)?;
+        let mut controller = Controller::new(cc).map_err(PipelineError::Params)?;
+        // The passivity observer weighs the forces acting in each interval by this board's
+        // sample-to-output delay.
+        let delay = output_timing::OutputTiming::planned(&config.timing).delay_ticks();
+        controller
+            .set_passivity(passivity::PassivityConfig {
+                output_delay_ticks: delay.min(1.0),
+                ..passivity::PassivityConfig::DEFAULT
+            })
+            .map_err(PipelineError::Params)?;
         let rate = cc.rate_hz;
         let gc = GuardConfig::from_limits(&config.device.limits, rate);
         let guard = OutputGuard::new(gc).map_err(PipelineError::Params)?;
@@ -152,6 +163,15 @@ impl<M: Math, S: Surface> Pipeline<M, S> {
     /// The current mode.
     pub fn mode(&self) -> Mode {
         self.mode
+    }
+
+    /// Replace the passivity stage's parameters (see [`passivity`]); the board's output delay is
+    /// the caller's to keep. Invalid values are rejected and the old ones stay.
+    pub fn set_passivity(
+        &mut self,
+        config: passivity::PassivityConfig,
+    ) -> Result<(), crate::params::ParamError> {
+        self.controller.set_passivity(config)
     }
 
     /// Latched faults.

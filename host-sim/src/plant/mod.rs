@@ -36,6 +36,7 @@ pub mod mechanism;
 pub mod motor;
 pub mod params;
 pub mod pwm;
+pub mod timing;
 
 use softfinger_core::device::{DeviceParamError, DeviceParams};
 use softfinger_core::pipeline::{BoardTiming, BridgeCommands};

@@ -7,9 +7,14 @@
 //!   (N·s/m), position x (m, x > 0 = inside the wall).
 //! - **Controller**: samples x every T seconds and commands F = −K·x − B·(x[k] − x[k−1])/T while
 //!   x[k] > 0 (a unilateral virtual wall: spring K in N/m, damper B in N·s/m), else 0. The force
-//!   is held constant (zero-order hold) over one period. With `delay_ticks = 1` the force computed
-//!   from the sample at k is applied from k+1 on, as the firmware does (read the encoders at k,
-//!   write the PWM at k+1); with 0 it is applied at once (Colgate's idealisation).
+//!   is held constant (zero-order hold) over one period. With `delay_ticks = d` the force computed
+//!   from the sample at k acts from k + d to k + 1 + d: d = 1 is a full tick (read the encoders
+//!   at k, the PWM changes at k+1), d = 0 Colgate's idealisation, and a fraction of a tick the
+//!   firmware's low-latency output ([`softfinger_core::pipeline::output_timing`]). The plant is
+//!   then integrated in two exact pieces per period, split where the new force takes effect.
+//! - **Passivity** (optional): the core's observer and controller
+//!   ([`softfinger_core::pipeline::passivity`], f32, the same code as the firmware) between the
+//!   wall and the output, with the velocity (x[k] − x[k−1])/T.
 //! - **User**: a constant force F_h pushing the probe into the wall (a hand holding the probe on
 //!   the surface). The probe hits the wall at speed v₀ from outside.
 //!
@@ -34,7 +39,10 @@
 //! like a negative damper −K·τ at low frequency, so b > K·(T/2 + t_d) + |B| gives
 //! K_max ≈ 2(b − |B|)/(T + 2·t_d) = 2(b − |B|)/(3T) for t_d = T: one tick of delay costs a factor 3.
 
-use nalgebra::Matrix4;
+pub use super::haptic_eigen::{criterion_kmax, eigen_kmax, spectral_radius, transition};
+use softfinger_core::pipeline::passivity::{Passivity, PassivityConfig};
+use softfinger_core::vec3::Vec3;
+use std::collections::VecDeque;
 
 /// Device and scene parameters (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,16 +93,16 @@ pub fn delayed_estimate_kmax(b: f64, b_virtual: f64, period_s: f64, delay_s: f64
 
 /// Exact one-period solution of m·v' = −b·v + F with F constant: returns (e^(−bT/m), the map).
 #[derive(Clone, Copy, Debug)]
-struct Zoh {
+pub(super) struct Zoh {
     /// x[k+1] = x + cxv·v + cxf·F ; v[k+1] = cvv·v + cvf·F
-    cxv: f64,
-    cxf: f64,
-    cvv: f64,
-    cvf: f64,
+    pub(super) cxv: f64,
+    pub(super) cxf: f64,
+    pub(super) cvv: f64,
+    pub(super) cvf: f64,
 }
 
 impl Zoh {
-    fn new(d: &Device, t: f64) -> Zoh {
+    pub(super) fn new(d: &Device, t: f64) -> Zoh {
         let a = d.damping / d.mass_kg;
         let e = (-a * t).exp();
         // v(t) = F/b + (v0 − F/b)·e ; x(t) = x0 + (F/b)·t + (v0 − F/b)·(1 − e)/a.
@@ -118,10 +126,32 @@ pub struct Loop {
     pub device: Device,
     /// Controller period T, s.
     pub period_s: f64,
-    /// Ticks between reading the position and applying the force computed from it (0 or 1).
-    pub delay_ticks: usize,
+    /// Ticks between reading the position and applying the force computed from it, in [0, 4).
+    pub delay_ticks: f64,
     /// Virtual wall damping B, N·s/m.
     pub b_virtual: f64,
+    /// The passivity stage between the wall and the output (None: off).
+    pub passivity: Option<PassivityConfig>,
+}
+
+impl Loop {
+    /// The plain wall (no passivity stage) at `rate_hz` with `delay_ticks` of output delay.
+    pub fn wall(device: Device, rate_hz: f64, delay_ticks: f64, b_virtual: f64) -> Loop {
+        Loop {
+            device,
+            period_s: 1.0 / rate_hz,
+            delay_ticks,
+            b_virtual,
+            passivity: None,
+        }
+    }
+
+    /// Whole ticks n and fraction f of the delay d = n + f.
+    pub(super) fn delay_parts(&self) -> (usize, f64) {
+        let d = self.delay_ticks.clamp(0.0, 3.999);
+        let n = d.floor();
+        (n as usize, d - n)
+    }
 }
 
 /// What one simulated contact did.
@@ -133,6 +163,8 @@ pub struct Outcome {
     pub early_j: f64,
     /// Largest oscillation energy over the last 10 % of the run, J.
     pub late_j: f64,
+    /// Largest oscillation energy over the whole run, J.
+    pub peak_j: f64,
     /// The verdict: the oscillation decayed by at least half.
     pub stable: bool,
 }
@@ -142,12 +174,79 @@ pub fn periods(l: &Loop, duration_s: f64) -> usize {
     (duration_s / l.period_s).round().max(10.0) as usize
 }
 
+/// One tick of a wall run, for traces: time at the tick's end (s), position (m, > 0 inside the
+/// wall), velocity (m/s), and the force acting at the tick's end (N, on the probe, user's push
+/// excluded).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceSample {
+    pub time_s: f64,
+    pub x_m: f64,
+    pub v_m_s: f64,
+    pub force_n: f64,
+}
+
+/// Run the wall hit with stiffness `k` for `duration_s` seconds from the surface at `hit_speed`,
+/// calling `observe` after every tick; stops early when the state is no longer finite.
+pub fn run_wall(
+    l: &Loop,
+    k: f64,
+    hit_speed: f64,
+    duration_s: f64,
+    mut observe: impl FnMut(TraceSample),
+) {
+    let samples = periods(l, duration_s);
+    let d = &l.device;
+    let t = l.period_s;
+    let (mut x, mut v) = (0.0f64, hit_speed);
+    let mut x_prev = x;
+    // Commands of the last n + 2 ticks (oldest first): the force acting over [k, k + f) is
+    // F[k − n − 1], over [k + f, k + 1) F[k − n].
+    let (n_whole, frac) = l.delay_parts();
+    let mut cmds: VecDeque<f64> = std::iter::repeat_n(0.0, n_whole + 2).collect();
+    let (zoh_a, zoh_b) = (Zoh::new(d, frac * t), Zoh::new(d, (1.0 - frac) * t));
+    let mut pc = l.passivity.and_then(|c| {
+        let c = PassivityConfig {
+            output_delay_ticks: l.delay_ticks.min(1.0) as f32,
+            ..c
+        };
+        Passivity::new(c, t as f32, k as f32, 1e6).ok()
+    });
+    for i in 0..samples {
+        // Controller: sample, compute.
+        let mut cmd = if x > 0.0 {
+            -k * x - l.b_virtual * (x - x_prev) / t
+        } else {
+            0.0
+        };
+        if let Some(pc) = pc.as_mut() {
+            let vel = Vec3::new(((x - x_prev) / t) as f32, 0.0, 0.0);
+            let f = Vec3::new(cmd as f32, 0.0, 0.0);
+            cmd = pc.step(f, Vec3::new(x as f32, 0.0, 0.0), vel).force_n.x as f64;
+        }
+        x_prev = x;
+        cmds.pop_front();
+        cmds.push_back(cmd);
+        let (first, second) = (cmds[0], cmds[1]);
+        if frac > 0.0 {
+            (x, v) = zoh_a.step(x, v, first + d.user_force_n);
+        }
+        (x, v) = zoh_b.step(x, v, second + d.user_force_n);
+        observe(TraceSample {
+            time_s: (i + 1) as f64 * t,
+            x_m: x,
+            v_m_s: v,
+            force_n: second,
+        });
+        if !(x.is_finite() && v.is_finite()) {
+            return;
+        }
+    }
+}
+
 /// Simulate the wall hit with stiffness `k` for `duration_s` seconds.
 pub fn simulate(l: &Loop, k: f64, duration_s: f64) -> Outcome {
     let samples = periods(l, duration_s);
     let d = &l.device;
-    let t = l.period_s;
-    let zoh = Zoh::new(d, t);
     let x_eq = d.user_force_n / k;
     // U(x) − U(x_eq) written without cancellation: ½K(x − x_eq)² inside the wall,
     // ½K·x_eq² − K·x_eq·x outside (continuous at x = 0).
@@ -160,48 +259,37 @@ pub fn simulate(l: &Loop, k: f64, duration_s: f64) -> Outcome {
         0.5 * d.mass_kg * v * v + u
     };
     // Start at the wall surface moving in.
-    let (mut x, mut v) = (0.0f64, d.hit_speed);
-    let e_hit = energy(x, v);
-    let mut x_prev = x;
-    // The command computed at the previous tick, applied at this one (delay_ticks = 1).
-    let mut pending = 0.0f64;
+    let e_hit = energy(0.0, d.hit_speed);
     let (e0, e1, l0) = (2 * samples / 5, samples / 2, samples - samples / 10);
-    let (mut early, mut late) = (0.0f64, 0.0f64);
-    for i in 0..samples {
-        // Controller: sample, compute.
-        let cmd = if x > 0.0 {
-            -k * x - l.b_virtual * (x - x_prev) / t
-        } else {
-            0.0
-        };
-        x_prev = x;
-        let applied = match l.delay_ticks {
-            0 => cmd,
-            _ => core::mem::replace(&mut pending, cmd),
-        };
-        let (nx, nv) = zoh.step(x, v, applied + d.user_force_n);
-        x = nx;
-        v = nv;
-        let e = energy(x, v);
+    let (mut early, mut late, mut peak) = (0.0f64, 0.0f64, e_hit);
+    let mut i = 0usize;
+    let mut finite = true;
+    run_wall(l, k, d.hit_speed, duration_s, |s| {
+        let e = energy(s.x_m, s.v_m_s);
+        finite &= e.is_finite();
+        peak = peak.max(e);
         if (e0..e1).contains(&i) {
             early = early.max(e);
         }
         if i >= l0 {
             late = late.max(e);
         }
-        if !e.is_finite() {
-            return Outcome {
-                hit_j: e_hit,
-                early_j: early,
-                late_j: f64::INFINITY,
-                stable: false,
-            };
-        }
+        i += 1;
+    });
+    if !finite {
+        return Outcome {
+            hit_j: e_hit,
+            early_j: early,
+            late_j: f64::INFINITY,
+            peak_j: f64::INFINITY,
+            stable: false,
+        };
     }
     Outcome {
         hit_j: e_hit,
         early_j: early,
         late_j: late,
+        peak_j: peak,
         stable: late < 0.5 * early || late < ENERGY_FLOOR * e_hit,
     }
 }
@@ -241,82 +329,6 @@ pub fn measured_kmax(l: &Loop, duration_s: f64) -> (Option<f64>, Vec<(f64, Outco
     (kmax, sweep)
 }
 
-/// The one-period transition matrix of the linear (bilateral spring) loop, state
-/// (x[k], v[k], x[k−1], x[k−2]).
-pub fn transition(l: &Loop, k: f64) -> Matrix4<f64> {
-    let zoh = Zoh::new(&l.device, l.period_s);
-    let bt = l.b_virtual / l.period_s;
-    // Applied force as a row over the state: F = −K·x[k−d] − (B/T)·(x[k−d] − x[k−d−1]).
-    let f: [f64; 4] = match l.delay_ticks {
-        0 => [-k - bt, 0.0, bt, 0.0],
-        _ => [0.0, 0.0, -k - bt, bt],
-    };
-    let mut m = Matrix4::zeros();
-    for j in 0..4 {
-        m[(0, j)] = zoh.cxf * f[j];
-        m[(1, j)] = zoh.cvf * f[j];
-    }
-    m[(0, 0)] += 1.0;
-    m[(0, 1)] += zoh.cxv;
-    m[(1, 1)] += zoh.cvv;
-    m[(2, 0)] = 1.0;
-    m[(3, 2)] = 1.0;
-    m
-}
-
-/// Spectral radius of the loop's transition matrix at stiffness `k`.
-pub fn spectral_radius(l: &Loop, k: f64) -> f64 {
-    transition(l, k)
-        .complex_eigenvalues()
-        .iter()
-        .map(|z| z.norm())
-        .fold(0.0, f64::max)
-}
-
-/// The exact stability limit of the linear sampled loop: the K where the spectral radius reaches
-/// 1, by bisection to 1e-9 relative. Searched in [1e-2, 1e9] N/m.
-pub fn eigen_kmax(l: &Loop) -> Option<f64> {
-    let unstable = |k: f64| spectral_radius(l, k) > 1.0 + 1e-12;
-    let mut hi = 1e-2;
-    while !unstable(hi) {
-        hi *= 1.25;
-        if hi > 1e9 {
-            return None;
-        }
-    }
-    let mut lo = hi / 1.25;
-    while hi / lo > 1.0 + 1e-9 {
-        let mid = (lo * hi).sqrt();
-        if unstable(mid) {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Some(lo)
-}
-
-/// The K at which the simulation's criterion switches in the linear regime: where the spectral
-/// radius equals 0.5^(1/N), N the periods in `duration_s` (see the module doc). Used to state the
-/// detection's resolution against [`eigen_kmax`].
-pub fn criterion_kmax(l: &Loop, duration_s: f64) -> Option<f64> {
-    let target = (0.5f64.ln() / periods(l, duration_s) as f64).exp();
-    let top = eigen_kmax(l)?;
-    let (mut lo, mut hi) = (top * 0.5, top);
-    if spectral_radius(l, lo) > target {
-        return None;
-    }
-    while hi / lo > 1.0 + 1e-9 {
-        let mid = (lo * hi).sqrt();
-        if spectral_radius(l, mid) > target {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Some(lo)
-}
-
 /// One row of the table.
 #[derive(Clone, Debug)]
 pub struct RateRow {
@@ -337,13 +349,8 @@ pub fn run_all(device: &Device, b_virtual: f64, duration_s: f64) -> Vec<RateRow>
         .iter()
         .map(|&rate| {
             let t = 1.0 / rate;
-            let mk = |delay_ticks| Loop {
-                device: *device,
-                period_s: t,
-                delay_ticks,
-                b_virtual,
-            };
-            let (l0, l1) = (mk(0), mk(1));
+            let mk = |delay_ticks| Loop::wall(*device, rate, delay_ticks, b_virtual);
+            let (l0, l1) = (mk(0.0), mk(1.0));
             let (m0, s0) = measured_kmax(&l0, duration_s);
             let (m1, s1) = measured_kmax(&l1, duration_s);
             RateRow {
@@ -364,13 +371,8 @@ pub fn run_all(device: &Device, b_virtual: f64, duration_s: f64) -> Vec<RateRow>
 mod tests {
     use super::*;
 
-    fn lp(rate: f64, delay: usize) -> Loop {
-        Loop {
-            device: Device::DEFAULT,
-            period_s: 1.0 / rate,
-            delay_ticks: delay,
-            b_virtual: 0.0,
-        }
+    fn lp(rate: f64, delay: f64) -> Loop {
+        Loop::wall(Device::DEFAULT, rate, delay, 0.0)
     }
 
     /// The closed-form ZOH step against a fine RK4 integration of m·v' = −b·v + F (1e4 substeps:
@@ -403,7 +405,7 @@ mod tests {
     /// bisection bracket is 0.5 % wide: 2 % covers the sum.
     #[test]
     fn measured_kmax_without_delay_matches_colgate() {
-        let l = lp(1_000.0, 0);
+        let l = lp(1_000.0, 0.0);
         let (k, _) = measured_kmax(&l, RUN_SECONDS);
         let k = k.expect("an unstable K in the sweep");
         let bound = colgate_kmax(2.0, 0.0, 1e-3);
@@ -413,7 +415,7 @@ mod tests {
         );
         // And with the tick of delay the simulation finds the eigenvalue boundary (same
         // resolution), about a third of the bound.
-        let ld = lp(1_000.0, 1);
+        let ld = lp(1_000.0, 1.0);
         let (kd, _) = measured_kmax(&ld, RUN_SECONDS);
         let (kd, ed) = (kd.unwrap(), eigen_kmax(&ld).unwrap());
         assert!((kd / ed - 1.0).abs() < 0.02, "measured {kd}, eigen {ed}");
@@ -426,7 +428,7 @@ mod tests {
     /// m·ln2/(D/2)/b = 2.8 % (below the limit), plus 0.5 % bisection: 4 %.
     #[test]
     fn measured_kmax_at_10_khz_is_not_fooled_by_the_limit_cycle() {
-        let l = lp(10_000.0, 0);
+        let l = lp(10_000.0, 0.0);
         let (k, _) = measured_kmax(&l, 5.0);
         let e = eigen_kmax(&l).unwrap();
         assert!(
@@ -444,8 +446,8 @@ mod tests {
     fn eigen_no_delay_is_colgate_to_first_order() {
         for rate in RATES_HZ {
             let t = 1.0 / rate;
-            let e0 = eigen_kmax(&lp(rate, 0)).unwrap();
-            let e1 = eigen_kmax(&lp(rate, 1)).unwrap();
+            let e0 = eigen_kmax(&lp(rate, 0.0)).unwrap();
+            let e1 = eigen_kmax(&lp(rate, 1.0)).unwrap();
             let rel = 2.0 * 2.0 * t / 0.2; // 2·b·T/m
             assert!(
                 (e0 / colgate_kmax(2.0, 0.0, t) - 1.0).abs() < rel,
@@ -459,7 +461,7 @@ mod tests {
     /// Well inside the bound the hit decays; well outside it grows into a limit cycle.
     #[test]
     fn verdicts_far_from_the_bound() {
-        let l = lp(1_000.0, 0);
+        let l = lp(1_000.0, 0.0);
         assert!(simulate(&l, 1_000.0, RUN_SECONDS).stable);
         let o = simulate(&l, 20_000.0, RUN_SECONDS);
         assert!(!o.stable && o.late_j > 0.0);

@@ -16,6 +16,11 @@ pub mod chatter;
 pub mod decomp_map;
 pub mod drift;
 pub mod haptic;
+pub mod haptic_device;
+pub mod haptic_eigen;
+pub mod haptic_present;
+pub mod haptic_timing;
+pub mod passivity_scene;
 pub mod present;
 pub mod rng;
 pub mod table;
@@ -34,6 +39,17 @@ pub struct Args {
     /// Seconds simulated per wall contact in the haptic experiment (sets its resolution).
     #[arg(long, default_value_t = haptic::RUN_SECONDS)]
     pub haptic_seconds: f64,
+    /// Print the figures as one JSON object on stdout (`{"haptic": {...}}`); the tables then go
+    /// to summary.txt only.
+    #[arg(long)]
+    pub json: bool,
+    /// Run part 3 (haptic stability) only.
+    #[arg(long)]
+    pub haptic_only: bool,
+    /// Skip part 3's closed-loop runs with the device plant (the device-wall K_max and the
+    /// default scene with and without the passivity stage; about 10 s in a release build).
+    #[arg(long)]
+    pub skip_closed_loop: bool,
     /// State-machine steps per chatter configuration (10 kHz: 10⁵ steps = 10 s).
     #[arg(long, default_value_t = (chatter::RATE_HZ * chatter::DURATION_S) as u64)]
     pub chatter_steps: u64,
@@ -58,48 +74,88 @@ pub fn main(args: &Args) -> Result<(), String> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
     let start = Instant::now();
     let mut summary = String::new();
+    let json = args.json;
     let mut emit = |s: String| {
-        println!("{s}");
+        if !json {
+            println!("{s}");
+        }
         summary += &s;
         summary.push('\n');
     };
 
-    let t = Instant::now();
-    let grid = decomp_map::Grid::DEFAULT;
-    let maps = decomp_map::sweep_all(&grid);
-    present::decomp_charts(out, &grid, &maps)?;
-    emit(present::decomp_table(&grid, &maps).render());
-    emit(present::decomp_failures(&grid, &maps));
-    emit(format!("(part 1: {:.1} s)\n", t.elapsed().as_secs_f64()));
+    if !args.haptic_only {
+        let t = Instant::now();
+        let grid = decomp_map::Grid::DEFAULT;
+        let maps = decomp_map::sweep_all(&grid);
+        present::decomp_charts(out, &grid, &maps)?;
+        emit(present::decomp_table(&grid, &maps).render());
+        emit(present::decomp_failures(&grid, &maps));
+        emit(format!("(part 1: {:.1} s)\n", t.elapsed().as_secs_f64()));
 
-    let t = Instant::now();
-    let total = args.drift_steps * (decompose_methods() * drift::DRIFT_BACKENDS.len()) as u64;
-    let pb = indicatif::ProgressBar::new(total);
-    pb.set_style(
-        indicatif::ProgressStyle::with_template(
-            "drift {bar:40} {percent:>3}% {human_pos}/{human_len} steps, eta {eta}",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    let runs = drift::run_all(args.drift_steps, Some(&pb));
-    pb.finish_and_clear();
-    present::drift_charts(out, &runs)?;
-    emit(present::drift_table(&runs).render());
-    emit(format!("(part 2: {:.1} s)\n", t.elapsed().as_secs_f64()));
+        let t = Instant::now();
+        let total = args.drift_steps * (decompose_methods() * drift::DRIFT_BACKENDS.len()) as u64;
+        let pb = indicatif::ProgressBar::new(total);
+        pb.set_style(
+            indicatif::ProgressStyle::with_template(
+                "drift {bar:40} {percent:>3}% {human_pos}/{human_len} steps, eta {eta}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        let runs = drift::run_all(args.drift_steps, Some(&pb));
+        pb.finish_and_clear();
+        present::drift_charts(out, &runs)?;
+        emit(present::drift_table(&runs).render());
+        emit(format!("(part 2: {:.1} s)\n", t.elapsed().as_secs_f64()));
+    }
 
     let t = Instant::now();
     let device = haptic::Device::DEFAULT;
     let rows = haptic::run_all(&device, 0.0, args.haptic_seconds);
-    present::haptic_charts(out, &device, &rows)?;
-    emit(present::haptic_table(&device, &rows, args.haptic_seconds).render());
-    emit(present::haptic_notes(&device, args.haptic_seconds));
+    haptic_present::haptic_charts(out, &device, &rows)?;
+    emit(haptic_present::haptic_table(&device, &rows, args.haptic_seconds).render());
+    emit(haptic_present::haptic_notes(&device, args.haptic_seconds));
+    let timing = haptic_timing::run_all(&device, args.haptic_seconds);
+    let at10 = timing.iter().find(|r| r.rate_hz == 10_000.0);
+    let (delay10, k10) = at10
+        .and_then(|r| r.at_multiple.as_ref().map(|m| (r.delay_ticks, m.0)))
+        .ok_or("part 3: no passive wall found at 10 kHz")?;
+    let imp = haptic_timing::impact(&device, 10_000.0, delay10, k10);
+    haptic_present::timing_chart(out, &device, &timing)?;
+    haptic_present::impact_chart(out, &imp)?;
+    emit(haptic_present::timing_table(&device, &timing, args.haptic_seconds).render());
+    emit(haptic_present::impact_notes(&imp));
+    let (device_rows, scene_diff) = if args.skip_closed_loop {
+        (Vec::new(), None)
+    } else {
+        let device_rows = timing
+            .iter()
+            .filter(|r| r.rate_hz >= 10_000.0)
+            .map(|r| haptic_device::row(r.rate_hz, r.delay_ticks))
+            .collect::<Result<Vec<_>, _>>()?;
+        emit(haptic_present::device_table(&device_rows).render());
+        let scene_diff = passivity_scene::compare()?;
+        emit(format!(
+            "Default scene with the passivity stage on vs observing only ({} ticks): largest force difference {:e} N (largest force {:.2} N), observed energy into the user from {:e} to {:e} J, {} ticks damped.\n",
+            scene_diff.ticks,
+            scene_diff.max_force_difference_n,
+            scene_diff.max_force_n,
+            scene_diff.min_observed_energy_j,
+            scene_diff.max_observed_energy_j,
+            scene_diff.damped_ticks
+        ));
+        (device_rows, Some(scene_diff))
+    };
+    let mut haptic_json = haptic_present::haptic_json(&timing, &imp, device_rows);
+    haptic_json.default_scene = scene_diff;
     emit(format!("(part 3: {:.1} s)\n", t.elapsed().as_secs_f64()));
 
-    let t = Instant::now();
-    let ch = chatter::run_all(args.chatter_steps);
-    present::chatter_chart(out, &ch)?;
-    emit(present::chatter_table(&ch, args.chatter_steps).render());
-    emit(format!("(part 4: {:.1} s)\n", t.elapsed().as_secs_f64()));
+    if !args.haptic_only {
+        let t = Instant::now();
+        let ch = chatter::run_all(args.chatter_steps);
+        present::chatter_chart(out, &ch)?;
+        emit(present::chatter_table(&ch, args.chatter_steps).render());
+        emit(format!("(part 4: {:.1} s)\n", t.elapsed().as_secs_f64()));
+    }
 
     emit(format!(
         "host-sim stability: total {:.1} s; charts and summary.txt in {}",
@@ -113,6 +169,13 @@ pub fn main(args: &Args) -> Result<(), String> {
         .map_err(|e| format!("{}: write failed: {e}", path.display()))?;
     f.commit()
         .map_err(|e| format!("{}: cannot publish: {e}", path.display()))?;
+    if json {
+        let v = serde_json::json!({ "haptic": haptic_json });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
+    }
     Ok(())
 }
 
