@@ -25,6 +25,7 @@ pub mod delta;
 pub mod device;
 pub mod encoder;
 pub mod flags;
+pub mod local_model;
 pub mod math;
 pub mod output_guard;
 pub mod params;
