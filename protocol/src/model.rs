@@ -69,6 +69,9 @@ pub struct LocalModel {
     pub mu_k: f32,
     /// Spin stiffness k_z, N·m/rad.
     pub spin_stiffness_nm_per_rad: f32,
+    /// The model is stale this long after the device received it unless a newer one came, ms;
+    /// its force then fades to zero. 0: never stale (a static scene).
+    pub max_age_ms: u16,
 }
 
 /// The contact parameters an application may change (the rest keep the device's values).

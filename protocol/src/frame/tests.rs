@@ -31,6 +31,7 @@ fn model(seq: u32) -> LocalModel {
         mu_s: 0.8,
         mu_k: 0.6,
         spin_stiffness_nm_per_rad: 0.01,
+        max_age_ms: u16::MAX,
     }
 }
 
