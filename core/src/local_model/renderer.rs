@@ -219,11 +219,20 @@ impl<M: Math> LocalModelRenderer<M> {
         &self.base
     }
 
-    /// Replace the parameters models are completed with; the model in force restarts (its contact
-    /// state too), so callers do this only while no force is rendered.
+    /// Replace the parameters models are completed with; the model in force takes their material
+    /// (stiffness, damping, friction, spin stiffness) too and restarts (its contact state too), so
+    /// callers do this only while no force is rendered.
     pub fn set_base_params(&mut self, base: ContactParams) -> Result<(), ModelError> {
-        self.active.spec.validate(&base)?;
-        let slot = Slot::new(self.active.spec, &base, &self.config)?;
+        let spec = LocalModelSpec {
+            stiffness_n_per_m: base.normal_stiffness,
+            damping_n_s_per_m: base.normal_damping,
+            mu_s: base.mu_s,
+            mu_k: base.mu_k,
+            spin_stiffness_nm_per_rad: base.spin_stiffness,
+            ..self.active.spec
+        };
+        spec.validate(&base)?;
+        let slot = Slot::new(spec, &base, &self.config)?;
         self.base = base;
         self.active = slot;
         self.incoming = None;

@@ -259,6 +259,10 @@ impl DeviceLoop {
                 let counters = self.stats.snapshot();
                 return self.reply(id, DeviceMsg::Counters { seq, counters });
             }
+            Request::GetContactParams => {
+                let params = convert::contact_params_wire(&self.core.contact_params());
+                return self.reply(id, DeviceMsg::ContactParams { seq, params });
+            }
             Request::Ping => AckResult::Ok,
             Request::SetStream { divisor } => self.set_stream(id, *divisor),
             Request::DriveHand(t) => {
