@@ -35,6 +35,8 @@ pub enum Request {
     GetInfo,
     /// Answered by [`DeviceMsg::Counters`].
     GetCounters,
+    /// Answered by [`DeviceMsg::ContactParams`].
+    GetContactParams,
     /// Does nothing but answer [`AckResult::Ok`] (round-trip measurements, keep-alive).
     Ping,
     /// Find the encoders' reference; afterwards the device is disarmed.
@@ -130,6 +132,13 @@ pub enum DeviceMsg {
         seq: u16,
         /// Counters over all connections.
         counters: LinkCounters,
+    },
+    /// Answer to [`Request::GetContactParams`].
+    ContactParams {
+        /// The request's sequence number.
+        seq: u16,
+        /// The parameters in force.
+        params: ContactParamsWire,
     },
     /// A state sample of the stream.
     State(StateSample),

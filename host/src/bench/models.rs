@@ -46,7 +46,8 @@ pub struct WatchdogReport {
     pub fade_ms: f64,
     /// The flag stayed raised and the force zero until re-armed.
     pub latched: bool,
-    /// After re-arming the flag cleared and the force came back (> half of before).
+    /// After re-arming (and talking again) the flag cleared and force is rendered again
+    /// (|F| > 0.1 N; the hand moved while the force was off, so not the same force).
     pub recovered: bool,
 }
 
@@ -219,9 +220,9 @@ fn watchdog(d: &mut Device, rate: u32, timeout_ms: u16) -> Result<WatchdogReport
         d.ping()?;
     }
     let after = drain(d)?;
-    let recovered = after
-        .last()
-        .is_some_and(|s| !flagged(s) && norm(s.force_n) > 0.5 * force_before_n);
+    let recovered = after.last().is_some_and(|s| {
+        !flagged(s) && s.mode == softfinger_protocol::Mode::Armed && norm(s.force_n) > 0.1
+    });
     Ok(WatchdogReport {
         timeout_ms,
         force_before_n,

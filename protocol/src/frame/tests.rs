@@ -124,6 +124,7 @@ fn host_msgs() -> Vec<HostMsg> {
         },
         req(1, Request::GetInfo),
         req(2, Request::GetCounters),
+        req(2, Request::GetContactParams),
         req(3, Request::Ping),
         req(4, Request::Home),
         req(5, Request::Arm),
