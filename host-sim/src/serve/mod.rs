@@ -17,10 +17,11 @@ pub mod link;
 use crate::scene::Scene;
 use clap::Parser;
 use softfinger_core::device::DeviceParams;
+use std::net::{Shutdown, TcpStream};
 use std::net::{SocketAddr, TcpListener};
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::mpsc::channel;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::thread::{self, JoinHandle};
 use std::time::Duration;
 
@@ -51,6 +52,7 @@ pub struct Server {
     addr: SocketAddr,
     stop: Arc<AtomicBool>,
     threads: Vec<JoinHandle<()>>,
+    connections: Arc<Mutex<Vec<TcpStream>>>,
 }
 
 impl Server {
@@ -89,12 +91,17 @@ impl Server {
         let stop_dev = stop.clone();
         let device_thread = thread::spawn(move || dev.run(events_rx, stop_dev));
         let stop_acc = stop.clone();
+        let connections = Arc::new(Mutex::new(Vec::new()));
+        let conns = connections.clone();
         let acceptor = thread::spawn(move || {
             let next_id = AtomicU32::new(1);
             while !stop_acc.load(Ordering::Relaxed) {
                 match listener.accept() {
                     Ok((stream, _)) => {
                         let _ = stream.set_nonblocking(false);
+                        if let (Ok(c), Ok(mut list)) = (stream.try_clone(), conns.lock()) {
+                            list.push(c);
+                        }
                         let id = next_id.fetch_add(1, Ordering::Relaxed);
                         let (ev, st) = (events_tx.clone(), stats.clone());
                         thread::spawn(move || link::serve_connection(stream, id, ev, st));
@@ -107,6 +114,7 @@ impl Server {
             addr,
             stop,
             threads: vec![device_thread, acceptor],
+            connections,
         })
     }
 
@@ -115,11 +123,17 @@ impl Server {
         self.addr
     }
 
-    /// Stop the device and the acceptor; open connections are closed.
+    /// Stop the device and the acceptor, and close every connection (clients see the device go
+    /// away).
     pub fn stop(self) {
         self.stop.store(true, Ordering::Relaxed);
         for t in self.threads {
             let _ = t.join();
+        }
+        if let Ok(list) = self.connections.lock() {
+            for c in list.iter() {
+                let _ = c.shutdown(Shutdown::Both);
+            }
         }
     }
 }

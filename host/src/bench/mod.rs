@@ -12,9 +12,9 @@ mod bad_input;
 mod models;
 mod stream;
 
-pub use bad_input::BadInputReport;
-pub use models::{ModelReport, WatchdogReport};
-pub use stream::{RttReport, StreamReport};
+pub use bad_input::{run as bad_input_phase, BadInputReport};
+pub use models::{run as models_phase, ModelReport, WatchdogReport};
+pub use stream::{rtt as rtt_phase, stream as stream_phase, RttReport, StreamReport};
 
 use crate::{Device, LinkError, Target};
 use serde::Serialize;

@@ -86,6 +86,22 @@ fn drain(d: &Device) -> Result<Vec<StateSample>, LinkError> {
     Ok(v)
 }
 
+/// Read samples until one satisfies `done` (at most 30 s of wall time).
+fn wait_until(
+    d: &Device,
+    mut done: impl FnMut(&StateSample) -> bool,
+) -> Result<StateSample, LinkError> {
+    let end = Instant::now() + Duration::from_secs(30);
+    while Instant::now() < end {
+        if let Some(s) = d.next_state(Duration::from_millis(100))? {
+            if done(&s) {
+                return Ok(s);
+            }
+        }
+    }
+    Err(LinkError::Timeout)
+}
+
 /// Largest |ΔF| between consecutive ticks, ticks seen and ticks missing.
 fn max_step(samples: &[StateSample]) -> (f64, u64, u64) {
     let (mut m, mut missing) = (0.0f64, 0u64);
@@ -114,19 +130,23 @@ pub fn run(
     d.clear_faults()?;
     d.home()?;
     // The hand presses the fingertip (10 mm) 3 mm into the plane.
+    let target = [c.x, c.y, (top + 0.010 - 0.003) as f32];
     d.drive_hand(HandTarget {
-        position_m: [c.x, c.y, (top + 0.010 - 0.003) as f32],
+        position_m: target,
         wrist_rad: [0.0; 3],
     })?;
-    std::thread::sleep(Duration::from_millis(2500));
     d.set_stream(1)?;
-    let first = d
-        .next_state(Duration::from_secs(1))?
-        .ok_or(LinkError::Timeout)?;
+    // Wait in device time (a loaded or unoptimised host runs the device slower than real time):
+    // the handle within 1 mm of the target, then 0.5 s armed.
+    let first = wait_until(&d, |s| {
+        let e = [0, 1, 2].map(|k| s.probe_m[k] - target[k]);
+        norm(e) < 1e-3
+    })?;
     let mut seq = first.model_seq.wrapping_add(1);
     d.set_local_model(plane(seq, top))?;
     d.arm()?;
-    std::thread::sleep(Duration::from_millis(500));
+    let armed_at = first.tick;
+    wait_until(&d, |s| s.tick >= armed_at + rate as u64 / 2)?;
     drain(&d)?;
 
     std::thread::sleep(Duration::from_secs_f64(cfg.model_s));

@@ -19,7 +19,7 @@ pub struct Args {
     /// Output CSV file (written when the run completes).
     #[arg(long)]
     pub csv: PathBuf,
-    /// Samples per second (the device's control rate divided by an integer).
+    /// Samples per second: the device's control rate divided by an integer (within 1 %).
     #[arg(long, default_value_t = 1000.0)]
     pub rate_hz: f64,
     /// Give up after this long without the device, s.
@@ -56,8 +56,9 @@ pub fn divisor_for(control_hz: u32, rate_hz: f64, min: u16) -> Result<u16, Strin
     if !(rate_hz.is_finite() && rate_hz > 0.0) {
         return Err(format!("--rate-hz must be positive, got {rate_hz}"));
     }
-    let d = (control_hz as f64 / rate_hz).round();
-    if d < min.max(1) as f64 || d > u16::MAX as f64 {
+    let exact = control_hz as f64 / rate_hz;
+    let d = exact.round();
+    if d < min.max(1) as f64 || d > u16::MAX as f64 || (exact - d).abs() > 0.01 * exact {
         return Err(format!(
             "--rate-hz {rate_hz} is not reachable at {control_hz} Hz (divisor {d})"
         ));
@@ -149,6 +150,8 @@ mod tests {
         assert_eq!(divisor_for(10_000, 10_000.0, 1), Ok(1));
         assert!(divisor_for(10_000, 20_000.0, 1).is_err());
         assert!(divisor_for(10_000, 0.0, 1).is_err());
+        assert!(divisor_for(10_000, 3000.0, 1).is_err(), "not a divisor");
+        assert_eq!(divisor_for(10_000, 3333.0, 1), Ok(3), "within 1 %");
         assert!(divisor_for(10_000, 1000.0, 20).is_err());
     }
 }
