@@ -46,8 +46,8 @@ pub struct WatchdogReport {
     pub fade_ms: f64,
     /// The flag stayed raised and the force zero until re-armed.
     pub latched: bool,
-    /// After re-arming (and talking again) the flag cleared and force is rendered again
-    /// (|F| > 0.1 N; the hand moved while the force was off, so not the same force).
+    /// After re-arming (and talking again) the flag cleared and stayed clear, and force is
+    /// rendered again (|F| > 0.1 N at some tick; the hand moved while the force was off).
     pub recovered: bool,
 }
 
@@ -100,6 +100,26 @@ fn wait_until(
         }
     }
     Err(LinkError::Timeout)
+}
+
+/// Samples up to and including the first that satisfies `done` (at most 30 s of wall time), and
+/// whether one did.
+fn collect_until(
+    d: &Device,
+    mut done: impl FnMut(&StateSample) -> bool,
+) -> Result<(Vec<StateSample>, bool), LinkError> {
+    let end = Instant::now() + Duration::from_secs(30);
+    let mut v = Vec::new();
+    while Instant::now() < end {
+        if let Some(s) = d.next_state(Duration::from_millis(100))? {
+            let stop = done(&s);
+            v.push(s);
+            if stop {
+                return Ok((v, true));
+            }
+        }
+    }
+    Ok((v, false))
 }
 
 /// Largest |ΔF| between consecutive ticks, ticks seen and ticks missing.
@@ -168,9 +188,9 @@ pub fn run(
         std::thread::sleep(next.saturating_duration_since(Instant::now()));
     }
     let stream_rate_hz = n as f64 / t0.elapsed().as_secs_f64();
-    std::thread::sleep(Duration::from_millis(20));
-    let streamed = drain(&d)?;
-    let last_applied = streamed.last().is_some_and(|s| s.model_seq == seq);
+    let last = seq;
+    let (mut streamed, last_applied) = collect_until(&d, |s| s.model_seq == last)?;
+    streamed.extend(drain(&d)?);
     let (max_step_stream_n, s2, m2) = max_step(&streamed);
 
     let jumps = (cfg.model_s * 10.0) as u32;
@@ -179,7 +199,9 @@ pub fn run(
         d.set_local_model(plane(seq, top + if j % 2 == 0 { 0.001 } else { 0.0 }))?;
         std::thread::sleep(Duration::from_millis(100));
     }
-    let jumped = drain(&d)?;
+    let last = seq;
+    let (mut jumped, _) = collect_until(&d, |s| s.model_seq == last)?;
+    jumped.extend(drain(&d)?);
     let (max_step_jumps_n, s3, m3) = max_step(&jumped);
     seen += s2 + s3;
     missing += m2 + m3;
@@ -210,9 +232,16 @@ pub fn run(
 
 fn watchdog(d: &mut Device, rate: u32, timeout_ms: u16) -> Result<WatchdogReport, LinkError> {
     d.set_watchdog_ms(timeout_ms)?;
-    drain(d)?;
-    std::thread::sleep(Duration::from_millis(3 * timeout_ms as u64 + 200));
-    let quiet = drain(d)?;
+    // Silence: samples until the force has been zero for the timeout again, in device time.
+    let mut zero_since = None;
+    let (quiet, _) = collect_until(d, |s| {
+        if norm(s.force_n) != 0.0 || s.flags & Flags::COMM_TIMEOUT.0 == 0 {
+            zero_since = None;
+            return false;
+        }
+        let t0 = *zero_since.get_or_insert(s.tick);
+        s.tick >= t0 + timeout_ms as u64 * rate as u64 / 1000
+    })?;
     let flagged = |s: &StateSample| s.flags & Flags::COMM_TIMEOUT.0 != 0;
     let first = quiet.iter().position(flagged);
     let zero = first.and_then(|i| {
@@ -233,16 +262,26 @@ fn watchdog(d: &mut Device, rate: u32, timeout_ms: u16) -> Result<WatchdogReport
             .iter()
             .all(|s| flagged(s) && norm(s.force_n) == 0.0)
     });
-    // Re-arm, and keep talking (the watchdog is still on): pings every 20 ms for 200 ms.
+    // Re-arm, and keep talking (the watchdog is still on): a ping every 20 ms until force is
+    // rendered again (the handle bounces after the pause, so any tick), then 100 ms more.
     d.arm()?;
-    for _ in 0..10 {
-        std::thread::sleep(Duration::from_millis(20));
+    let flagged_now = |s: &StateSample| s.flags & Flags::COMM_TIMEOUT.0 != 0;
+    let rendering = |s: &StateSample| {
+        !flagged_now(s) && s.mode == softfinger_protocol::Mode::Armed && norm(s.force_n) > 0.1
+    };
+    let end = Instant::now() + Duration::from_secs(30);
+    let mut after = Vec::new();
+    while Instant::now() < end && !after.iter().any(rendering) {
         d.ping()?;
+        after.extend(drain(d)?);
+        std::thread::sleep(Duration::from_millis(15));
     }
-    let after = drain(d)?;
-    let recovered = after.last().is_some_and(|s| {
-        !flagged(s) && s.mode == softfinger_protocol::Mode::Armed && norm(s.force_n) > 0.1
-    });
+    for _ in 0..5 {
+        d.ping()?;
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    after.extend(drain(d)?);
+    let recovered = after.iter().any(rendering) && after.last().is_some_and(|s| !flagged_now(s));
     Ok(WatchdogReport {
         timeout_ms,
         force_before_n,
