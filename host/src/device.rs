@@ -70,14 +70,14 @@ fn spawn_reader(
             for &b in &buf[..n] {
                 match dec.push::<DeviceMsg>(b) {
                     Some(Ok(DeviceMsg::State(s))) => {
-                        if states.try_send(s).is_err() {
+                        // Full: the application is not taking samples; keep the older ones.
+                        let _ = states.try_send(s).map_err(|_| {
                             counts.states_dropped.fetch_add(1, Relaxed);
-                        }
+                        });
                     }
                     Some(Ok(m)) => {
-                        if replies.send(m).is_err() {
-                            return;
-                        }
+                        // The device went on talking after the application dropped us.
+                        let Ok(()) = replies.send(m) else { return };
                     }
                     Some(Err(_)) => {
                         if let Ok(mut e) = counts.errors.lock() {

@@ -216,7 +216,7 @@ impl DeviceLoop {
             dropped: 0,
         };
         for c in self.clients.values_mut() {
-            if c.divisor != 0 && tick % c.divisor as u64 == 0 {
+            if c.divisor != 0 && tick.is_multiple_of(c.divisor as u64) {
                 sample.dropped = c.dropped;
                 if !c.out.send(&DeviceMsg::State(sample)) {
                     c.dropped = c.dropped.saturating_add(1);

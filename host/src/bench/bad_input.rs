@@ -41,7 +41,7 @@ fn garbage(n: usize) -> Vec<u8> {
             x ^= x << 13;
             x ^= x >> 17;
             x ^= x << 5;
-            if x % 16 == 0 {
+            if x.is_multiple_of(16) {
                 0
             } else {
                 (x >> 8) as u8

@@ -102,8 +102,8 @@ pub fn main(spec: &str, a: &Args) -> Result<(), String> {
                 }
                 Ok(None) => break,
                 Err(LinkError::Disconnected) => {
-                    print!(
-                        "{}device gone: reconnecting...\n",
+                    println!(
+                        "{}device gone: reconnecting...",
                         if tty { "\x1b[2J\x1b[H" } else { "" }
                     );
                     std::thread::sleep(Duration::from_millis(300));
