@@ -371,3 +371,7 @@ pub fn scene_model(scene: &crate::scene::Scene) -> Result<(ContactParams, LocalM
     };
     Ok((contact, spec))
 }
+
+#[cfg(test)]
+#[path = "core_tests.rs"]
+mod tests;
