@@ -27,6 +27,8 @@ pub enum LinkError {
     },
     /// The device answered something unexpected.
     Protocol(String),
+    /// An error with what was being done.
+    Context(String),
 }
 
 impl fmt::Display for LinkError {
@@ -48,6 +50,7 @@ impl fmt::Display for LinkError {
                 softfinger_protocol::PROTOCOL_VERSION
             ),
             LinkError::Protocol(m) => write!(f, "unexpected answer: {m}"),
+            LinkError::Context(m) => write!(f, "{m}"),
         }
     }
 }

@@ -3,7 +3,8 @@
 //!
 //! A bad frame is counted (per kind, over all connections) and answered with
 //! [`DeviceMsg::FrameError`]; the connection goes on. The outgoing queue is bounded: a client
-//! that stops reading loses state samples (counted), never stalls the device loop.
+//! that stops reading loses state samples (counted), never stalls the device loop. State samples
+//! may fill only [`OUT_QUEUE_STATES`] of it, so replies always find room.
 
 use softfinger_protocol::{
     encode_frame, DeviceMsg, FrameDecoder, FrameErrorKind, HostMsg, LinkCounters, MAX_FRAME_LEN,
@@ -11,14 +12,16 @@ use softfinger_protocol::{
 };
 use std::io::{Read, Write};
 use std::net::{Shutdown, TcpStream};
-use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering::Relaxed};
 use std::sync::mpsc::{sync_channel, Receiver, Sender, SyncSender, TrySendError};
 use std::sync::Arc;
 use std::thread;
 
-/// Frames a connection may have queued for sending before samples are dropped (4 s of a 1 kHz
-/// stream would not fit; 0.5 s does).
-pub const OUT_QUEUE_FRAMES: usize = 512;
+/// State samples a connection may have queued for sending before new ones are dropped (0.5 s of
+/// a 1 kHz stream, 51 ms of a 10 kHz one).
+pub const OUT_QUEUE_STATES: usize = 512;
+/// Room kept for replies and frame-error answers on top of the samples.
+pub const OUT_QUEUE_REPLIES: usize = 512;
 
 /// Link counters over all connections, shared by the threads.
 #[derive(Debug, Default)]
@@ -85,29 +88,54 @@ pub enum Event {
 /// The sending side of one connection's bounded queue.
 #[derive(Clone, Debug)]
 pub struct Outbox {
-    tx: SyncSender<Vec<u8>>,
+    tx: SyncSender<Outgoing>,
+    /// State samples queued and not yet written.
+    queued_states: Arc<AtomicUsize>,
     stats: Arc<LinkStats>,
 }
 
 impl Outbox {
     /// Queue `msg`; false (and counted as dropped) when the queue is full or the client gone.
     pub fn send(&self, msg: &DeviceMsg) -> bool {
+        let is_state = matches!(msg, DeviceMsg::State(_));
+        if is_state && self.queued_states.load(Relaxed) >= OUT_QUEUE_STATES {
+            self.stats.tx_dropped.fetch_add(1, Relaxed);
+            return false;
+        }
         let mut buf = [0u8; MAX_FRAME_LEN];
         let Ok(n) = encode_frame(msg, &mut buf) else {
             self.stats.tx_dropped.fetch_add(1, Relaxed);
             return false;
         };
-        match self.tx.try_send(buf[..n].to_vec()) {
+        let item = Outgoing {
+            frame: buf[..n].to_vec(),
+            is_state,
+        };
+        // Counted before it is queued: the writer may take it (and count it out) at once.
+        if is_state {
+            self.queued_states.fetch_add(1, Relaxed);
+        }
+        match self.tx.try_send(item) {
             Ok(()) => {
                 self.stats.tx_frames.fetch_add(1, Relaxed);
                 true
             }
             Err(TrySendError::Full(_)) | Err(TrySendError::Disconnected(_)) => {
+                if is_state {
+                    self.queued_states.fetch_sub(1, Relaxed);
+                }
                 self.stats.tx_dropped.fetch_add(1, Relaxed);
                 false
             }
         }
     }
+}
+
+/// One frame waiting to be written.
+#[derive(Debug)]
+struct Outgoing {
+    frame: Vec<u8>,
+    is_state: bool,
 }
 
 /// Serve one accepted connection: spawns its writer, then reads until the client goes away.
@@ -116,13 +144,15 @@ pub fn serve_connection(stream: TcpStream, id: u32, events: Sender<Event>, stats
     let Ok(write_half) = stream.try_clone() else {
         return;
     };
-    let (tx, rx) = sync_channel(OUT_QUEUE_FRAMES);
+    let (tx, rx) = sync_channel(OUT_QUEUE_STATES + OUT_QUEUE_REPLIES);
+    let queued_states = Arc::new(AtomicUsize::new(0));
     let out = Outbox {
         tx,
+        queued_states: queued_states.clone(),
         stats: stats.clone(),
     };
     stats.connections.fetch_add(1, Relaxed);
-    let writer = thread::spawn(move || write_loop(write_half, rx));
+    let writer = thread::spawn(move || write_loop(write_half, rx, &queued_states));
     if events
         .send(Event::Connected {
             id,
@@ -139,9 +169,12 @@ pub fn serve_connection(stream: TcpStream, id: u32, events: Sender<Event>, stats
     stats.connections.fetch_sub(1, Relaxed);
 }
 
-fn write_loop(mut stream: TcpStream, rx: Receiver<Vec<u8>>) {
-    while let Ok(frame) = rx.recv() {
-        if stream.write_all(&frame).is_err() {
+fn write_loop(mut stream: TcpStream, rx: Receiver<Outgoing>, queued_states: &AtomicUsize) {
+    while let Ok(item) = rx.recv() {
+        if item.is_state {
+            queued_states.fetch_sub(1, Relaxed);
+        }
+        if stream.write_all(&item.frame).is_err() {
             break;
         }
     }

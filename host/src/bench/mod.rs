@@ -63,6 +63,11 @@ pub fn is_loopback(target: &Target) -> bool {
     }
 }
 
+/// Name the phase in an error.
+fn ctx(phase: &'static str) -> impl Fn(LinkError) -> LinkError {
+    move |e| LinkError::Context(format!("{phase}: {e}"))
+}
+
 /// Join a bench thread; a panic becomes an error.
 fn join<T>(h: std::thread::ScopedJoinHandle<'_, Result<T, LinkError>>) -> Result<T, LinkError> {
     h.join()
@@ -78,12 +83,12 @@ pub fn run(target: &Target, cfg: &BenchConfig) -> Result<BenchReport, LinkError>
     }
     let rate = Device::connect(target)?.info()?.control_rate_hz;
     let (stream, rtt, bad_input) = std::thread::scope(|s| {
-        let streamer = s.spawn(|| stream::stream(target, cfg.stream_s));
-        let pinger = s.spawn(|| stream::rtt(target, cfg.pings));
-        let bad = s.spawn(|| bad_input::run(target, cfg.stream_s / 2.0));
+        let streamer = s.spawn(|| stream::stream(target, cfg.stream_s).map_err(ctx("stream")));
+        let pinger = s.spawn(|| stream::rtt(target, cfg.pings).map_err(ctx("round trips")));
+        let bad = s.spawn(|| bad_input::run(target, cfg.stream_s / 2.0).map_err(ctx("bad input")));
         Ok::<_, LinkError>((join(streamer)?, join(pinger)?, join(bad)?))
     })?;
-    let (models, watchdog) = models::run(target, rate, cfg)?;
+    let (models, watchdog) = models::run(target, rate, cfg).map_err(ctx("local models"))?;
     Ok(BenchReport {
         stream,
         rtt,

@@ -150,17 +150,20 @@ pub fn run(
     d.clear_faults()?;
     d.home()?;
     // The hand presses the fingertip (10 mm) 3 mm into the plane.
-    let target = [c.x, c.y, (top + 0.010 - 0.003) as f32];
     d.drive_hand(HandTarget {
-        position_m: target,
+        position_m: [c.x, c.y, (top + 0.010 - 0.003) as f32],
         wrist_rad: [0.0; 3],
     })?;
     d.set_stream(1)?;
     // Wait in device time (a loaded or unoptimised host runs the device slower than real time):
-    // the handle within 1 mm of the target, then 0.5 s armed.
+    // the hand's move (at most 2 s) is over and the handle has settled (it sags below the
+    // target under gravity; the hand's grasp is a spring), then 0.5 s armed.
+    let t0 = d
+        .next_state(Duration::from_secs(5))?
+        .ok_or(LinkError::Timeout)?
+        .tick;
     let first = wait_until(&d, |s| {
-        let e = [0, 1, 2].map(|k| s.probe_m[k] - target[k]);
-        norm(e) < 1e-3
+        s.tick >= t0 + 5 * rate as u64 / 2 && norm(s.probe_vel_m_s) < 0.005
     })?;
     let mut seq = first.model_seq.wrapping_add(1);
     d.set_local_model(plane(seq, top))?;
