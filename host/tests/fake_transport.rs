@@ -125,7 +125,7 @@ fn requests_states_refusals_and_hang_up_over_a_byte_stream() {
     // The device hangs up: requests fail, the stream reports it, reconnecting has no target.
     assert!(matches!(
         d.ping(),
-        Err(LinkError::Disconnected | LinkError::Timeout)
+        Err(LinkError::Disconnected | LinkError::Io(_) | LinkError::Timeout)
     ));
     assert!(matches!(
         d.next_state(Duration::from_secs(2)),
