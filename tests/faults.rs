@@ -157,7 +157,11 @@ fn driver_fault_while_dragging_latches_and_relatches_if_still_present() {
 #[test]
 fn overrun_streak_threshold_is_exact_during_contact() {
     let mut c = controller();
-    let n = c.config().limits.overrun_streak;
+    let n = c
+        .config()
+        .limits
+        .per_tick(c.config().rate_hz)
+        .overrun_streak;
     let m = pressed_counts(0.002);
     let counts = [m[0], m[1], m[2], 0, 0, 0];
     tick(&mut c, counts);
@@ -183,7 +187,12 @@ fn overrun_streak_threshold_is_exact_during_contact() {
 /// A glitch on each encoder in turn, in both directions, mid-contact: latched on that tick.
 #[test]
 fn a_glitch_on_any_encoder_latches_on_its_tick() {
-    let lim = ControllerConfig::default_plane().limits.max_counts_per_tick;
+    let lim = i32::from(
+        ControllerConfig::default_plane()
+            .limits
+            .per_tick(10_000.0)
+            .max_counts_per_tick,
+    );
     for axis in 0..6 {
         for sign in [1, -1] {
             let mut c = controller();
@@ -219,7 +228,7 @@ fn a_stuck_encoder_under_drive_latches_with_the_default_limits() {
         first.duties
     );
     let mut latched_at = None;
-    for k in 1..=lim.stuck_ticks as u32 + 5 {
+    for k in 1..=lim.per_tick(10_000.0).stuck_ticks + 5 {
         let out = c.tick(&TickInput {
             counts,
             ..TickInput::default()
@@ -230,7 +239,7 @@ fn a_stuck_encoder_under_drive_latches_with_the_default_limits() {
             break;
         }
     }
-    assert_eq!(latched_at, Some(lim.stuck_ticks as u32));
+    assert_eq!(latched_at, Some(lim.per_tick(10_000.0).stuck_ticks));
 }
 
 /// Run-time parameter changes with invalid values of every kind, while pressing: each rejected

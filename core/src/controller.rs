@@ -19,6 +19,7 @@ use crate::contact_state::ContactState;
 use crate::device::DeviceParams;
 use crate::flags::Flags;
 use crate::math::Math;
+use crate::output_guard::{GuardConfig, Guarded, OutputGuard};
 pub use crate::params::ParamError;
 use crate::params::{positive, ContactParams};
 use crate::quat::Quat;
@@ -57,7 +58,8 @@ pub struct TickOutput {
     pub state: ContactState,
 }
 
-/// Limits and fault thresholds enforced by the controller, independently of the contact model.
+/// Limits and fault thresholds, in physical units so that changing the control rate changes no
+/// behaviour; [`Limits::per_tick`] converts them for a rate.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Limits {
@@ -65,14 +67,14 @@ pub struct Limits {
     pub max_duty: f32,
     /// Largest motor-side arm torque requested, N·m.
     pub max_arm_torque_nm: f32,
-    /// A motor or wrist count change larger than this in one tick is a glitch (counts).
-    pub max_counts_per_tick: i32,
-    /// This many overruns in a row latch a fault.
-    pub overrun_streak: u16,
-    /// |duty| at or above this, with no count change for `stuck_ticks`, latches ENCODER_STUCK.
+    /// An encoder moving faster than this between two ticks is a glitch, counts/s.
+    pub glitch_counts_per_s: f32,
+    /// Overrunning ticks for this long in a row latch a fault, s.
+    pub overrun_streak_s: f32,
+    /// |duty| at or above this, with no count change for `stuck_s`, latches ENCODER_STUCK.
     pub stuck_duty: f32,
-    /// Ticks of drive without motion before ENCODER_STUCK.
-    pub stuck_ticks: u16,
+    /// Time of drive without motion before ENCODER_STUCK, s.
+    pub stuck_s: f32,
     /// Cut-off of the first-order low-pass on the finite-difference velocities, Hz.
     pub velocity_cutoff_hz: f32,
     /// Arm angles outside [min, max] (rad) cannot be reached by the mechanism: the encoders or
@@ -80,22 +82,40 @@ pub struct Limits {
     pub arm_angle_range_rad: [f32; 2],
 }
 
+/// [`Limits`] converted for one control rate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct TickLimits {
+    /// A count change larger than this in one tick is a glitch: round(glitch_counts_per_s / rate),
+    /// at least 1, at most 32 767 (beyond that a 16-bit wrapping difference cannot tell).
+    pub max_counts_per_tick: u16,
+    /// Consecutive overrun ticks that latch OVERRUN: round(overrun_streak_s · rate), at least 1.
+    pub overrun_streak: u32,
+    /// Ticks of drive without motion before ENCODER_STUCK: round(stuck_s · rate), at least 1.
+    pub stuck_ticks: u32,
+}
+
 impl Limits {
-    /// Defaults for the Omega-like device at 10 kHz. Glitch: 2000 counts per tick is 20 M counts/s,
-    /// far beyond any physical arm speed with the default encoders (see `DeviceParams`). Stuck: 20 %
-    /// duty for 0.2 s (2000 ticks at 10 kHz) without a single count: a hand holding the handle still
-    /// against that drive still moves it by more than a count (physiological tremor). The duty
-    /// threshold must lie below the largest duty at stall, R·i_max/V = 2.18·4/24 = 0.363: a frozen
-    /// encoder reads zero velocity, so its motor gets no back-EMF feed-forward and its duty never
-    /// exceeds that (with 0.5, a frozen encoder could never be detected). At the 12 N force limit
-    /// the duties of the touch scene reach about 0.24.
-    pub const DEFAULT: Limits = Limits {
-        max_duty: 0.95,
+    /// The Omega-like device's limits (named by [`crate::devices::OMEGA_LIKE`]).
+    ///
+    /// - duty ≤ 0.9: leaves bootstrap and current-sense margin on the bridge;
+    /// - glitch: 2 M counts/s, three times the motor's no-load speed at 24 V (24 V / k_e =
+    ///   1026 rad/s = 669 k counts/s with 4096 counts per turn): 200 counts per tick at 10 kHz,
+    ///   100 at 20 kHz;
+    /// - overrun streak: 1 ms (10 ticks at 10 kHz, 20 at 20 kHz);
+    /// - stuck: 20 % duty for 0.2 s without a single count: a hand holding the handle still
+    ///   against that drive still moves it by more than a count (physiological tremor). The duty
+    ///   threshold must lie below the largest duty at stall, R·i_max/V = 2.18·4/24 = 0.363: a
+    ///   frozen encoder reads zero velocity, so its motor gets no back-EMF feed-forward and its
+    ///   duty never exceeds that. At the 12 N force limit the duties of the touch scene reach
+    ///   about 0.24.
+    pub const OMEGA_LIKE: Limits = Limits {
+        max_duty: 0.9,
         max_arm_torque_nm: 2.0,
-        max_counts_per_tick: 2000,
-        overrun_streak: 3,
+        glitch_counts_per_s: 2.0e6,
+        overrun_streak_s: 1.0e-3,
         stuck_duty: 0.2,
-        stuck_ticks: 2000,
+        stuck_s: 0.2,
         velocity_cutoff_hz: 300.0,
         // The Omega-like linkage needs −31° … 94° over its workspace (see `crate::delta`); the
         // range allows margin for the workspace's edge.
@@ -109,16 +129,10 @@ impl Limits {
             return Err(ParamError::OutOfRange("max_duty"));
         }
         positive("max_arm_torque_nm", self.max_arm_torque_nm)?;
-        if self.max_counts_per_tick <= 0 {
-            return Err(ParamError::NotPositive("max_counts_per_tick"));
-        }
-        if self.overrun_streak == 0 {
-            return Err(ParamError::NotPositive("overrun_streak"));
-        }
+        positive("glitch_counts_per_s", self.glitch_counts_per_s)?;
+        positive("overrun_streak_s", self.overrun_streak_s)?;
         positive("stuck_duty", self.stuck_duty)?;
-        if self.stuck_ticks == 0 {
-            return Err(ParamError::NotPositive("stuck_ticks"));
-        }
+        positive("stuck_s", self.stuck_s)?;
         positive("velocity_cutoff_hz", self.velocity_cutoff_hz)?;
         let [lo, hi] = self.arm_angle_range_rad;
         if !lo.is_finite() || !hi.is_finite() {
@@ -129,11 +143,27 @@ impl Limits {
         }
         Ok(())
     }
+
+    /// The thresholds in ticks at `rate_hz` (see [`TickLimits`] for the rounding).
+    pub fn per_tick(&self, rate_hz: f32) -> TickLimits {
+        let glitch = round_at_least_one(self.glitch_counts_per_s / rate_hz).min(32_767);
+        TickLimits {
+            max_counts_per_tick: glitch as u16,
+            overrun_streak: round_at_least_one(self.overrun_streak_s * rate_hz),
+            stuck_ticks: round_at_least_one(self.stuck_s * rate_hz),
+        }
+    }
 }
 
-impl Default for Limits {
-    fn default() -> Self {
-        Limits::DEFAULT
+/// Round a non-negative value to the nearest integer, at least 1, saturating; NaN → 1.
+fn round_at_least_one(x: f32) -> u32 {
+    let r = x + 0.5;
+    if r.is_nan() || r < 1.0 {
+        1
+    } else if r >= u32::MAX as f32 {
+        u32::MAX
+    } else {
+        r as u32
     }
 }
 
@@ -156,8 +186,9 @@ pub struct ControllerConfig<S: Surface = Plane> {
 }
 
 impl ControllerConfig<Plane> {
-    /// The default scene: a plane 10 mm below the centre of the device's workspace, so the
-    /// 10 mm fingertip touches it with its centre at the workspace centre, at 10 kHz.
+    /// The Omega-like device ([`DeviceParams::OMEGA_LIKE`], [`Limits::OMEGA_LIKE`]) with the
+    /// default scene: a plane 10 mm below the centre of the device's workspace, so the 10 mm
+    /// fingertip touches it with its centre at the workspace centre, at 10 kHz.
     pub fn default_plane() -> Self {
         ControllerConfig {
             rate_hz: 10_000.0,
@@ -166,14 +197,8 @@ impl ControllerConfig<Plane> {
             surface: Plane::default(),
             object_origin_m: crate::delta::DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M
                 - Vec3::new(0.0, 0.0, 0.010),
-            limits: Limits::DEFAULT,
+            limits: Limits::OMEGA_LIKE,
         }
-    }
-}
-
-impl Default for ControllerConfig<Plane> {
-    fn default() -> Self {
-        ControllerConfig::default_plane()
     }
 }
 
@@ -195,33 +220,31 @@ impl<S: Surface> ControllerConfig<S> {
 }
 
 /// The controller with its state. `M`: math backend; `S`: scene surface.
+///
+/// [`Controller::compute`] is the control law alone (no fault latch); [`Controller::tick`] runs it
+/// through the controller's own [`OutputGuard`], the one implementation of the latching set and
+/// its thresholds, for callers that use the controller without the
+/// [`Pipeline`](crate::pipeline::Pipeline) (which has its own guard instance and calls `compute`).
 #[derive(Clone, Copy, Debug)]
 pub struct Controller<M: Math, S: Surface = Plane> {
     config: ControllerConfig<S>,
     contact: ContactModel<M, S>,
+    guard: OutputGuard,
     dt_s: f32,
     /// Low-pass coefficient α of the velocity filters: v ← v + α·(v_raw − v).
     alpha: f32,
     started: bool,
-    prev_counts: [i32; 6],
     prev_probe: Vec3,
     probe_vel: Vec3,
     prev_angles: [f32; 3],
     arm_vel: [f32; 3],
-    overruns: u16,
-    stuck: [u16; 3],
-    latched: Flags,
+    force_scale: f32,
     pending: Flags,
 }
 
-/// Faults that latch: the outputs stay at zero torque until an explicit clear.
-pub const LATCHING: Flags = Flags(
-    Flags::DRIVER_FAULT.0
-        | Flags::ENCODER_GLITCH.0
-        | Flags::ENCODER_STUCK.0
-        | Flags::NON_FINITE_OUTPUT.0
-        | Flags::OVERRUN.0,
-);
+/// Faults that latch: the outputs stay at zero torque until an explicit clear (one set, defined
+/// with the guard that enforces it).
+pub use crate::output_guard::LATCHING;
 
 impl<M: Math, S: Surface> Controller<M, S> {
     /// Build a controller; an invalid configuration is rejected, never clamped.
@@ -229,22 +252,21 @@ impl<M: Math, S: Surface> Controller<M, S> {
         config.validate()?;
         let dt_s = 1.0 / config.rate_hz;
         let contact = ContactModel::new(config.contact, config.surface, Quat::IDENTITY, dt_s)?;
+        let guard = OutputGuard::new(GuardConfig::from_limits(&config.limits, config.rate_hz))?;
         // α = 1 − exp(−2π·f_c·T) ≈ 2π·f_c·T/(1 + 2π·f_c·T) (bilinear-free, no exp on the MCU).
         let wt = 2.0 * core::f32::consts::PI * config.limits.velocity_cutoff_hz * dt_s;
         Ok(Controller {
             config,
             contact,
+            guard,
             dt_s,
             alpha: wt / (1.0 + wt),
             started: false,
-            prev_counts: [0; 6],
             prev_probe: Vec3::ZERO,
             probe_vel: Vec3::ZERO,
             prev_angles: [0.0; 3],
             arm_vel: [0.0; 3],
-            overruns: 0,
-            stuck: [0; 3],
-            latched: Flags::NONE,
+            force_scale: 1.0,
             pending: Flags::NONE,
         })
     }
@@ -259,22 +281,21 @@ impl<M: Math, S: Surface> Controller<M, S> {
         &self.contact
     }
 
-    /// Latched faults (empty when the outputs are allowed).
+    /// Latched faults of [`Self::tick`]'s guard (empty when the outputs are allowed).
     pub fn latched_faults(&self) -> Flags {
-        self.latched
+        self.guard.latched()
     }
 
     /// Clear latched faults (an explicit operator action). The next tick starts afresh: no velocity
     /// history, contact broken.
     pub fn clear_faults(&mut self) {
-        self.latched = Flags::NONE;
+        self.guard.clear();
         self.restart();
     }
 
-    fn restart(&mut self) {
+    /// Forget the velocity history and break the contact (after a fault, a re-homing, an arming).
+    pub fn restart(&mut self) {
         self.started = false;
-        self.overruns = 0;
-        self.stuck = [0; 3];
         if let Ok(c) = ContactModel::new(
             self.config.contact,
             self.config.surface,
@@ -283,6 +304,18 @@ impl<M: Math, S: Surface> Controller<M, S> {
         ) {
             self.contact = c;
         }
+    }
+
+    /// Scale the rendered force by `scale` in [0, 1] (the arming ramp). Out-of-range or NaN
+    /// values are clamped to [0, 1] (NaN → 0).
+    pub fn set_force_scale(&mut self, scale: f32) {
+        self.force_scale = if scale >= 1.0 {
+            1.0
+        } else if scale > 0.0 {
+            scale
+        } else {
+            0.0
+        };
     }
 
     /// Change the contact parameters at run time. Invalid values are rejected (the old ones stay)
@@ -301,42 +334,37 @@ impl<M: Math, S: Surface> Controller<M, S> {
         }
     }
 
-    /// One control tick. Never panics; any fault gives zero duties and `enable = false`.
+    /// One control tick through the controller's guard. Never panics; any fault gives zero duties
+    /// and `enable = false`, latched until [`Self::clear_faults`].
     pub fn tick(&mut self, input: &TickInput) -> TickOutput {
+        let raw = self.compute(&input.counts);
+        let events = if input.driver_fault {
+            Flags::DRIVER_FAULT
+        } else {
+            Flags::NONE
+        };
+        let g = self.guard.apply(&input.counts, &raw, events, input.overrun);
+        guarded_output(raw, &g)
+    }
+
+    /// The control law alone: counts (homed, extended) in, duties out, no fault latch. Non-finite
+    /// results are replaced by zero and reported as [`Flags::NON_FINITE_OUTPUT`] (which a guard
+    /// latches); duties are not limited here beyond the device's ±1 (the guard limits them).
+    pub fn compute(&mut self, counts: &[i32; 6]) -> TickOutput {
         let mut flags = self.pending;
         self.pending = Flags::NONE;
         let lim = self.config.limits;
         let dev = self.config.device;
 
-        // Fault inputs.
-        if input.driver_fault {
-            self.latched |= Flags::DRIVER_FAULT;
-        }
-        self.overruns = if input.overrun {
-            self.overruns.saturating_add(1)
-        } else {
-            0
-        };
-        if self.overruns >= lim.overrun_streak {
-            self.latched |= Flags::OVERRUN;
-        }
-        if self.started {
-            for (now, before) in input.counts.iter().zip(self.prev_counts.iter()) {
-                if now.wrapping_sub(*before).unsigned_abs() > lim.max_counts_per_tick as u32 {
-                    self.latched |= Flags::ENCODER_GLITCH;
-                }
-            }
-        }
-
         // Kinematics.
         let mut angles = [0.0f32; 3];
-        for (a, c) in angles.iter_mut().zip(input.counts.iter()) {
+        for (a, c) in angles.iter_mut().zip(counts.iter()) {
             *a = dev.motor_counts_to_arm_angle_rad(*c);
         }
         let wrist = [
-            dev.wrist_counts_to_angle_rad(input.counts[3]),
-            dev.wrist_counts_to_angle_rad(input.counts[4]),
-            dev.wrist_counts_to_angle_rad(input.counts[5]),
+            dev.wrist_counts_to_angle_rad(counts[3]),
+            dev.wrist_counts_to_angle_rad(counts[4]),
+            dev.wrist_counts_to_angle_rad(counts[5]),
         ];
         let (pose, mut kflags) = dev.delta.pose::<M>(angles);
         let probe_dev = pose.effector_m;
@@ -355,6 +383,7 @@ impl<M: Math, S: Surface> Controller<M, S> {
             self.probe_vel = Vec3::ZERO;
             self.arm_vel = [0.0; 3];
         }
+        self.started = true;
         self.probe_vel += ((probe_dev - self.prev_probe) * inv_dt - self.probe_vel) * self.alpha;
         for ((v, a), a_prev) in self.arm_vel.iter_mut().zip(angles).zip(self.prev_angles) {
             *v += ((a - a_prev) * inv_dt - *v) * self.alpha;
@@ -377,13 +406,11 @@ impl<M: Math, S: Surface> Controller<M, S> {
                 probe_vel: self.probe_vel,
             })
         };
-        flags |= contact.flags & !Flags::NON_FINITE_OUTPUT;
-        if contact.flags.contains(Flags::NON_FINITE_OUTPUT) {
-            self.latched |= Flags::NON_FINITE_OUTPUT;
-        }
+        flags |= contact.flags;
+        let force_n = contact.force_n * self.force_scale;
 
         // Motor torques and duties.
-        let (torques, jflags) = dev.delta.torques_at(&pose, contact.force_n);
+        let (torques, jflags) = dev.delta.torques_at(&pose, force_n);
         flags |= jflags;
         let mut duties = [0.0f32; 3];
         for i in 0..3 {
@@ -406,56 +433,37 @@ impl<M: Math, S: Surface> Controller<M, S> {
             flags |= dflags & Flags::OUTPUT_LIMITED;
             if !d.is_finite() {
                 d = 0.0;
-                self.latched |= Flags::NON_FINITE_OUTPUT;
-            }
-            if d.abs() > lim.max_duty {
-                d = libm::copysignf(lim.max_duty, d);
-                flags |= Flags::OUTPUT_LIMITED;
+                flags |= Flags::NON_FINITE_OUTPUT;
             }
             duties[i] = d;
         }
-
-        // Encoder stuck under drive.
-        if self.started {
-            for (i, stuck) in self.stuck.iter_mut().enumerate() {
-                let moved = input.counts[i] != self.prev_counts[i];
-                *stuck = if duties[i].abs() >= lim.stuck_duty && !moved {
-                    stuck.saturating_add(1)
-                } else {
-                    0
-                };
-                if *stuck >= lim.stuck_ticks {
-                    self.latched |= Flags::ENCODER_STUCK;
-                }
-            }
+        let tau = contact.tau_n_nm * self.force_scale;
+        if !force_n.is_finite() || !tau.is_finite() {
+            flags |= Flags::NON_FINITE_OUTPUT;
         }
-        self.prev_counts = input.counts;
-        self.started = true;
-
-        // Latched faults: zero torque, drivers disabled.
-        let faulted = !self.latched.is_empty();
-        if faulted {
-            duties = [0.0; 3];
-        }
-        flags |= self.latched;
         let finite = |v: Vec3| if v.is_finite() { v } else { Vec3::ZERO };
         TickOutput {
             duties,
-            enable: !faulted,
+            enable: true,
             flags,
             probe_m: finite(probe_dev),
-            force_n: if faulted {
-                Vec3::ZERO
-            } else {
-                finite(contact.force_n)
-            },
-            tau_n_nm: if faulted || !contact.tau_n_nm.is_finite() {
-                0.0
-            } else {
-                contact.tau_n_nm
-            },
+            force_n: finite(force_n),
+            tau_n_nm: if tau.is_finite() { tau } else { 0.0 },
             state: contact.state,
         }
+    }
+}
+
+/// The controller's raw output after a guard: the guard's duties, enable and flags; force and
+/// torque zero whenever the guard disabled the outputs.
+pub fn guarded_output(raw: TickOutput, g: &Guarded) -> TickOutput {
+    TickOutput {
+        duties: g.duties,
+        enable: g.enable,
+        flags: g.flags,
+        force_n: if g.enable { raw.force_n } else { Vec3::ZERO },
+        tau_n_nm: if g.enable { raw.tau_n_nm } else { 0.0 },
+        ..raw
     }
 }
 

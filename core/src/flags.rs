@@ -42,6 +42,8 @@ impl Flags {
     pub const ENCODER_STUCK: Flags = Flags(1 << 13);
     /// A parameter update was rejected; the previous parameters stay in force.
     pub const PARAM_REJECTED: Flags = Flags(1 << 14);
+    /// Homing failed (timeout, or an arm stalled before travelling far enough).
+    pub const HOMING_FAILED: Flags = Flags(1 << 15);
 
     /// True when no flag is raised.
     #[inline]

@@ -1,25 +1,39 @@
-//! The last line of defence between the controller and the motor drivers.
+//! The last line of defence between the control law and the motor drivers, and the ONE place
+//! where faults latch.
 //!
-//! [`OutputGuard`] runs after [`Controller::tick`](crate::controller::Controller::tick) and
-//! independently of it: whatever the controller returns, the guard
-//! - latches a fault on a driver fault, an encoder glitch, a non-finite controller output or a
-//!   streak of overrun ticks, and from then on outputs zero duties with the drivers disabled until
-//!   an explicit [`OutputGuard::clear`];
+//! [`OutputGuard`] runs after the control law ([`Controller::compute`]) and independently of it:
+//! whatever the control law returns, the guard
+//! - latches [`LATCHING`] faults: a driver fault or encoder glitch reported as an event, an encoder
+//!   step beyond the glitch limit, a motor encoder that does not move while its duty is at or above
+//!   the stuck duty for the stuck time, a non-finite output, a streak of overrun ticks, a failed
+//!   homing; from then on it outputs zero duties with the drivers disabled until an explicit
+//!   [`OutputGuard::clear`];
 //! - maps any non-finite duty to 0 (raising [`Flags::NON_FINITE_OUTPUT`]);
 //! - clamps every duty to the configured maximum (raising [`Flags::OUTPUT_LIMITED`]).
+//!
+//! Its thresholds come from [`Limits`] (physical units) converted for the control rate by
+//! [`Limits::per_tick`], so the controller, the pipeline and the firmware share one definition.
 //!
 //! [`phase_enable`] turns a guarded duty into what a phase/enable H-bridge (DRV887x class) needs:
 //! the phase (direction) pin level and a PWM compare value.
 //!
 //! Duty convention: a duty `d` in [-1, 1] is the signed fraction of the PWM period the bridge
 //! drives; `d ≥ 0` drives the phase pin high ("forward": current from OUT1 to OUT2), `d < 0` low.
+//!
+//! [`Controller::compute`]: crate::controller::Controller::compute
 
-use crate::controller::{ParamError, TickOutput};
+use crate::controller::{Limits, ParamError, TickLimits, TickOutput};
 use crate::flags::Flags;
 
-/// Flags that latch a fault in the guard (outputs held at zero torque until cleared).
+/// Faults that latch (outputs held at zero torque until cleared). The one latching set: the
+/// controller, the pipeline, the firmware's LED and log all use this.
 pub const LATCHING: Flags = Flags(
-    Flags::DRIVER_FAULT.0 | Flags::ENCODER_GLITCH.0 | Flags::NON_FINITE_OUTPUT.0 | Flags::OVERRUN.0,
+    Flags::DRIVER_FAULT.0
+        | Flags::ENCODER_GLITCH.0
+        | Flags::ENCODER_STUCK.0
+        | Flags::NON_FINITE_OUTPUT.0
+        | Flags::OVERRUN.0
+        | Flags::HOMING_FAILED.0,
 );
 
 /// A brushed DC motor seen from its driver, to express a torque limit as a duty limit.
@@ -52,39 +66,56 @@ impl MotorModel {
     }
 }
 
-/// The guard's limits.
+/// The guard's limits, per tick.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GuardConfig {
     /// Largest duty magnitude ever written, in (0, 1].
     pub max_duty: f32,
-    /// Consecutive overrun ticks that latch [`Flags::OVERRUN`]; at least 1.
-    pub max_overrun_streak: u32,
+    /// |duty| at or above this without motion counts towards ENCODER_STUCK.
+    pub stuck_duty: f32,
+    /// Thresholds in ticks (glitch step, overrun streak, stuck time).
+    pub ticks: TickLimits,
 }
 
 impl GuardConfig {
-    /// The tighter of a plain duty limit and the duty that produces `max_torque_nm` at stall.
+    /// The guard for `limits` at `rate_hz`.
+    pub fn from_limits(limits: &Limits, rate_hz: f32) -> Self {
+        GuardConfig {
+            max_duty: limits.max_duty,
+            stuck_duty: limits.stuck_duty,
+            ticks: limits.per_tick(rate_hz),
+        }
+    }
+
+    /// This config with the duty limit tightened to the duty that produces `max_torque_nm` at
+    /// stall (see [`MotorModel::duty_for_torque`]).
     pub fn with_torque_limit(
-        max_duty: f32,
+        self,
         max_torque_nm: f32,
         motor: &MotorModel,
-        max_overrun_streak: u32,
     ) -> Result<Self, ParamError> {
         let torque_duty = motor.duty_for_torque(max_torque_nm)?;
         let config = GuardConfig {
-            max_duty: max_duty.min(torque_duty),
-            max_overrun_streak,
+            max_duty: self.max_duty.min(torque_duty),
+            ..self
         };
         config.validate()?;
         Ok(config)
     }
 
-    /// Accept only a finite `max_duty` in (0, 1] and a streak limit of at least 1.
+    /// Accept only a finite `max_duty` in (0, 1], a finite positive stuck duty and non-zero tick
+    /// thresholds.
     pub fn validate(&self) -> Result<(), ParamError> {
+        let t = &self.ticks;
         if self.max_duty.is_finite()
             && self.max_duty > 0.0
             && self.max_duty <= 1.0
-            && self.max_overrun_streak >= 1
+            && self.stuck_duty.is_finite()
+            && self.stuck_duty > 0.0
+            && t.max_counts_per_tick >= 1
+            && t.overrun_streak >= 1
+            && t.stuck_ticks >= 1
         {
             Ok(())
         } else {
@@ -105,12 +136,16 @@ pub struct Guarded {
     pub flags: Flags,
 }
 
-/// Duty limiter and fault latch. See the module documentation.
+/// Duty limiter, fault checks and the fault latch. See the module documentation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct OutputGuard {
     config: GuardConfig,
     latched: Flags,
+    started: bool,
+    prev_counts: [i32; 6],
+    overruns: u32,
+    stuck: [u32; 3],
 }
 
 impl OutputGuard {
@@ -120,6 +155,10 @@ impl OutputGuard {
         Ok(OutputGuard {
             config,
             latched: Flags::NONE,
+            started: false,
+            prev_counts: [0; 6],
+            overruns: 0,
+            stuck: [0; 3],
         })
     }
 
@@ -133,33 +172,74 @@ impl OutputGuard {
         self.latched
     }
 
-    /// Clear every latched fault (an explicit operator action). A condition still present latches
-    /// again on the next [`OutputGuard::apply`].
+    /// Clear every latched fault and the streak and stuck counters (an explicit operator action);
+    /// count steps are checked again from the second tick after. A condition still present latches
+    /// again.
     pub fn clear(&mut self) {
         self.latched = Flags::NONE;
+        self.started = false;
+        self.overruns = 0;
+        self.stuck = [0; 3];
     }
 
-    /// Guard one controller output.
+    /// Latch `faults` now (e.g. a failed homing); only [`LATCHING`] flags are kept.
+    pub fn latch(&mut self, faults: Flags) {
+        self.latched |= faults & LATCHING;
+    }
+
+    /// Guard one output of the control law.
     ///
-    /// - `events`: conditions the firmware observed this tick (e.g. [`Flags::DRIVER_FAULT`] when
-    ///   the nFAULT line is asserted, [`Flags::ENCODER_GLITCH`] from the encoder bank).
-    /// - `overrun_streak`: consecutive overrun ticks so far; reaching `max_overrun_streak` latches
+    /// - `counts`: the encoder positions of this tick in one continuous frame (extended counts;
+    ///   motors first), for the glitch and stuck checks;
+    /// - `events`: conditions observed this tick (e.g. [`Flags::DRIVER_FAULT`] when nFAULT counts,
+    ///   [`Flags::ENCODER_GLITCH`] from the count extension);
+    /// - `overrun`: this tick follows an overrun; `overrun_streak` of them in a row latch
     ///   [`Flags::OVERRUN`].
-    pub fn apply(&mut self, out: &TickOutput, events: Flags, overrun_streak: u32) -> Guarded {
+    pub fn apply(
+        &mut self,
+        counts: &[i32; 6],
+        out: &TickOutput,
+        events: Flags,
+        overrun: bool,
+    ) -> Guarded {
         let mut flags = out.flags | events;
+        let t = self.config.ticks;
+        self.overruns = if overrun {
+            self.overruns.saturating_add(1)
+        } else {
+            0
+        };
+        if self.overruns >= t.overrun_streak {
+            flags |= Flags::OVERRUN;
+        }
         let finite_duties = out.duties.map(|d| if d.is_finite() { d } else { 0.0 });
-        let reported_finite = out.force_n.x.is_finite()
-            && out.force_n.y.is_finite()
-            && out.force_n.z.is_finite()
-            && out.tau_n_nm.is_finite();
-        if finite_duties != out.duties || !reported_finite {
+        if finite_duties != out.duties || !out.force_n.is_finite() || !out.tau_n_nm.is_finite() {
             // `!=` is also true for any NaN in `out.duties`, since NaN != 0.0.
             flags |= Flags::NON_FINITE_OUTPUT;
         }
-        if overrun_streak >= self.config.max_overrun_streak {
-            flags |= Flags::OVERRUN;
+        if self.started {
+            let max = u32::from(t.max_counts_per_tick);
+            for (now, before) in counts.iter().zip(self.prev_counts.iter()) {
+                if now.wrapping_sub(*before).unsigned_abs() > max {
+                    flags |= Flags::ENCODER_GLITCH;
+                }
+            }
+            for (i, stuck) in self.stuck.iter_mut().enumerate() {
+                let moved = counts[i] != self.prev_counts[i];
+                *stuck = if out.enable && finite_duties[i].abs() >= self.config.stuck_duty && !moved
+                {
+                    stuck.saturating_add(1)
+                } else {
+                    0
+                };
+                if *stuck >= t.stuck_ticks {
+                    flags |= Flags::ENCODER_STUCK;
+                }
+            }
         }
-        self.latched |= Flags(flags.0 & LATCHING.0);
+        self.started = true;
+        self.prev_counts = *counts;
+        self.latched |= flags & LATCHING;
         flags |= self.latched;
 
         if !self.latched.is_empty() || !out.enable {
@@ -227,10 +307,17 @@ mod tests {
     use super::*;
     use crate::vec3::Vec3;
 
+    const TICKS: TickLimits = TickLimits {
+        max_counts_per_tick: 10,
+        overrun_streak: 3,
+        stuck_ticks: 5,
+    };
+
     fn config() -> GuardConfig {
         GuardConfig {
             max_duty: 0.8,
-            max_overrun_streak: 3,
+            stuck_duty: 0.2,
+            ticks: TICKS,
         }
     }
 
@@ -253,10 +340,15 @@ mod tests {
         }
     }
 
+    /// Counts that move every tick (so nothing is stuck): `k` on every axis.
+    fn moving(k: i32) -> [i32; 6] {
+        [k; 6]
+    }
+
     #[test]
     fn nominal_duties_pass_unchanged() {
         let mut g = guard();
-        let r = g.apply(&out([0.1, -0.5, 0.8]), Flags::NONE, 0);
+        let r = g.apply(&moving(0), &out([0.1, -0.5, 0.8]), Flags::NONE, false);
         assert_eq!(r.duties, [0.1, -0.5, 0.8]);
         assert!(r.enable);
         assert!(r.flags.is_empty());
@@ -265,7 +357,7 @@ mod tests {
     #[test]
     fn duties_are_clamped_to_the_limit_with_a_flag() {
         let mut g = guard();
-        let r = g.apply(&out([1.0, -0.95, 0.3]), Flags::NONE, 0);
+        let r = g.apply(&moving(0), &out([1.0, -0.95, 0.3]), Flags::NONE, false);
         assert_eq!(r.duties, [0.8, -0.8, 0.3]);
         assert!(r.enable);
         assert_eq!(r.flags, Flags::OUTPUT_LIMITED);
@@ -276,13 +368,13 @@ mod tests {
     fn non_finite_duty_zeroes_everything_and_latches() {
         for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
             let mut g = guard();
-            let r = g.apply(&out([0.2, bad, 0.3]), Flags::NONE, 0);
+            let r = g.apply(&moving(0), &out([0.2, bad, 0.3]), Flags::NONE, false);
             assert_eq!(r.duties, [0.0; 3]);
             assert!(!r.enable);
             assert!(r.flags.contains(Flags::NON_FINITE_OUTPUT));
             assert_eq!(g.latched(), Flags::NON_FINITE_OUTPUT);
             // Still latched with a good output next tick.
-            let r = g.apply(&out([0.2, 0.2, 0.2]), Flags::NONE, 0);
+            let r = g.apply(&moving(1), &out([0.2, 0.2, 0.2]), Flags::NONE, false);
             assert_eq!((r.duties, r.enable), ([0.0; 3], false));
         }
     }
@@ -292,29 +384,48 @@ mod tests {
         let mut g = guard();
         let mut o = out([0.1; 3]);
         o.force_n.y = f32::NAN;
-        assert!(!g.apply(&o, Flags::NONE, 0).enable);
+        assert!(!g.apply(&moving(0), &o, Flags::NONE, false).enable);
         let mut g = guard();
         let mut o = out([0.1; 3]);
         o.tau_n_nm = f32::INFINITY;
-        assert!(!g.apply(&o, Flags::NONE, 0).enable);
+        assert!(!g.apply(&moving(0), &o, Flags::NONE, false).enable);
         assert_eq!(g.latched(), Flags::NON_FINITE_OUTPUT);
     }
 
     #[test]
     fn each_latching_event_disables_until_cleared() {
-        for ev in [Flags::DRIVER_FAULT, Flags::ENCODER_GLITCH] {
+        for ev in [
+            Flags::DRIVER_FAULT,
+            Flags::ENCODER_GLITCH,
+            Flags::HOMING_FAILED,
+        ] {
             let mut g = guard();
-            let r = g.apply(&out([0.5; 3]), ev, 0);
+            let r = g.apply(&moving(0), &out([0.5; 3]), ev, false);
             assert_eq!((r.duties, r.enable), ([0.0; 3], false));
             assert!(r.flags.contains(ev));
             // The event is gone, the latch is not.
-            let r = g.apply(&out([0.5; 3]), Flags::NONE, 0);
+            let r = g.apply(&moving(1), &out([0.5; 3]), Flags::NONE, false);
             assert_eq!((r.duties, r.enable), ([0.0; 3], false));
             assert_eq!(r.flags, ev);
             g.clear();
-            let r = g.apply(&out([0.5; 3]), Flags::NONE, 0);
+            let r = g.apply(&moving(2), &out([0.5; 3]), Flags::NONE, false);
             assert_eq!((r.duties, r.enable), ([0.5; 3], true));
         }
+    }
+
+    #[test]
+    fn latching_set_includes_stuck_and_homing() {
+        for f in [
+            Flags::DRIVER_FAULT,
+            Flags::ENCODER_GLITCH,
+            Flags::ENCODER_STUCK,
+            Flags::NON_FINITE_OUTPUT,
+            Flags::OVERRUN,
+            Flags::HOMING_FAILED,
+        ] {
+            assert!(LATCHING.contains(f));
+        }
+        assert!(!LATCHING.intersects(Flags::OUTPUT_LIMITED | Flags::PARAM_REJECTED));
     }
 
     #[test]
@@ -322,25 +433,107 @@ mod tests {
         let mut g = guard();
         let mut o = out([0.5; 3]);
         o.flags = Flags::DRIVER_FAULT | Flags::SPIN_SATURATED;
-        g.apply(&o, Flags::NONE, 0);
+        let _ = g.apply(&moving(0), &o, Flags::NONE, false);
         assert_eq!(g.latched(), Flags::DRIVER_FAULT, "only fault flags latch");
+        let mut g = guard();
+        g.latch(Flags::HOMING_FAILED | Flags::OUTPUT_LIMITED);
+        assert_eq!(g.latched(), Flags::HOMING_FAILED);
     }
 
     #[test]
     fn overrun_streak_latches_at_the_limit_only() {
         let mut g = guard();
-        assert!(g.apply(&out([0.5; 3]), Flags::NONE, 2).enable);
-        let r = g.apply(&out([0.5; 3]), Flags::NONE, 3);
+        // Two in a row (one below the limit of 3), then a break: nothing.
+        for k in 0..2 {
+            assert!(
+                g.apply(&moving(k), &out([0.5; 3]), Flags::NONE, true)
+                    .enable
+            );
+        }
+        assert!(
+            g.apply(&moving(2), &out([0.5; 3]), Flags::NONE, false)
+                .enable
+        );
+        for k in 3..5 {
+            assert!(
+                g.apply(&moving(k), &out([0.5; 3]), Flags::NONE, true)
+                    .enable
+            );
+        }
+        let r = g.apply(&moving(5), &out([0.5; 3]), Flags::NONE, true);
         assert!(!r.enable);
         assert_eq!(g.latched(), Flags::OVERRUN);
     }
 
     #[test]
+    fn glitch_threshold_is_bracketed() {
+        let mut g = guard();
+        let _ = g.apply(&[0; 6], &out([0.0; 3]), Flags::NONE, false);
+        // Exactly 10 counts in a tick (the limit) on a wrist axis: plausible.
+        let r = g.apply(&[0, 0, 0, 0, 10, 0], &out([0.0; 3]), Flags::NONE, false);
+        assert!(r.enable);
+        // 11: a glitch.
+        let r = g.apply(&[0, 0, 0, 0, 21, 0], &out([0.0; 3]), Flags::NONE, false);
+        assert!(!r.enable);
+        assert_eq!(g.latched(), Flags::ENCODER_GLITCH);
+        // The first tick after a clear has no predecessor to compare with.
+        g.clear();
+        assert!(
+            g.apply(&[5000; 6], &out([0.0; 3]), Flags::NONE, false)
+                .enable
+        );
+    }
+
+    #[test]
+    fn stuck_needs_the_duty_and_the_time() {
+        let still = [7; 6];
+        // Duty 0.2 (the threshold) for 5 ticks after the first: stuck on the 5th.
+        let mut g = guard();
+        let _ = g.apply(&still, &out([0.2, 0.0, 0.0]), Flags::NONE, false);
+        for _ in 0..4 {
+            assert!(
+                g.apply(&still, &out([0.2, 0.0, 0.0]), Flags::NONE, false)
+                    .enable
+            );
+        }
+        assert!(
+            !g.apply(&still, &out([0.2, 0.0, 0.0]), Flags::NONE, false)
+                .enable
+        );
+        assert_eq!(g.latched(), Flags::ENCODER_STUCK);
+        // Just below the duty: never.
+        let mut g = guard();
+        for _ in 0..100 {
+            assert!(
+                g.apply(&still, &out([0.0, -0.199, 0.0]), Flags::NONE, false)
+                    .enable
+            );
+        }
+        // One count of motion resets the time.
+        let mut g = guard();
+        for k in 0..100 {
+            let c = [0, 0, k / 4, 0, 0, 0];
+            assert!(
+                g.apply(&c, &out([0.0, 0.0, 0.5]), Flags::NONE, false)
+                    .enable
+            );
+        }
+        // Disabled outputs do not count as drive.
+        let mut g = guard();
+        let mut o = out([0.5; 3]);
+        o.enable = false;
+        for _ in 0..100 {
+            let _ = g.apply(&still, &o, Flags::NONE, false);
+        }
+        assert!(g.latched().is_empty());
+    }
+
+    #[test]
     fn condition_still_present_relatches_after_clear() {
         let mut g = guard();
-        g.apply(&out([0.5; 3]), Flags::DRIVER_FAULT, 0);
+        let _ = g.apply(&moving(0), &out([0.5; 3]), Flags::DRIVER_FAULT, false);
         g.clear();
-        let r = g.apply(&out([0.5; 3]), Flags::DRIVER_FAULT, 0);
+        let r = g.apply(&moving(1), &out([0.5; 3]), Flags::DRIVER_FAULT, false);
         assert!(!r.enable);
         assert_eq!(g.latched(), Flags::DRIVER_FAULT);
     }
@@ -350,7 +543,7 @@ mod tests {
         let mut g = guard();
         let mut o = out([0.5; 3]);
         o.enable = false;
-        let r = g.apply(&o, Flags::NONE, 0);
+        let r = g.apply(&moving(0), &o, Flags::NONE, false);
         assert_eq!((r.duties, r.enable), ([0.0; 3], false));
         assert!(g.latched().is_empty());
     }
@@ -360,7 +553,7 @@ mod tests {
         for max_duty in [0.0, -0.1, 1.01, f32::NAN, f32::INFINITY] {
             let c = GuardConfig {
                 max_duty,
-                max_overrun_streak: 3,
+                ..config()
             };
             assert_eq!(
                 OutputGuard::new(c).err(),
@@ -368,19 +561,82 @@ mod tests {
                 "{max_duty}"
             );
         }
-        let c = GuardConfig {
-            max_duty: 0.5,
-            max_overrun_streak: 0,
-        };
-        assert_eq!(
-            OutputGuard::new(c).err(),
-            Some(ParamError::OutOfRange("guard_config"))
-        );
+        for ticks in [
+            TickLimits {
+                max_counts_per_tick: 0,
+                ..TICKS
+            },
+            TickLimits {
+                overrun_streak: 0,
+                ..TICKS
+            },
+            TickLimits {
+                stuck_ticks: 0,
+                ..TICKS
+            },
+        ] {
+            let c = GuardConfig { ticks, ..config() };
+            assert!(OutputGuard::new(c).is_err());
+        }
+        for stuck_duty in [0.0, f32::NAN] {
+            assert!(OutputGuard::new(GuardConfig {
+                stuck_duty,
+                ..config()
+            })
+            .is_err());
+        }
         assert!(OutputGuard::new(GuardConfig {
             max_duty: 1.0,
-            max_overrun_streak: 1
+            ticks: TickLimits {
+                max_counts_per_tick: 1,
+                overrun_streak: 1,
+                stuck_ticks: 1
+            },
+            ..config()
         })
         .is_ok());
+    }
+
+    #[test]
+    fn limits_convert_for_the_rate_without_changing_behaviour() {
+        let l = Limits::OMEGA_LIKE;
+        let t10 = l.per_tick(10_000.0);
+        let t20 = l.per_tick(20_000.0);
+        assert_eq!(
+            t10,
+            TickLimits {
+                max_counts_per_tick: 200,
+                overrun_streak: 10,
+                stuck_ticks: 2000
+            }
+        );
+        assert_eq!(
+            t20,
+            TickLimits {
+                max_counts_per_tick: 100,
+                overrun_streak: 20,
+                stuck_ticks: 4000
+            }
+        );
+        // The same speed, time and duration at either rate.
+        assert_eq!(
+            f32::from(t10.max_counts_per_tick) * 10_000.0,
+            l.glitch_counts_per_s
+        );
+        assert_eq!(
+            f32::from(t20.max_counts_per_tick) * 20_000.0,
+            l.glitch_counts_per_s
+        );
+        // Saturation and the floor of one tick.
+        let big = Limits {
+            glitch_counts_per_s: 1e12,
+            overrun_streak_s: 1e-9,
+            ..l
+        };
+        let t = big.per_tick(1_000.0);
+        assert_eq!((t.max_counts_per_tick, t.overrun_streak), (32_767, 1));
+        let g = GuardConfig::from_limits(&l, 10_000.0);
+        assert_eq!((g.max_duty, g.stuck_duty, g.ticks), (0.9, 0.2, t10));
     }
 
     #[test]
@@ -394,10 +650,18 @@ mod tests {
         let d = m.duty_for_torque(0.1).unwrap_or(f32::NAN);
         // Tolerance: a few f32 ulps of the 0.4167 result (three roundings).
         assert!((d - 10.0 / 24.0).abs() < 1e-6, "{d}");
-        let c = GuardConfig::with_torque_limit(0.9, 0.1, &m, 5);
+        let c = GuardConfig {
+            max_duty: 0.9,
+            ..config()
+        }
+        .with_torque_limit(0.1, &m);
         assert_eq!(c.map(|c| c.max_duty), Ok(d));
         // A loose torque limit leaves the duty limit in force.
-        let c = GuardConfig::with_torque_limit(0.3, 0.1, &m, 5);
+        let c = GuardConfig {
+            max_duty: 0.3,
+            ..config()
+        }
+        .with_torque_limit(0.1, &m);
         assert_eq!(c.map(|c| c.max_duty), Ok(0.3));
         // Beyond stall at full duty the torque limit saturates at duty 1.
         assert_eq!(m.duty_for_torque(10.0), Ok(1.0));
@@ -416,7 +680,7 @@ mod tests {
         );
         // A zero torque limit gives a zero duty limit, which the guard rejects.
         assert_eq!(
-            GuardConfig::with_torque_limit(0.9, 0.0, &m, 5),
+            config().with_torque_limit(0.0, &m),
             Err(ParamError::OutOfRange("guard_config"))
         );
     }

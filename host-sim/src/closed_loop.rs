@@ -1,16 +1,21 @@
-//! The closed loop: the core's controller against the plant, coupled only by encoder counts in and
-//! PWM duties out, exactly as on the MCU.
+//! The closed loop: the core's control pipeline (the firmware's interrupt, minus the hardware
+//! access) against the plant, coupled only by wrapping 16-bit timer counts in and bridge commands
+//! (phase, compare, enable, sleep) out, with the board timing the firmware uses.
 //!
-//! Each tick: `counts = plant.counts()`, an optional injection hook edits the tick input (faults,
-//! noise), `out = controller.tick(input)`, then `plant.step_with_enable(out.duties, out.enable, T)`.
-//! The plant applies the duties one tick late (its output latch), like the firmware.
+//! Each tick: `raw = plant.raw_counts()`, an optional injection hook edits the raw input (faults,
+//! noise, timing), `out = pipeline.tick(raw)`, then `plant.step_bridges(out.bridges, timing)`.
+//! Before a scene, [`prepare`] plays the operator's session: power-up, `Home` with the handle let
+//! go (the arms find their stops), the hand takes the handle, `Arm`; the scene's script starts then.
 
 use crate::plant::{HandScript, Plant, PlantError, PlantParams, TouchScript};
 use crate::scene::{Scene, SurfaceSpec};
-use softfinger_core::controller::{Controller, ControllerConfig, TickInput, TickOutput};
 use softfinger_core::delta::DeltaGeometry;
 use softfinger_core::device::DeviceParams;
+use softfinger_core::devices::OMEGA_LIKE;
 use softfinger_core::params::ContactParams;
+use softfinger_core::pipeline::{
+    BoardTiming, Command, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
+};
 use softfinger_core::surface::{Plane, Sphere, Surface};
 use softfinger_core::{Math, Vec3};
 use std::time::{Duration, Instant};
@@ -59,41 +64,72 @@ pub fn touch_script(scene: &Scene, contact: &ContactParams) -> HandScript {
     .script()
 }
 
-/// The plant for a scene (Omega-like device, a hand following the scene's script).
+/// The plant for a scene (the Omega-like device, a hand following the scene's script).
 pub fn plant(scene: &Scene, contact: &ContactParams) -> Result<Plant, PlantError> {
     Plant::new(
-        DeviceParams::OMEGA_LIKE,
+        OMEGA_LIKE.params,
         PlantParams::OMEGA_LIKE,
         touch_script(scene, contact),
     )
 }
 
-/// The controller configuration for a plane scene.
-pub fn plane_config(scene: &Scene, contact: ContactParams) -> ControllerConfig<Plane> {
-    ControllerConfig {
-        rate_hz: scene.rate_hz as f32,
-        contact,
-        object_origin_m: Vec3::new(0.0, 0.0, surface_top_z_m() as f32),
-        ..ControllerConfig::default_plane()
+/// The board timing for a control rate: the STM32G474's 170 MHz timer clock with 20 kHz PWM, or
+/// PWM at the control rate above 20 kHz. Rates whose PWM is not an integer multiple are refused.
+pub fn board_timing(rate_hz: f64) -> Result<BoardTiming, String> {
+    let control = rate_hz.round();
+    if !(control == rate_hz && (1.0..=1e6).contains(&control)) {
+        return Err(format!("rate_hz {rate_hz}: the board runs integer rates"));
     }
+    let control = control as u32;
+    let base = BoardTiming::STM32G474_10KHZ;
+    let t = BoardTiming {
+        control_hz: control,
+        pwm_hz: base.pwm_hz.max(control),
+        ..base
+    };
+    t.validate().map_err(|e| {
+        format!(
+            "rate_hz {rate_hz}: no board timing with {} Hz PWM from a {} Hz timer clock ({e:?})",
+            t.pwm_hz, t.timer_clock_hz
+        )
+    })?;
+    Ok(t)
 }
 
-/// The controller configuration for a sphere scene: the object frame's origin is the sphere's
+fn config_for<S: Surface>(
+    scene: &Scene,
+    contact: ContactParams,
+    surface: S,
+    origin: Vec3,
+) -> Result<PipelineConfig<S>, String> {
+    Ok(PipelineConfig {
+        device: OMEGA_LIKE,
+        timing: board_timing(scene.rate_hz)?,
+        contact,
+        surface,
+        object_origin_m: origin,
+        log_rate_hz: softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ,
+    })
+}
+
+/// The pipeline configuration for a plane scene.
+pub fn plane_config(
+    scene: &Scene,
+    contact: ContactParams,
+) -> Result<PipelineConfig<Plane>, String> {
+    let origin = Vec3::new(0.0, 0.0, surface_top_z_m() as f32);
+    config_for(scene, contact, Plane::default(), origin)
+}
+
+/// The pipeline configuration for a sphere scene: the object frame's origin is the sphere's
 /// centre, below the surface top.
 pub fn sphere_config(
     scene: &Scene,
     contact: ContactParams,
     radius_m: f64,
-) -> ControllerConfig<Sphere> {
-    let base = ControllerConfig::default_plane();
-    ControllerConfig {
-        rate_hz: scene.rate_hz as f32,
-        device: base.device,
-        contact,
-        surface: Sphere::new(radius_m as f32),
-        object_origin_m: Vec3::new(0.0, 0.0, (surface_top_z_m() - radius_m) as f32),
-        limits: base.limits,
-    }
+) -> Result<PipelineConfig<Sphere>, String> {
+    let origin = Vec3::new(0.0, 0.0, (surface_top_z_m() - radius_m) as f32);
+    config_for(scene, contact, Sphere::new(radius_m as f32), origin)
 }
 
 /// Which surface a scene needs, for dispatch to the monomorphised loop.
@@ -101,29 +137,123 @@ pub fn surface_of(scene: &Scene) -> SurfaceSpec {
     scene.surface
 }
 
-/// Run `ticks` closed-loop ticks. `inject(k, &mut input)` may edit each tick's input before the
-/// controller sees it; `observe(k, &input, &output, &controller, &plant)` sees every tick after the
-/// plant has stepped. Returns the wall time spent inside `Controller::tick`.
+/// One closed-loop tick: sample the counters, `inject`, run the pipeline, drive the plant.
+pub fn step<M: Math, S: Surface>(
+    pipe: &mut Pipeline<M, S>,
+    plant: &mut Plant,
+    inject: impl FnOnce(&mut RawInput),
+) -> (RawInput, PipelineOutput, Duration) {
+    let mut raw = RawInput {
+        counts: plant.raw_counts(),
+        ..RawInput::default()
+    };
+    inject(&mut raw);
+    let t0 = Instant::now();
+    let out = pipe.tick(&raw);
+    let spent = t0.elapsed();
+    let timing = pipe.config().timing;
+    plant.step_bridges(&out.bridges, &timing);
+    (raw, out, spent)
+}
+
+/// What the operator's session before a scene took.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Prepared {
+    /// Simulated time from power-up to the end of homing, s.
+    pub homed_at_s: f64,
+    /// Simulated time from power-up to `Arm`, s.
+    pub armed_at_s: f64,
+    /// Homed motor count minus the count of the plant's true arm angle, at the end of homing.
+    pub homing_error_counts: [i64; 3],
+}
+
+/// Time the hand takes to bring the handle to the script's start after homing, s (the hand's
+/// spring-damper settles in about 4/(ζ·ω) = 0.3 s with the plant's 300 N/m, 0.55 kg, ζ = 0.6).
+pub const SETTLE_S: f64 = 0.5;
+/// Power-up time before `Home`, s.
+pub const POWER_UP_S: f64 = 0.01;
+
+/// Longest homing the session waits for, s (the device's homing times out before this).
+const HOMING_WAIT_S: f64 = 10.0;
+
+/// Tick with the script held at its start for up to `n` ticks or until `done`; a fault is an
+/// error. Returns the ticks run and the last output.
+fn hold<M: Math, S: Surface>(
+    pipe: &mut Pipeline<M, S>,
+    plant: &mut Plant,
+    n: u64,
+    done: impl Fn(&PipelineOutput) -> bool,
+) -> Result<(u64, Option<PipelineOutput>), String> {
+    let mut last = None;
+    for k in 1..=n {
+        plant.restart_script();
+        let (_, out, _) = step(pipe, plant, |_| {});
+        if out.mode == Mode::Faulted {
+            return Err(format!("faulted during the session: {:?}", out.latched));
+        }
+        last = Some(out);
+        if done(&out) {
+            return Ok((k, last));
+        }
+    }
+    Ok((n, last))
+}
+
+/// The operator's session: power-up, `Home` with the handle let go (held in the wrist's
+/// calibration pose: the script's start), the hand takes the handle and brings it to the script's
+/// start, `Arm`. The script is held at its start throughout and restarts when armed.
+pub fn prepare<M: Math, S: Surface>(
+    pipe: &mut Pipeline<M, S>,
+    plant: &mut Plant,
+) -> Result<Prepared, String> {
+    let dt = 1.0 / f64::from(pipe.config().timing.control_hz);
+    let ticks = |s: f64| (s / dt).round() as u64;
+    plant.release_hand();
+    let (powered, _) = hold(pipe, plant, ticks(POWER_UP_S), |_| false)?;
+    pipe.command(Command::Home)
+        .map_err(|e| format!("Home refused: {e:?}"))?;
+    let (homing, last) = hold(pipe, plant, ticks(HOMING_WAIT_S), |o| {
+        o.mode == Mode::Disarmed
+    })?;
+    let out = match last {
+        Some(o) if o.mode == Mode::Disarmed => o,
+        _ => return Err(format!("not homed after {HOMING_WAIT_S} s")),
+    };
+    let truth = plant.counts();
+    let homing_error_counts =
+        std::array::from_fn(|i| i64::from(out.counts[i]) - i64::from(truth[i]));
+    plant.grasp_hand();
+    let (settled, _) = hold(pipe, plant, ticks(SETTLE_S), |_| false)?;
+    pipe.command(Command::Arm)
+        .map_err(|e| format!("Arm refused: {e:?}"))?;
+    plant.restart_script();
+    Ok(Prepared {
+        homed_at_s: (powered + homing) as f64 * dt,
+        armed_at_s: (powered + homing + settled) as f64 * dt,
+        homing_error_counts,
+    })
+}
+
+/// Run `ticks` closed-loop ticks. `inject(k, &mut raw)` may edit each tick's raw input;
+/// `observe(k, &raw, &output, &pipeline, &plant)` sees every tick after the plant has stepped.
+/// Returns the wall time spent inside `Pipeline::tick`.
 pub fn simulate<M: Math, S: Surface>(
-    ctrl: &mut Controller<M, S>,
+    pipe: &mut Pipeline<M, S>,
     plant: &mut Plant,
     ticks: u64,
-    mut inject: impl FnMut(u64, &mut TickInput),
-    mut observe: impl FnMut(u64, &TickInput, &TickOutput, &Controller<M, S>, &Plant),
+    mut inject: impl FnMut(u64, &mut RawInput),
+    mut observe: impl FnMut(u64, &RawInput, &PipelineOutput, &Pipeline<M, S>, &Plant),
 ) -> Duration {
-    let dt = 1.0 / ctrl.config().rate_hz as f64;
-    let mut in_controller = Duration::ZERO;
+    let mut in_pipeline = Duration::ZERO;
     for k in 0..ticks {
-        let mut input = TickInput {
-            counts: plant.counts(),
-            ..TickInput::default()
-        };
-        inject(k, &mut input);
-        let t0 = Instant::now();
-        let out = ctrl.tick(&input);
-        in_controller += t0.elapsed();
-        plant.step_with_enable(out.duties, out.enable, dt);
-        observe(k, &input, &out, ctrl, plant);
+        let (raw, out, spent) = step(pipe, plant, |r| inject(k, r));
+        in_pipeline += spent;
+        observe(k, &raw, &out, pipe, plant);
     }
-    in_controller
+    in_pipeline
+}
+
+/// The device the simulator names (the same definition the firmware names).
+pub fn device() -> DeviceParams {
+    OMEGA_LIKE.params
 }

@@ -1,12 +1,15 @@
-//! `host-sim run` (the default command): a scene in closed loop with the plant; a short summary,
-//! a CSV time series and SVG charts (contact paths, forces and torque, the state timeline).
+//! `host-sim run` (the default command): a scene in closed loop with the plant, through the one
+//! control pipeline the firmware runs (homing and arming first, see
+//! [`crate::closed_loop::prepare`]); a short summary, a CSV time series and SVG charts (contact
+//! paths, forces and torque, the state timeline). The CSV and the figures cover the scene, from
+//! the arming on.
 
 use crate::atomic_file::AtomicFile;
-use crate::closed_loop::{self, simulate};
+use crate::closed_loop::{self, prepare, simulate, Prepared};
 use crate::scene::{Scene, SurfaceSpec};
 use crate::svg_chart::{line_chart, Series, PALETTE};
 use softfinger_core::contact_state::ContactState;
-use softfinger_core::controller::Controller;
+use softfinger_core::pipeline::{Pipeline, PipelineConfig};
 use softfinger_core::surface::Surface;
 use softfinger_core::{Fast, Flags, Math};
 use std::io::Write;
@@ -67,6 +70,8 @@ pub struct RunResult {
     pub scene: Scene,
     pub rows: Vec<Row>,
     pub ns_per_tick: f64,
+    /// The operator's session before the scene (homing, arming).
+    pub prepared: Prepared,
 }
 
 /// The summary figures of a run.
@@ -139,14 +144,17 @@ pub fn summarize(rows: &[Row], dt_s: f64) -> Summary {
 
 fn run_with<M: Math, S: Surface>(
     scene: Scene,
-    config: softfinger_core::controller::ControllerConfig<S>,
+    config: PipelineConfig<S>,
     ticks: u64,
 ) -> Result<RunResult, String> {
-    let mut ctrl: Controller<M, S> = Controller::new(config)
-        .map_err(|e| format!("scene '{}': controller configuration: {e}", scene.name))?;
+    let mut pipe: Pipeline<M, S> = Pipeline::new(config)
+        .map_err(|e| format!("scene '{}': pipeline configuration: {e:?}", scene.name))?;
     let mut plant = closed_loop::plant(&scene, &config.contact)
         .map_err(|e| format!("scene '{}': plant: {e:?}", scene.name))?;
-    let dt = 1.0 / config.rate_hz as f64;
+    let prepared =
+        prepare(&mut pipe, &mut plant).map_err(|e| format!("scene '{}': {e}", scene.name))?;
+    let dt = 1.0 / f64::from(config.timing.control_hz);
+    let full_scale = config.timing.pwm_period_counts() as u16;
     let mut rows = Vec::with_capacity(ticks as usize);
     let bar = indicatif::ProgressBar::new(ticks);
     bar.set_style(
@@ -155,27 +163,26 @@ fn run_with<M: Math, S: Surface>(
     );
     bar.set_message(format!("run {}", scene.name));
     let spent = simulate(
-        &mut ctrl,
+        &mut pipe,
         &mut plant,
         ticks,
         |_, _| {},
-        |k, _inp, out, c, p| {
-            let contact = c.contact();
+        |k, _raw, out, pipe, p| {
+            let contact = pipe.controller().contact();
             let truth = p.truth();
-            let o = contact.rolling.surface.contact_point();
-            let f = contact.rolling.finger_point();
+            let c = &out.control;
             rows.push(Row {
                 t_s: (k + 1) as f64 * dt,
                 phase: truth.hand_reference.phase.name(),
-                state: out.state,
+                state: c.state,
                 flags: out.flags,
-                probe_m: out.probe_m.to_array(),
-                force_n: out.force_n.to_array(),
-                tau_n_nm: out.tau_n_nm,
+                probe_m: c.probe_m.to_array(),
+                force_n: c.force_n.to_array(),
+                tau_n_nm: c.tau_n_nm,
                 spin_rad: contact.spin.accumulated_rad,
-                object_point_m: o.to_array(),
-                finger_point_m: f.to_array(),
-                duties: out.duties,
+                object_point_m: contact.rolling.surface.contact_point().to_array(),
+                finger_point_m: contact.rolling.finger_point().to_array(),
+                duties: out.bridges.duties(full_scale),
                 hand_force_n: truth.hand_force_n,
             });
             if k % 1000 == 0 {
@@ -188,6 +195,7 @@ fn run_with<M: Math, S: Surface>(
         scene,
         rows,
         ns_per_tick: spent.as_nanos() as f64 / ticks.max(1) as f64,
+        prepared,
     })
 }
 
@@ -205,11 +213,11 @@ pub fn simulate_scene(args: &Args) -> Result<RunResult, String> {
     let ticks = (scene.duration_s * scene.rate_hz).round() as u64;
     match scene.surface {
         SurfaceSpec::Plane => {
-            let cfg = closed_loop::plane_config(&scene, contact);
+            let cfg = closed_loop::plane_config(&scene, contact)?;
             run_with::<Fast, _>(scene, cfg, ticks)
         }
         SurfaceSpec::Sphere { radius_m } => {
-            let cfg = closed_loop::sphere_config(&scene, contact, radius_m);
+            let cfg = closed_loop::sphere_config(&scene, contact, radius_m)?;
             run_with::<Fast, _>(scene, cfg, ticks)
         }
     }
@@ -401,6 +409,17 @@ pub fn main(args: &Args) -> Result<(), String> {
         res.scene.method,
         Fast::NAME
     );
+    let p = &res.prepared;
+    let err = p
+        .homing_error_counts
+        .iter()
+        .map(|e| e.abs())
+        .max()
+        .unwrap_or(0);
+    println!(
+        "  session: homed at {:.3} s (homing error {} counts at most), armed at {:.3} s; the scene starts then",
+        p.homed_at_s, err, p.armed_at_s
+    );
     println!(
         "  states: broken {:.2} s, rolling {:.2} s, sliding {:.2} s; {} transitions",
         s.time_in_state_s[0], s.time_in_state_s[1], s.time_in_state_s[2], s.transitions
@@ -417,7 +436,7 @@ pub fn main(args: &Args) -> Result<(), String> {
         s.finger_path_m * 1e3
     );
     println!(
-        "  tick cost on this PC: {:.0} ns per controller tick ({:.2} % of the {:.0} µs period)",
+        "  tick cost on this PC: {:.0} ns per pipeline tick ({:.2} % of the {:.0} µs period)",
         res.ns_per_tick,
         res.ns_per_tick * 1e-9 / dt * 100.0,
         dt * 1e6

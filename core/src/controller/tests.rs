@@ -108,44 +108,34 @@ fn driver_fault_latches_zero_torque_until_cleared() {
 }
 
 #[test]
-fn an_overrun_streak_latches_but_isolated_overruns_do_not() {
+fn an_overrun_streak_latches_but_a_shorter_one_does_not() {
+    // 1 ms at 10 kHz: 10 overruns in a row latch, 9 do not.
+    let n = Limits::OMEGA_LIKE.per_tick(10_000.0).overrun_streak;
+    assert_eq!(n, 10);
     let mut c = controller();
     let counts = counts_at(touching(-0.01), [0; 3]);
+    let over = TickInput {
+        counts,
+        overrun: true,
+        driver_fault: false,
+    };
     for _ in 0..10 {
-        c.tick(&TickInput {
-            counts,
-            overrun: true,
-            driver_fault: false,
-        });
-        c.tick(&TickInput {
-            counts,
-            overrun: true,
-            driver_fault: false,
-        });
+        for _ in 0..n - 1 {
+            let _ = c.tick(&over);
+        }
         let out = c.tick(&input(counts));
-        assert!(out.enable, "two in a row are tolerated");
+        assert!(out.enable, "{} in a row are tolerated", n - 1);
     }
-    c.tick(&TickInput {
-        counts,
-        overrun: true,
-        driver_fault: false,
-    });
-    c.tick(&TickInput {
-        counts,
-        overrun: true,
-        driver_fault: false,
-    });
-    let out = c.tick(&TickInput {
-        counts,
-        overrun: true,
-        driver_fault: false,
-    });
+    for _ in 0..n - 1 {
+        assert!(c.tick(&over).enable);
+    }
+    let out = c.tick(&over);
     assert!(!out.enable && out.flags.contains(Flags::OVERRUN));
 }
 
 #[test]
 fn an_encoder_glitch_latches_and_the_limit_itself_does_not() {
-    let lim = Limits::DEFAULT.max_counts_per_tick;
+    let lim = i32::from(Limits::OMEGA_LIKE.per_tick(10_000.0).max_counts_per_tick);
     for (jump, faulted) in [(lim, false), (lim + 1, true), (-(lim + 1), true)] {
         let mut c = controller();
         let mut counts = counts_at(touching(-0.01), [0; 3]);
@@ -180,8 +170,9 @@ fn an_encoder_stuck_under_drive_latches() {
     let cfg = ControllerConfig {
         limits: Limits {
             stuck_duty: 0.2,
-            stuck_ticks: 50,
-            ..Limits::DEFAULT
+            // 50 ticks at 10 kHz.
+            stuck_s: 0.005,
+            ..Limits::OMEGA_LIKE
         },
         ..ControllerConfig::default_plane()
     };
@@ -255,7 +246,7 @@ fn invalid_configurations_are_rejected() {
         Controller::<Libm, Plane>::new(ControllerConfig {
             limits: Limits {
                 max_duty: 1.5,
-                ..Limits::DEFAULT
+                ..Limits::OMEGA_LIKE
             },
             ..d
         })

@@ -20,7 +20,7 @@
 //!   KINEMATICS_SINGULAR with zero force and zero duties);
 //! - faults: a driver fault, an encoder jump over the limit, an overrun streak each raise their
 //!   flag; with any latching fault present duties are zero and `enable` is false, until
-//!   `clear_faults`; a latched ENCODER_STUCK needs at least `stuck_ticks` ticks without a count.
+//!   `clear_faults`; a latched ENCODER_STUCK needs at least `TickLimits::stuck_ticks` ticks without a count.
 #![allow(dead_code)] // each includer uses its own part
 
 use softfinger_core::contact::{
@@ -205,18 +205,14 @@ pub fn contact_params(b: &mut Bytes) -> ContactParams {
 
 /// Controller limits, each field near its default or anything.
 pub fn limits(b: &mut Bytes) -> Limits {
-    let d = Limits::DEFAULT;
+    let d = Limits::OMEGA_LIKE;
     Limits {
         max_duty: b.param(d.max_duty),
         max_arm_torque_nm: b.param(d.max_arm_torque_nm),
-        max_counts_per_tick: match b.u8() {
-            0..=127 => d.max_counts_per_tick,
-            128..=191 => b.u16() as i32,
-            _ => b.i32(),
-        },
-        overrun_streak: b.count_param(d.overrun_streak),
+        glitch_counts_per_s: b.param(d.glitch_counts_per_s),
+        overrun_streak_s: b.param(d.overrun_streak_s),
         stuck_duty: b.param(d.stuck_duty),
-        stuck_ticks: b.count_param(d.stuck_ticks),
+        stuck_s: b.param(d.stuck_s),
         velocity_cutoff_hz: b.param(d.velocity_cutoff_hz),
         arm_angle_range_rad: [
             b.param(d.arm_angle_range_rad[0]),
@@ -293,10 +289,10 @@ pub fn limits_valid(l: &Limits) -> bool {
     pos(l.max_duty)
         && l.max_duty <= 1.0
         && pos(l.max_arm_torque_nm)
-        && l.max_counts_per_tick > 0
-        && l.overrun_streak > 0
+        && pos(l.glitch_counts_per_s)
+        && pos(l.overrun_streak_s)
         && pos(l.stuck_duty)
-        && l.stuck_ticks > 0
+        && pos(l.stuck_s)
         && pos(l.velocity_cutoff_hz)
         && lo.is_finite()
         && hi.is_finite()
@@ -564,6 +560,8 @@ fn run_tick<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary, S
     };
     let dev = config.device;
     let lim = config.limits;
+    // The thresholds in ticks, as documented on `TickLimits` (independent of the guard's code).
+    let per_tick = lim.per_tick(config.rate_hz);
     let depth = b.i8() as f32 * 1.0e-4; // ±12.7 mm around touching
     let start = centre - Vec3::new(0.0, 0.0, depth);
     let m = counts_at(&dev, start).unwrap_or([0; 3]);
@@ -637,14 +635,13 @@ fn run_tick<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary, S
             expect |= Flags::DRIVER_FAULT;
         }
         overruns = if input.overrun { overruns + 1 } else { 0 };
-        if overruns >= lim.overrun_streak as u32 {
+        if overruns >= per_tick.overrun_streak {
             expect |= Flags::OVERRUN;
         }
         if started {
-            let jump = counts
-                .iter()
-                .zip(prev.iter())
-                .any(|(a, p)| a.wrapping_sub(*p).unsigned_abs() > lim.max_counts_per_tick as u32);
+            let jump = counts.iter().zip(prev.iter()).any(|(a, p)| {
+                a.wrapping_sub(*p).unsigned_abs() > u32::from(per_tick.max_counts_per_tick)
+            });
             if jump {
                 expect |= Flags::ENCODER_GLITCH;
             }
@@ -702,7 +699,7 @@ fn run_tick<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary, S
         }
         if latched.contains(Flags::ENCODER_STUCK)
             && !was_latched.contains(Flags::ENCODER_STUCK)
-            && unchanged.iter().all(|&u| u < lim.stuck_ticks as u32)
+            && unchanged.iter().all(|&u| u < per_tick.stuck_ticks)
         {
             return Err(format!("ENCODER_STUCK without a stuck encoder, {}", ctx()));
         }

@@ -1,33 +1,42 @@
-//! The fault campaign's view of the closed loop ([`crate::closed_loop::simulate`], one tick at a
-//! time): before each tick an `act` hook may change the controller or the plant (parameter
-//! changes, the hand letting go), and an `inject` hook may corrupt what the controller sees
-//! (counts, fault inputs); each tick is recorded with the force the motors actually exert.
+//! The fault campaign's view of the closed loop ([`crate::closed_loop::step`], one tick at a
+//! time): before each tick an `act` hook may command the pipeline or change the plant (operator
+//! commands, parameter changes, the hand letting go), and an `inject` hook may corrupt what the
+//! pipeline reads (raw counts, the nFAULT line, the tick timing); each tick is recorded with the
+//! force the motors actually exert.
 //!
 //! Per tick k (period dt = 1/rate), as on the MCU:
 //!
 //! ```text
-//! act(k, &mut controller, &mut plant)
-//! input = TickInput { counts: plant.counts(), .. }; inject(k, &mut input)   // sampled at t_k
-//! out = controller.tick(&input)
-//! plant.step_with_enable(out.duties, out.enable, dt) // acts during tick k+1 (one-tick delay)
+//! act(k, &mut pipeline, &mut plant)
+//! raw = RawInput { counts: plant.raw_counts(), .. }; inject(k, &mut raw)   // sampled at t_k
+//! out = pipeline.tick(&raw)
+//! plant.step_bridges(&out.bridges, &timing)   // compares act from the next PWM boundary
 //! ```
 
+use crate::closed_loop::{prepare, Prepared};
 use crate::plant::{HandScript, Plant, PlantParams, TouchScript};
 use nalgebra::{Matrix3, Vector3};
 use softfinger_core::contact_state::ContactState;
-use softfinger_core::controller::{Controller, ControllerConfig, TickInput, TickOutput};
 use softfinger_core::device::DeviceParams;
+use softfinger_core::devices::OMEGA_LIKE;
+use softfinger_core::pipeline::{
+    BoardTiming, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
+};
 use softfinger_core::surface::Plane;
 use softfinger_core::{Fast, Flags, Libm, Vec3};
 
-/// The controller the campaign runs: the MCU's fast kernels on the plane scene.
-pub type Ctrl = Controller<Fast, Plane>;
+/// The pipeline the campaign runs: the MCU's fast kernels on the plane scene.
+pub type Pipe = Pipeline<Fast, Plane>;
 
-/// The controller configuration matching a touch script: the plane z = `surface_z_m` of the base
-/// frame, the script's fingertip radius, everything else the defaults.
-pub fn scene_config(touch: &TouchScript) -> ControllerConfig<Plane> {
-    let mut c = ControllerConfig::default_plane();
-    c.object_origin_m = Vec3::new(0.0, 0.0, touch.surface_z_m as f32);
+/// The pipeline configuration matching a touch script: the Omega-like device on the STM32G474
+/// at 10 kHz, the plane z = `surface_z_m` of the base frame, the script's fingertip radius,
+/// everything else the defaults.
+pub fn scene_config(touch: &TouchScript) -> PipelineConfig<Plane> {
+    let mut c = PipelineConfig::plane(
+        OMEGA_LIKE,
+        BoardTiming::STM32G474_10KHZ,
+        touch.surface_z_m as f32,
+    );
     c.contact.fingertip_radius_m = touch.fingertip_radius_m as f32;
     c
 }
@@ -37,17 +46,25 @@ pub fn scene_config(touch: &TouchScript) -> ControllerConfig<Plane> {
 pub struct TickRecord {
     /// Tick index from the start of the run.
     pub k: u64,
-    /// The input the controller actually received (after injection).
-    pub input: TickInput,
-    /// The controller's output.
-    pub out: TickOutput,
+    /// The raw input the pipeline actually received (after injection).
+    pub raw: RawInput,
+    /// The pipeline's output.
+    pub out: PipelineOutput,
     /// |force| the controller rendered, N.
     pub rendered_n: f64,
     /// |force| the motors exert on the handle after this tick's plant step, N (see
     /// [`motor_force_n`]).
     pub plant_n: f64,
-    /// Any non-finite number in the controller's output.
+    /// Any non-finite number in the pipeline's output.
     pub nan: bool,
+    /// The motor counts of the plant's true arm angles (device zero), after the step.
+    pub true_counts: [i32; 3],
+    /// Wrong-direction drive of all bridges so far, s (plant truth).
+    pub wrong_direction_s: f64,
+    /// Phase reversals so far (plant truth).
+    pub reversals: u64,
+    /// Largest |arm torque| of the three motors after this tick's step, N·m (plant currents).
+    pub arm_torque_nm: f64,
 }
 
 /// The force the three motors exert at the effector, frame B, N: τ = ratio·k_t·i per arm and
@@ -74,73 +91,95 @@ fn norm(v: [f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
-/// Plant and controller in one loop.
+/// Plant and pipeline in one loop.
 #[derive(Debug)]
 pub struct ClosedLoop {
     pub plant: Plant,
-    pub ctrl: Ctrl,
+    pub pipe: Pipe,
     pub device: DeviceParams,
     pub dt_s: f64,
     pub k: u64,
+    /// The operator's session before tick 0 (None: the loop starts at power-up).
+    pub prepared: Option<Prepared>,
+    /// Arm torque per motor ampere, N·m/A (capstan ratio × k_t).
+    torque_per_amp: f64,
 }
 
 impl ClosedLoop {
-    /// The default device and plant with `script`, controlled with `config`.
-    pub fn new(
-        config: ControllerConfig<Plane>,
+    /// Power-up: the plant with `script` (hand holding the handle), the pipeline unhomed; tick 0
+    /// is the first tick after power-up.
+    pub fn powered(
+        config: PipelineConfig<Plane>,
         plant_params: PlantParams,
         script: HandScript,
     ) -> Result<ClosedLoop, String> {
-        let device = config.device;
+        let device = config.device.params;
         let plant = Plant::new(device, plant_params, script).map_err(|e| format!("{e:?}"))?;
-        let ctrl = Ctrl::new(config).map_err(|e| format!("{e}"))?;
+        let pipe = Pipe::new(config).map_err(|e| format!("{e:?}"))?;
         Ok(ClosedLoop {
             plant,
-            ctrl,
+            pipe,
             device,
-            dt_s: 1.0 / config.rate_hz as f64,
+            dt_s: 1.0 / f64::from(config.timing.control_hz),
             k: 0,
+            prepared: None,
+            torque_per_amp: f64::from(device.motor.capstan_ratio)
+                * f64::from(device.motor.torque_constant_nm_per_a),
         })
     }
 
-    /// Simulated time of the next tick, s.
+    /// Power-up and the operator's session ([`prepare`]): tick 0 is the first armed tick, with the
+    /// script at its start.
+    pub fn new(
+        config: PipelineConfig<Plane>,
+        plant_params: PlantParams,
+        script: HandScript,
+    ) -> Result<ClosedLoop, String> {
+        let mut lp = ClosedLoop::powered(config, plant_params, script)?;
+        lp.prepared = Some(prepare(&mut lp.pipe, &mut lp.plant)?);
+        Ok(lp)
+    }
+
+    /// Simulated time of the next tick since tick 0, s.
     pub fn time_s(&self) -> f64 {
         self.k as f64 * self.dt_s
     }
 
-    /// One tick: `act` on the controller or plant, then the tick with `inject` on its input.
+    /// One tick: `act` on the pipeline or plant, then the tick with `inject` on its raw input.
     pub fn tick(
         &mut self,
-        act: &mut dyn FnMut(u64, &mut Ctrl, &mut Plant),
-        inject: &mut dyn FnMut(u64, &mut TickInput),
+        act: &mut dyn FnMut(u64, &mut Pipe, &mut Plant),
+        inject: &mut dyn FnMut(u64, &mut RawInput),
     ) -> TickRecord {
         let k = self.k;
-        act(k, &mut self.ctrl, &mut self.plant);
-        let device = self.device;
-        let mut rec = None;
-        crate::closed_loop::simulate(
-            &mut self.ctrl,
-            &mut self.plant,
-            1,
-            |_, input| inject(k, input),
-            |_, input, out, _, plant| {
-                let f = out.force_n;
-                let nan = !(f.is_finite()
-                    && out.probe_m.is_finite()
-                    && out.tau_n_nm.is_finite()
-                    && out.duties.iter().all(|d| d.is_finite()));
-                rec = Some(TickRecord {
-                    k,
-                    input: *input,
-                    out: *out,
-                    rendered_n: norm([f.x as f64, f.y as f64, f.z as f64]),
-                    plant_n: motor_force_n(&device, plant).map_or(0.0, norm),
-                    nan,
-                });
-            },
-        );
+        act(k, &mut self.pipe, &mut self.plant);
+        let (raw, out, _) =
+            crate::closed_loop::step(&mut self.pipe, &mut self.plant, |r| inject(k, r));
+        let c = out.control;
+        let f = c.force_n;
+        let nan = !(f.is_finite()
+            && c.probe_m.is_finite()
+            && c.tau_n_nm.is_finite()
+            && c.duties.iter().all(|d| d.is_finite()));
+        let truth = self.plant.truth();
+        let true_counts = self.plant.counts();
         self.k += 1;
-        rec.expect("simulate ran one tick")
+        TickRecord {
+            k,
+            raw,
+            out,
+            rendered_n: norm([f.x as f64, f.y as f64, f.z as f64]),
+            plant_n: motor_force_n(&self.device, &self.plant).map_or(0.0, norm),
+            nan,
+            true_counts: [true_counts[0], true_counts[1], true_counts[2]],
+            wrong_direction_s: truth.wrong_direction_s.iter().sum(),
+            reversals: truth.reversals,
+            arm_torque_nm: truth
+                .motor_currents_a
+                .iter()
+                .map(|i| (i * self.torque_per_amp).abs())
+                .fold(0.0, f64::max),
+        }
     }
 }
 
@@ -157,8 +196,23 @@ impl Trace {
             .map(|r| r.rendered_n)
             .fold(0.0, f64::max)
     }
+    /// Largest force the motors exert on the handle, N, outside homing (homing drives the arms
+    /// against their stops, where the linkage is near a dead centre and the stops, not the
+    /// handle, take the load; its torque is checked by [`Self::max_homing_torque_nm`]).
     pub fn max_plant_n(&self) -> f64 {
-        self.records.iter().map(|r| r.plant_n).fold(0.0, f64::max)
+        self.records
+            .iter()
+            .filter(|r| r.out.mode != Mode::Homing)
+            .map(|r| r.plant_n)
+            .fold(0.0, f64::max)
+    }
+    /// Largest arm torque of the motors during homing, N·m.
+    pub fn max_homing_torque_nm(&self) -> f64 {
+        self.records
+            .iter()
+            .filter(|r| r.out.mode == Mode::Homing)
+            .map(|r| r.arm_torque_nm)
+            .fold(0.0, f64::max)
     }
     pub fn nan_outputs(&self) -> usize {
         self.records.iter().filter(|r| r.nan).count()
@@ -174,7 +228,8 @@ impl Trace {
     pub fn safe_from(&self) -> Option<u64> {
         let mut from = None;
         for r in &self.records {
-            let safe = !r.out.enable && r.out.duties == [0.0; 3];
+            let b = &r.out.bridges;
+            let safe = !b.pwm_enable && b.compare == [0; 3];
             match (safe, from) {
                 (true, None) => from = Some(r.k),
                 (false, _) => from = None,
@@ -183,12 +238,15 @@ impl Trace {
         }
         from
     }
-    /// Ticks in which a latching fault was raised.
+    /// Ticks with a latched fault.
     pub fn latched_ticks(&self) -> usize {
-        self.records.iter().filter(|r| !r.out.enable).count()
+        self.records
+            .iter()
+            .filter(|r| !r.out.latched.is_empty())
+            .count()
     }
     /// The contact state of each tick.
     pub fn states(&self) -> impl Iterator<Item = ContactState> + '_ {
-        self.records.iter().map(|r| r.out.state)
+        self.records.iter().map(|r| r.out.control.state)
     }
 }

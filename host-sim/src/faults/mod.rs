@@ -2,7 +2,9 @@
 //! [`scenarios`] for the scenarios and what "survived" means for each), and `host-sim soak`,
 //! the long repeated-script run ([`soak`]).
 
+pub mod classic;
 pub mod closed_loop;
+pub mod pipeline_cases;
 pub mod scenarios;
 pub mod soak;
 
@@ -74,13 +76,13 @@ pub fn main(args: &Args) -> Result<(), String> {
     }
     let _ = writeln!(
         text,
-        "{:<20} {:>8} {:>7} {:>7} {:>7} {:>9} {:>9} {:>4}  states / detail",
+        "{:<26} {:>8} {:>7} {:>7} {:>7} {:>9} {:>9} {:>4}  states / detail",
         "scenario", "result", "inject", "detect", "safe", "render N", "motors N", "NaN"
     );
     for o in &r.scenarios {
         let _ = writeln!(
             text,
-            "{:<20} {:>8} {:>7} {:>7} {:>7} {:>9.3} {:>9.3} {:>4}  {} {}",
+            "{:<26} {:>8} {:>7} {:>7} {:>7} {:>9.3} {:>9.3} {:>4}  {} {}",
             o.name,
             if o.survived { "survived" } else { "FAILED" },
             opt(o.inject_tick),

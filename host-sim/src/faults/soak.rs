@@ -3,7 +3,7 @@
 //!
 //! The script is the default touch script followed by a 0.5 s return to its start (4.8 s, 48 000
 //! ticks at 10 kHz); the plant restarts the script each time it ends, keeping its mechanical
-//! state, and the controller runs on without any reset. Per repetition the run records the
+//! state, and the pipeline (homed and armed once at the start) runs on without any reset. Per repetition the run records the
 //! contact-state timeline (each transition and its tick within the repetition) and the contact
 //! point on the plane at the end of the roll phase (t = 1.8 s into the repetition). Drift is
 //! measured against the second repetition (the first starts from rest, the others from where the
@@ -126,13 +126,19 @@ pub fn soak(ticks: u64) -> Result<SoakReport, String> {
         max_r = max_r.max(r.rendered_n);
         max_p = max_p.max(r.plant_n);
         nan += r.nan as u64;
-        latched += !r.out.enable as u64;
-        if prev_state != Some(r.out.state) {
-            rep.timeline.push((within, r.out.state));
-            prev_state = Some(r.out.state);
+        latched += !r.out.latched.is_empty() as u64;
+        if prev_state != Some(r.out.control.state) {
+            rep.timeline.push((within, r.out.control.state));
+            prev_state = Some(r.out.control.state);
         }
         if within == roll_end {
-            let p = lp.ctrl.contact().rolling.surface.contact_point();
+            let p = lp
+                .pipe
+                .controller()
+                .contact()
+                .rolling
+                .surface
+                .contact_point();
             rep.roll_end_point = Some([p.x as f64, p.y as f64, p.z as f64]);
         }
     }

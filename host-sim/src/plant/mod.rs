@@ -1,21 +1,22 @@
 //! A software plant of the Omega-like device and the user's hand, for closed-loop runs of the
 //! controller on the host.
 //!
-//! The plant is coupled to the controller exactly as the MCU is: **encoder counts out
-//! ([`Plant::counts`]), PWM duties in ([`Plant::step`])**, nothing else. It shares only
-//! `DeviceParams` with the controller (the hardware both sides must agree on); its kinematics,
-//! dynamics and numbers are its own, in f64.
+//! The plant is coupled to the control pipeline exactly as the MCU is: **wrapping 16-bit timer
+//! counts out ([`Plant::raw_counts`]), bridge commands in ([`Plant::step_bridges`])**: phase
+//! pins, PWM compares (preloaded: acting from the next PWM period boundary), enable and sleep,
+//! with the board timing the firmware uses. It shares only `DeviceParams` and that timing with the
+//! pipeline; its kinematics, dynamics and numbers are its own, in f64.
 //!
 //! Per control tick the host runs:
 //!
 //! ```text
-//! let counts = plant.counts();             // sampled at t_k
-//! let out = controller.tick(&TickInput { counts, .. });
-//! plant.step(out.duties, dt);              // t_k → t_k+1, applying the duties of tick k−1
+//! let raw = plant.raw_counts();            // sampled at t_k
+//! let out = pipeline.tick(&RawInput { counts: raw, .. });
+//! plant.step_bridges(&out.bridges, &timing); // written at t_k; compares act from t_k + T_pwm
 //! ```
 //!
-//! The one-tick output delay is implemented in [`pwm::OutputLatch`]: duties computed from the
-//! counts of tick k act during tick k+1.
+//! The plant's own unit tests also drive it with plain duties ([`Plant::step`]), which act one
+//! tick late through [`pwm::OutputLatch`].
 //!
 //! Model, per sub-step h = dt / `substeps` (semi-implicit Euler for the mechanics, exact
 //! exponential for the winding current with the velocity held):
@@ -37,6 +38,7 @@ pub mod params;
 pub mod pwm;
 
 use softfinger_core::device::{DeviceParamError, DeviceParams};
+use softfinger_core::pipeline::{BoardTiming, BridgeCommands};
 
 pub use hand::{HandRef, HandScript, ScriptError};
 #[allow(unused_imports)] // the rest of the public script API, for the CLI
@@ -47,7 +49,7 @@ pub use pwm::DriveCommand;
 use dynamics::Inertia;
 use mechanism::{Kinematics, Mechanism, V3};
 use motor::Motor;
-use pwm::OutputLatch;
+use pwm::{BridgeStage, OutputLatch};
 
 /// Why a plant could not be built.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,6 +80,10 @@ pub struct PlantTruth {
     pub jam_events: u64,
     /// Non-finite duties received (applied as 0, as the firmware's conversion does).
     pub non_finite_duties: u64,
+    /// Time each bridge drove with the phase opposite to its compare's (bridge commands only), s.
+    pub wrong_direction_s: [f64; 3],
+    /// Phase pin changes while enabled (bridge commands only).
+    pub reversals: u64,
 }
 
 /// The device and the user's hand, simulated.
@@ -90,7 +96,12 @@ pub struct Plant {
     motor: Motor,
     inertia: Inertia,
     latch: OutputLatch,
+    bridge: BridgeStage,
     applied: DriveCommand,
+    /// The plant's parameters as built (the hand comes back from here after a release).
+    built_params: PlantParams,
+    /// Extended counts at power-up: the hardware counters read 0 there.
+    counter_origin: [i32; 6],
     time_s: f64,
     theta: [f64; 3],
     omega: [f64; 3],
@@ -139,7 +150,10 @@ impl Plant {
             motor,
             inertia,
             latch: OutputLatch::new(),
+            bridge: BridgeStage::default(),
             applied: DriveCommand::IDLE,
+            built_params: params,
+            counter_origin: [0; 6],
             time_s: 0.0,
             theta,
             omega: [0.0; 3],
@@ -151,7 +165,54 @@ impl Plant {
             non_finite_duties: 0,
         };
         plant.refresh_hand();
+        plant.counter_origin = plant.counts();
         Ok(plant)
+    }
+
+    /// The six 16-bit hardware counters as the firmware reads them: they read 0 at power-up (the
+    /// plant's construction) wherever the arms were, count with the motion and wrap.
+    pub fn raw_counts(&self) -> [u16; 6] {
+        let c = self.counts();
+        std::array::from_fn(|i| c[i].wrapping_sub(self.counter_origin[i]) as u16)
+    }
+
+    /// Advance one control tick driven by bridge commands written at the tick's start: phase,
+    /// enable and sleep act at once, the compares from the first PWM period boundary of the tick
+    /// (`timing`'s PWM period; at the tick's end when the tick is one PWM period).
+    pub fn step_bridges(&mut self, commands: &BridgeCommands, timing: &BoardTiming) {
+        let dt = 1.0 / f64::from(timing.control_hz.max(1));
+        let pwm_s = 1.0 / f64::from(timing.pwm_hz.max(1));
+        let full_scale = timing.pwm_period_counts().min(u32::from(u16::MAX)) as u16;
+        self.bridge.write(commands);
+        let n = self.params.substeps;
+        let h = dt / n as f64;
+        // First sub-step starting at or after the boundary (a small tolerance for rounding).
+        let boundary = ((pwm_s / h) - 1e-9).ceil().max(1.0) as u32;
+        let t0 = self.time_s;
+        for k in 0..n {
+            if k == boundary {
+                self.bridge.load();
+            }
+            self.applied = self.bridge.applied(full_scale);
+            self.bridge.note(h);
+            self.time_s = t0 + k as f64 * h;
+            self.substep(h);
+        }
+        if boundary >= n {
+            self.bridge.load();
+        }
+        self.time_s = t0 + dt;
+        self.refresh_hand();
+    }
+
+    /// The user takes the handle again (after [`Self::release_hand`]).
+    pub fn grasp_hand(&mut self) {
+        let b = self.built_params;
+        self.params.hand_mass_kg = b.hand_mass_kg;
+        self.params.hand_stiffness_n_per_m = b.hand_stiffness_n_per_m;
+        self.params.hand_damping_n_s_per_m = b.hand_damping_n_s_per_m;
+        self.inertia.translating_kg = self.params.effector_mass_kg + self.params.hand_mass_kg;
+        self.refresh_hand();
     }
 
     /// Encoder counts now: `[motor0, motor1, motor2, wrist0, wrist1, wrist2]`, extended i32 as
@@ -351,6 +412,8 @@ impl Plant {
             applied: self.applied,
             jam_events: self.jam_events,
             non_finite_duties: self.non_finite_duties,
+            wrong_direction_s: self.bridge.wrong_direction_s,
+            reversals: self.bridge.reversals,
         }
     }
 }

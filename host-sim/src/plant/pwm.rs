@@ -1,5 +1,11 @@
-//! The PWM output stage: duty quantisation to the timer resolution, and the one-tick output
-//! delay.
+//! The PWM output stage, two ways in:
+//!
+//! - **bridge commands** ([`BridgeStage`]), as the control pipeline writes them to the firmware's
+//!   timer and pins: the phase pins and the enable act when written, a compare value is preloaded
+//!   and acts from the next PWM period boundary (the board timing is the core's
+//!   [`BoardTiming`](softfinger_core::pipeline::BoardTiming), the same the firmware uses). This is
+//!   the path of every closed loop of the simulator;
+//! - plain duties (the plant's own unit tests), through the one-tick latch below.
 //!
 //! Duties are quantised exactly as the firmware writes them, through
 //! `DeviceParams::duty_to_pwm_counts` (round(|duty|·period), sign = direction), and the plant
@@ -13,6 +19,7 @@
 //! registers are written at the end of a tick's computation and take effect on the next period.
 
 use softfinger_core::device::DeviceParams;
+use softfinger_core::pipeline::BridgeCommands;
 
 /// One motor command as the drive sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,9 +72,152 @@ impl OutputLatch {
     }
 }
 
+/// The bridges' state as the hardware holds it between writes.
+///
+/// Per tick the host writes the pipeline's commands at the tick's start (the earliest a firmware
+/// could, which makes the window between a phase change and the next compare load the longest:
+/// the worst case for wrong-direction drive), then [`BridgeStage::load`] runs at the first PWM
+/// period boundary of the tick.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BridgeStage {
+    phase: [bool; 3],
+    active: [u16; 3],
+    active_phase: [bool; 3],
+    pending: [u16; 3],
+    pending_phase: [bool; 3],
+    enable: bool,
+    awake: bool,
+    /// Time each bridge drove a non-zero compare with the phase pin opposite to the phase the
+    /// compare was written with (wrong-direction drive), s.
+    pub wrong_direction_s: [f64; 3],
+    /// Phase pin changes while the bridge was enabled.
+    pub reversals: u64,
+}
+
+impl BridgeStage {
+    /// Write one tick's commands: phase, enable and sleep now, compares pending.
+    pub fn write(&mut self, b: &BridgeCommands) {
+        for i in 0..3 {
+            if self.phase[i] != b.phase_forward[i] && self.enable && b.pwm_enable {
+                self.reversals += 1;
+            }
+        }
+        self.phase = b.phase_forward;
+        self.pending = b.compare;
+        self.pending_phase = b.phase_forward;
+        self.enable = b.pwm_enable;
+        self.awake = b.driver_awake;
+    }
+
+    /// A PWM period boundary: the pending compares take effect.
+    pub fn load(&mut self) {
+        self.active = self.pending;
+        self.active_phase = self.pending_phase;
+    }
+
+    /// What the bridges drive now (averaged over a PWM period), for a `full_scale` compare.
+    pub fn applied(&self, full_scale: u16) -> DriveCommand {
+        let on = self.enable && self.awake;
+        let fs = f64::from(full_scale.max(1));
+        DriveCommand {
+            duties: std::array::from_fn(|i| {
+                let m = if on {
+                    f64::from(self.active[i]) / fs
+                } else {
+                    0.0
+                };
+                if self.phase[i] {
+                    m
+                } else {
+                    -m
+                }
+            }),
+            enable: on,
+        }
+    }
+
+    /// Account `h` seconds of drive in the current state.
+    pub fn note(&mut self, h: f64) {
+        if !(self.enable && self.awake) {
+            return;
+        }
+        for i in 0..3 {
+            if self.active[i] > 0 && self.phase[i] != self.active_phase[i] {
+                self.wrong_direction_s[i] += h;
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn cmd(phase: bool, compare: u16) -> BridgeCommands {
+        BridgeCommands {
+            phase_forward: [phase, true, true],
+            compare: [compare, 0, 0],
+            pwm_enable: true,
+            driver_awake: true,
+        }
+    }
+
+    #[test]
+    fn compare_waits_for_the_boundary_phase_does_not() {
+        let mut b = BridgeStage::default();
+        b.write(&cmd(true, 4250));
+        assert_eq!(b.applied(8500).duties[0], 0.0, "preloaded: not yet");
+        b.load();
+        assert_eq!(b.applied(8500).duties[0], 0.5);
+        // Flipping the phase with a new compare: the old magnitude drives the new direction until
+        // the boundary. That is wrong-direction drive, and it is measured.
+        b.write(&cmd(false, 850));
+        assert_eq!(b.applied(8500).duties[0], -0.5);
+        b.note(25e-6);
+        assert_eq!(b.wrong_direction_s[0], 25e-6);
+        assert_eq!(b.reversals, 1);
+        b.load();
+        assert_eq!(b.applied(8500).duties[0], -0.1);
+        b.note(25e-6);
+        assert_eq!(
+            b.wrong_direction_s[0], 25e-6,
+            "correct direction after the load"
+        );
+    }
+
+    #[test]
+    fn zero_compare_then_flip_never_drives_the_wrong_way() {
+        let mut b = BridgeStage::default();
+        b.write(&cmd(true, 4250));
+        b.load();
+        b.write(&cmd(true, 0));
+        b.note(1e-5);
+        b.load();
+        b.write(&cmd(false, 850));
+        b.note(1e-5);
+        b.load();
+        b.note(1e-5);
+        assert_eq!(b.wrong_direction_s, [0.0; 3]);
+        assert_eq!(b.reversals, 1);
+    }
+
+    #[test]
+    fn disabled_or_asleep_drives_nothing() {
+        let mut b = BridgeStage::default();
+        b.write(&BridgeCommands {
+            pwm_enable: false,
+            ..cmd(true, 4250)
+        });
+        b.load();
+        assert_eq!(b.applied(8500).duties, [0.0; 3]);
+        assert!(!b.applied(8500).enable);
+        b.write(&BridgeCommands {
+            driver_awake: false,
+            ..cmd(true, 4250)
+        });
+        b.load();
+        assert!(!b.applied(8500).enable);
+    }
 
     #[test]
     fn duties_are_quantised_to_the_timer_and_delayed_by_one_tick() {

@@ -1,0 +1,90 @@
+//! The pipeline's operating modes and the operator commands that move between them.
+//!
+//! ```text
+//!  power-up ──► Unhomed ──Home──► Homing ──stops found──► Disarmed ──Arm──► Armed (force ramps in)
+//!                  ▲                 │ Disarm (abort)        ▲  ▲            │
+//!                  └─────────────────┘                       │  └──Disarm────┘
+//!  any latched fault, in any mode ──► Faulted ──ClearFaults──► Disarmed if still homed,
+//!                                                              Unhomed otherwise (never Armed)
+//! ```
+//!
+//! No force is ever rendered outside `Armed`; the bridges are driven only in `Homing` (the homing
+//! procedure's bounded torque) and `Armed`.
+
+use crate::params::{ContactParams, ParamError};
+
+/// Operating mode.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Mode {
+    /// Power-up: encoder zero unknown, drivers asleep, no torque.
+    #[default]
+    Unhomed,
+    /// The homing procedure drives the arms to their stops with a bounded torque.
+    Homing,
+    /// Homed; drivers awake, PWM disabled: zero torque. The controller runs (outputs discarded).
+    Disarmed,
+    /// Rendering forces; after arming the force ramps in over the configured time.
+    Armed,
+    /// A fault latched: drivers asleep, zero torque, until `ClearFaults`.
+    Faulted,
+}
+
+impl Mode {
+    /// Small integer code for compact logs (0 = Unhomed … 4 = Faulted).
+    pub const fn code(self) -> u8 {
+        match self {
+            Mode::Unhomed => 0,
+            Mode::Homing => 1,
+            Mode::Disarmed => 2,
+            Mode::Armed => 3,
+            Mode::Faulted => 4,
+        }
+    }
+
+    /// Name for logs and reports.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Mode::Unhomed => "unhomed",
+            Mode::Homing => "homing",
+            Mode::Disarmed => "disarmed",
+            Mode::Armed => "armed",
+            Mode::Faulted => "faulted",
+        }
+    }
+}
+
+/// An operator command, applied at a tick boundary by [`super::Pipeline::command`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Command {
+    /// Start homing. The handle must be held in the wrist calibration pose when this is given:
+    /// the wrist zero is taken from the wrist encoders at this instant. From `Unhomed` or
+    /// `Disarmed` (re-homing).
+    Home,
+    /// Render forces (ramping in). From `Disarmed` only.
+    Arm,
+    /// Stop rendering: `Armed` → `Disarmed`; aborts homing (`Homing` → `Unhomed`).
+    Disarm,
+    /// Clear latched faults: `Faulted` → `Disarmed` (homed) or `Unhomed`. A fault whose cause is
+    /// still present latches again on the next tick.
+    ClearFaults,
+    /// New contact parameters (validated; invalid ones are rejected and the old ones stay).
+    SetContactParams(ContactParams),
+}
+
+/// Why a command was refused. A refused command changes nothing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CommandError {
+    /// `Arm` before homing completed.
+    NotHomed,
+    /// A fault is latched: clear it first.
+    Faulted,
+    /// `Home` while armed: disarm first.
+    Armed,
+    /// `Arm` or `Home` while homing is in progress.
+    Homing,
+    /// Contact parameters rejected.
+    InvalidParams(ParamError),
+}
