@@ -3,7 +3,7 @@
 use softfinger_core::Flags;
 
 /// Every named flag, in bit order.
-pub const NAMES: [(Flags, &str); 18] = [
+pub const NAMES: [(Flags, &str); 19] = [
     (Flags::NON_FINITE_INPUT, "non-finite-input"),
     (Flags::ZERO_AXIS, "zero-axis"),
     (Flags::NON_UNIT_QUAT, "non-unit-quat"),
@@ -19,6 +19,7 @@ pub const NAMES: [(Flags, &str); 18] = [
     (Flags::NON_FINITE_OUTPUT, "non-finite-output"),
     (Flags::ENCODER_STUCK, "encoder-stuck"),
     (Flags::PARAM_REJECTED, "param-rejected"),
+    (Flags::HOMING_FAILED, "homing-failed"),
     (Flags::COMM_TIMEOUT, "comm-timeout"),
     (Flags::MODEL_STALE, "model-stale"),
     (Flags::MODEL_REJECTED, "model-rejected"),

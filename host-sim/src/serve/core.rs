@@ -3,8 +3,10 @@
 //! [`DeviceCore`] is the seam: the server calls `tick` with the plant's encoder counts and
 //! `request` for each operator request, and nothing else. [`LocalModelCore`] implements it with
 //! core parts (delta kinematics, [`LocalModelRenderer`], [`CommWatchdog`], Jacobian-transpose
-//! torques, duty limits, a mode machine); when the shared control pipeline lands, an
-//! implementation of this trait over it replaces this one.
+//! torques, duty limits, a mode machine). The shared control pipeline
+//! (`softfinger_core::pipeline`) renders one surface fixed at build time; once its contact step
+//! can be the renderer, a `DeviceCore` over `Pipeline` (raw counts from `Plant::raw_counts`,
+//! bridge commands to `Plant::step_bridges`) replaces this one without touching the server.
 //!
 //! Safety as on the device: no force before homing and arming; force ramps in on arming; any
 //! latching fault (encoder glitch, non-finite output) gives zero duties with the drivers disabled
@@ -123,7 +125,7 @@ impl LocalModelCore {
         };
         let renderer = LocalModelRenderer::new(config, contact, initial)
             .map_err(|e| format!("initial local model: {e:?}"))?;
-        let limits = softfinger_core::controller::Limits::DEFAULT;
+        let limits = softfinger_core::devices::OMEGA_LIKE.limits;
         // Velocity low-pass as the controller's: α = ωT/(1 + ωT).
         let wt = 2.0 * std::f32::consts::PI * limits.velocity_cutoff_hz / rate_hz;
         Ok(LocalModelCore {
@@ -136,7 +138,7 @@ impl LocalModelCore {
             mode: Mode::Unhomed,
             homing_ticks: 0,
             latched: Flags::NONE,
-            max_counts_per_tick: limits.max_counts_per_tick as u32,
+            max_counts_per_tick: limits.per_tick(rate_hz).max_counts_per_tick as u32,
             max_duty: limits.max_duty,
             alpha: wt / (1.0 + wt),
             prev: None,
@@ -213,7 +215,9 @@ impl LocalModelCore {
         arm_vel: [f32; 3],
     ) -> ([f32; 3], Flags) {
         let (torques, mut flags) = self.device.delta.torques_at(pose, force);
-        let max_t = softfinger_core::controller::Limits::DEFAULT.max_arm_torque_nm;
+        let max_t = softfinger_core::devices::OMEGA_LIKE
+            .limits
+            .max_arm_torque_nm;
         let mut duties = [0.0f32; 3];
         for i in 0..3 {
             let t = torques[i].clamp(-max_t, max_t);

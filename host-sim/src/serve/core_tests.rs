@@ -17,7 +17,14 @@ fn pressed() -> (LocalModelCore, [i32; 6]) {
         ModelPose::at(Vec3::new(0.0, 0.0, probe.z - 0.008)),
         &contact,
     );
-    let core = LocalModelCore::new(DeviceParams::OMEGA_LIKE, RATE, contact, model, 0.002).unwrap();
+    let core = LocalModelCore::new(
+        softfinger_core::devices::OMEGA_LIKE.params,
+        RATE,
+        contact,
+        model,
+        0.002,
+    )
+    .unwrap();
     (core, counts)
 }
 
@@ -87,15 +94,21 @@ fn armed() -> (LocalModelCore, [i32; 6]) {
     (core, counts)
 }
 
-/// An encoder jump beyond 2000 counts a tick latches ENCODER_GLITCH: zero torque at once,
-/// drivers off; a jump of exactly 2000 does not. Clearing leads to Disarmed, never Armed.
+/// An encoder jump beyond the device's glitch limit (2 M counts/s: 200 counts a tick at 10 kHz)
+/// latches ENCODER_GLITCH: zero torque at once, drivers off; a jump of exactly the limit does not.
+/// Clearing leads to Disarmed, never Armed.
 #[test]
 fn a_fault_cuts_the_force_at_once_and_latches() {
+    let limit = softfinger_core::devices::OMEGA_LIKE
+        .limits
+        .per_tick(RATE)
+        .max_counts_per_tick as i32;
+    assert_eq!(limit, 200);
     let (mut core, mut counts) = armed();
-    counts[0] += 2000;
+    counts[0] += limit;
     let out = core.tick(counts);
-    assert_eq!(out.mode, Mode::Armed, "2000 counts is within the limit");
-    counts[0] += 2001;
+    assert_eq!(out.mode, Mode::Armed, "the limit itself is not a glitch");
+    counts[0] += limit + 1;
     let out = core.tick(counts);
     assert_eq!(out.mode, Mode::Faulted);
     assert!(out.flags.contains(Flags::ENCODER_GLITCH));

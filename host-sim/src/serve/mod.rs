@@ -16,7 +16,6 @@ pub mod link;
 
 use crate::scene::Scene;
 use clap::Parser;
-use softfinger_core::device::DeviceParams;
 use std::net::{Shutdown, TcpStream};
 use std::net::{SocketAddr, TcpListener};
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
@@ -60,7 +59,7 @@ impl Server {
     pub fn start(args: &Args) -> Result<Server, String> {
         let scene = Scene::load(&args.scene)?;
         let (contact, model) = core::scene_model(&scene)?;
-        let device = DeviceParams::OMEGA_LIKE;
+        let device = softfinger_core::devices::OMEGA_LIKE.params;
         let mut core = core::LocalModelCore::new(
             device,
             scene.rate_hz as f32,
