@@ -1,5 +1,6 @@
-//! The closed-loop default scene (core controller + host plant) stays bounded and does what the
-//! script asks: touch, roll, twist, slide, lift off.
+//! The closed-loop default scene (the core's control pipeline + host plant, coupled by raw 16-bit
+//! counts and bridge commands) homes, arms, stays bounded and does what the script asks: touch,
+//! roll, twist, slide, lift off.
 
 use host_sim::run::{simulate_scene, summarize, Args};
 use softfinger_core::contact_state::ContactState;
@@ -9,6 +10,12 @@ fn default_scene_is_bounded_and_visits_every_state() {
     let res = simulate_scene(&Args::default()).unwrap();
     let dt = 1.0 / res.scene.rate_hz;
     let s = summarize(&res.rows, dt);
+    // The session: homing to the stops and parking (~2.4 s measured), the hand settles 0.5 s,
+    // then Arm. Homed counts within the stops' compliance of the truth: measured 12 counts.
+    let p = res.prepared;
+    assert!(p.homed_at_s > 1.0 && p.homed_at_s < 5.0, "{p:?}");
+    assert!((p.armed_at_s - p.homed_at_s - 0.5).abs() < 1e-9, "{p:?}");
+    assert!(p.homing_error_counts.iter().all(|e| e.abs() <= 36), "{p:?}");
     assert_eq!(s.non_finite_values, 0);
     assert_eq!(s.latched_fault_ticks, 0);
     // Bounded: never above the contact model's 12 N limit.

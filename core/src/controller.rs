@@ -347,9 +347,11 @@ impl<M: Math, S: Surface> Controller<M, S> {
         guarded_output(raw, &g)
     }
 
-    /// The control law alone: counts (homed, extended) in, duties out, no fault latch. Non-finite
-    /// results are replaced by zero and reported as [`Flags::NON_FINITE_OUTPUT`] (which a guard
-    /// latches); duties are not limited here beyond the device's ±1 (the guard limits them).
+    /// The control law alone: counts (homed, extended) in, duties out, no fault latch. A
+    /// non-finite duty is replaced by zero and reported as [`Flags::NON_FINITE_OUTPUT`]; a
+    /// non-finite force or torque is passed on for the guard, which flags and latches it (and then
+    /// reports zero); duties are not limited here beyond the device's ±1 (the guard limits them).
+    /// Use it only through a guard ([`Self::tick`] or the pipeline).
     pub fn compute(&mut self, counts: &[i32; 6]) -> TickOutput {
         let mut flags = self.pending;
         self.pending = Flags::NONE;
@@ -437,18 +439,18 @@ impl<M: Math, S: Surface> Controller<M, S> {
             }
             duties[i] = d;
         }
-        let tau = contact.tau_n_nm * self.force_scale;
-        if !force_n.is_finite() || !tau.is_finite() {
-            flags |= Flags::NON_FINITE_OUTPUT;
-        }
-        let finite = |v: Vec3| if v.is_finite() { v } else { Vec3::ZERO };
+        let probe_m = if probe_dev.is_finite() {
+            probe_dev
+        } else {
+            Vec3::ZERO
+        };
         TickOutput {
             duties,
             enable: true,
             flags,
-            probe_m: finite(probe_dev),
-            force_n: finite(force_n),
-            tau_n_nm: if tau.is_finite() { tau } else { 0.0 },
+            probe_m,
+            force_n,
+            tau_n_nm: contact.tau_n_nm * self.force_scale,
             state: contact.state,
         }
     }

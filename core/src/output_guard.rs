@@ -23,7 +23,7 @@
 //! [`Controller::compute`]: crate::controller::Controller::compute
 
 use crate::controller::{Limits, ParamError, TickLimits, TickOutput};
-use crate::flags::Flags;
+use crate::flags::{all_finite, Flags};
 
 /// Faults that latch (outputs held at zero torque until cleared). The one latching set: the
 /// controller, the pipeline, the firmware's LED and log all use this.
@@ -212,11 +212,14 @@ impl OutputGuard {
         if self.overruns >= t.overrun_streak {
             flags |= Flags::OVERRUN;
         }
-        let finite_duties = out.duties.map(|d| if d.is_finite() { d } else { 0.0 });
-        if finite_duties != out.duties || !out.force_n.is_finite() || !out.tau_n_nm.is_finite() {
-            // `!=` is also true for any NaN in `out.duties`, since NaN != 0.0.
+        let [d0, d1, d2] = out.duties;
+        let f = out.force_n;
+        let finite_duties = if all_finite(&[d0, d1, d2, f.x, f.y, f.z, out.tau_n_nm]) {
+            out.duties
+        } else {
             flags |= Flags::NON_FINITE_OUTPUT;
-        }
+            out.duties.map(|d| if d.is_finite() { d } else { 0.0 })
+        };
         if self.started {
             let max = u32::from(t.max_counts_per_tick);
             for (now, before) in counts.iter().zip(self.prev_counts.iter()) {

@@ -1,7 +1,8 @@
 //! Shared pieces of the on-target programs that run on QEMU `mps2-an386` (an emulated Cortex-M4F):
 //! the SysTick instruction counter ([`counter`]), the benchmark harness ([`bench`], the
 //! [`bench!`] macro), the on-target check harness ([`check`]) and the semihosting reporting and exit
-//! path ([`exit`], which also provides the panic handler).
+//! path ([`exit`], which also provides the panic handler), and a homed, armed control pipeline
+//! ([`rig`]).
 //!
 //! Everything reports through semihosting, one record per line, so the host script
 //! `scripts/mcu-bench` can parse it:
@@ -17,6 +18,7 @@ pub mod bench;
 pub mod check;
 pub mod counter;
 pub mod exit;
+pub mod rig;
 
 /// Short alias for [`core::hint::black_box`], for benchmark closures.
 pub use core::hint::black_box as bb;

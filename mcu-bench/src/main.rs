@@ -160,6 +160,7 @@ fn pipeline(b: &mut Bencher) {
     control_tick::<Libm>(b);
     control_tick::<Micromath>(b);
     control_tick::<Fast>(b);
+    pipeline_tick(b);
 }
 
 /// The contact state machine on its common path: rolling, kept (inside the friction cone, below the
@@ -336,6 +337,49 @@ fn control_tick<M: Math>(b: &mut Bencher) {
             "ERROR control_tick [{}]: expected enabled drivers and no latched fault; got enable {}, flags {:?}",
             M::NAME,
             out.enable,
+            out.flags
+        );
+        b.fail();
+    }
+}
+
+/// The whole control pipeline's tick (`Pipeline::tick`, the firmware's interrupt minus its
+/// hardware reads and writes), armed and pressing 1 mm into the default plane after a scripted
+/// homing (see [`softfinger_mcu_bench::rig`]): raw 16-bit counts in, count extension and glitch
+/// check, nFAULT mask, the controller, the output guard, the bridge mapping, telemetry decimation
+/// and tick statistics; the wrist's middle joint alternates between 0 and 1 count as in
+/// [`control_tick`]. The fast backend (the firmware's). Afterwards the pipeline must still be armed
+/// with the bridges enabled and no fault latched.
+fn pipeline_tick(b: &mut Bencher) {
+    use softfinger_core::pipeline::Mode;
+    use softfinger_mcu_bench::rig::{pressing_counts, Rig};
+    let (Some((mut rig, press)), Some(moved)) = (
+        Rig::<Fast>::pressing(0.001),
+        pressing_counts(0.001, [0, 1, 0]),
+    ) else {
+        hprintln!("ERROR pipeline_tick: could not home, arm and press");
+        b.fail();
+        return;
+    };
+    let inputs = [rig.raw(press), rig.raw(moved)];
+    let mut k = 0;
+    bench!(b, "pipeline_tick", Fast, || {
+        let out = rig.pipe.tick(&bb(inputs[k]));
+        k ^= 1;
+        out
+    });
+    let out = rig.pipe.tick(&inputs[k]);
+    hprintln!(
+        "NOTE pipeline_tick [fast]: {} {}, force {:?} N, compare {:?}",
+        out.mode.name(),
+        out.control.state.name(),
+        out.control.force_n.to_array(),
+        out.bridges.compare
+    );
+    if out.mode != Mode::Armed || !out.bridges.pwm_enable || !out.latched.is_empty() {
+        hprintln!(
+            "ERROR pipeline_tick: expected armed, enabled, no fault; got {} flags {:?}",
+            out.mode.name(),
             out.flags
         );
         b.fail();

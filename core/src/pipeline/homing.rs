@@ -195,12 +195,12 @@ impl Homing {
         if self.elapsed > self.timeout_ticks {
             return HomingStep::Failed;
         }
-        for i in 0..3 {
-            let step = counts[i].wrapping_sub(self.prev[i]) as f32;
-            self.prev[i] = counts[i];
-            let v_raw = step * self.rad_per_count * self.rate_hz;
-            self.velocity[i] += (v_raw - self.velocity[i]) * self.alpha;
+        let scale = self.rad_per_count * self.rate_hz;
+        for ((v, prev), c) in self.velocity.iter_mut().zip(&self.prev).zip(counts) {
+            let v_raw = c.wrapping_sub(*prev) as f32 * scale;
+            *v += (v_raw - *v) * self.alpha;
         }
+        self.prev = counts;
         match self.offsets {
             None => self.seek(counts, device),
             Some(offsets) => self.park(counts, offsets, device),

@@ -15,6 +15,7 @@ mod contact;
 mod controller;
 mod decompose;
 mod kernels;
+mod pipeline;
 mod robustness;
 mod rolling;
 mod rotations;
@@ -52,6 +53,7 @@ fn main() -> ! {
     backend_checks::<Libm>(&mut c, true);
     backend_checks::<Micromath>(&mut c, false);
     backend_checks::<Fast>(&mut c, true);
+    pipeline::checks(&mut c);
     c.finish()
 }
 
