@@ -36,12 +36,14 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod endpoint;
 pub mod frame;
 pub mod info;
 pub mod messages;
 pub mod model;
 pub mod state;
 
+pub use endpoint::DeviceEndpoint;
 pub use frame::{encode_frame, FrameDecoder, FrameError, FrameErrorCounts, FrameErrorKind};
 pub use info::{DeviceInfo, LinkCounters};
 pub use messages::{AckResult, DeviceMsg, ErrorCode, HostMsg, Request};
