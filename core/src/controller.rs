@@ -1,18 +1,19 @@
-//! The hardware-independent controller tick: six encoder counts in, three motor duties out.
+//! The hardware-independent control law: six encoder counts in, three motor duties out.
 //!
-//! Each tick: fault inputs → encoder checks → motor angles → delta forward kinematics (probe
-//! position) → wrist orientation → contact step (rolling, spin torque, state machine, proxy force)
-//! → Jacobian-transpose motor torques → duties → independent output limits. The firmware calls it
-//! from its highest-priority timer interrupt; host-sim calls it against the plant model, so both run
-//! exactly the same code.
+//! [`Controller::compute`]: motor angles → delta forward kinematics (probe position) → wrist
+//! orientation → contact step (rolling, spin torque, state machine, proxy force) → Jacobian-transpose
+//! motor torques → duties. [`Controller::tick`] runs it through an [`OutputGuard`] (fault inputs,
+//! encoder checks, the latch, the output limits). The firmware and host-sim run it inside the
+//! control pipeline ([`crate::pipeline`]), which calls `compute` and its own guard.
 //!
 //! Frames: the device **base frame** is the delta's (see [`crate::delta`]); the object (scene) frame
 //! is the base frame translated by `object_origin_m` (no rotation), so forces computed in the object
 //! frame apply unchanged in the base frame.
 //!
-//! Safety: any fault — driver fault input, encoder glitch, encoder stuck under drive, non-finite
-//! output, an overrun streak — is latched: duties are zero and `enable` is false from that tick on,
-//! until [`Controller::clear_faults`].
+//! Safety (through the guard): any fault — driver fault input, encoder glitch, encoder stuck under
+//! drive, non-finite output, an overrun streak — is latched: duties are zero and `enable` is false
+//! from that tick on, until [`Controller::clear_faults`]. The latching set and the thresholds are
+//! defined once, in [`crate::output_guard`] and [`Limits`].
 
 use crate::contact::{ContactInput, ContactModel, ContactOutput};
 use crate::contact_state::ContactState;

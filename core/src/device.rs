@@ -58,7 +58,9 @@ pub struct DeviceParams {
     pub motor: MotorParams,
     /// H-bridge supply voltage, V.
     pub supply_v: f32,
-    /// PWM timer counts per PWM period (duty resolution), e.g. 8500 = 170 MHz / 20 kHz.
+    /// PWM timer counts per PWM period (duty resolution), e.g. 8500 = 170 MHz / 20 kHz. The
+    /// pipeline and the plant's bridge path take it from the board timing
+    /// ([`crate::pipeline::BoardTiming`]); the named devices set this field from the same constant.
     pub pwm_period_counts: u32,
     /// Motor encoder quadrature counts per motor-shaft revolution (4 × lines).
     pub motor_encoder_counts_per_rev: u32,
@@ -113,7 +115,8 @@ impl DeviceParams {
     /// - capstan reduction 12:1 (ours: a 5 mm drive pulley on a 60 mm arm sector);
     /// - amplifier limit 4 A: a short-term peak (the RE 25's continuous current is about 1.5 A),
     ///   giving 12 × 0.0234 × 4 = 1.12 N·m per arm;
-    /// - 24 V supply; PWM 20 kHz from a 170 MHz timer clock, 8500 counts per period;
+    /// - 24 V supply; PWM 20 kHz from a 170 MHz timer clock, 8500 counts per period (from
+    ///   [`crate::pipeline::BoardTiming::STM32G474_10KHZ`]);
     /// - motor encoders 1024 lines (4096 quadrature counts per motor turn): 2π/(4096·12) =
     ///   0.128 mrad per count at the arm, ~13 µm at the effector;
     /// - wrist encoders 4096 counts per joint turn (0.088° per count);
@@ -128,7 +131,7 @@ impl DeviceParams {
             max_current_a: 4.0,
         },
         supply_v: 24.0,
-        pwm_period_counts: 8500,
+        pwm_period_counts: crate::pipeline::BoardTiming::STM32G474_10KHZ.pwm_period_counts(),
         motor_encoder_counts_per_rev: 4096,
         wrist_encoder_counts_per_rev: 4096,
         arm_angle_at_zero_count_rad: 0.0,

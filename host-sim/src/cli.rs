@@ -20,7 +20,7 @@ pub enum Command {
     Replay(crate::replay::Args),
     /// Fault-injection campaign, closed loop with the plant: table, or JSON with --json.
     Faults(crate::faults::Args),
-    /// Long closed-loop run repeating the touch script (release build; 10^8 ticks take 6 to 20 min).
+    /// Long closed-loop run repeating the touch script (release build; 10^8 ticks take about 8 min of CPU).
     Soak(crate::faults::soak::Args),
     /// Where the decompositions fail, f32 drift, virtual-wall stability and state chatter:
     /// charts (SVG) and tables.

@@ -10,7 +10,6 @@
 use crate::plant::{HandScript, Plant, PlantError, PlantParams, TouchScript};
 use crate::scene::{Scene, SurfaceSpec};
 use softfinger_core::delta::DeltaGeometry;
-use softfinger_core::device::DeviceParams;
 use softfinger_core::devices::OMEGA_LIKE;
 use softfinger_core::params::ContactParams;
 use softfinger_core::pipeline::{
@@ -251,9 +250,4 @@ pub fn simulate<M: Math, S: Surface>(
         observe(k, &raw, &out, pipe, plant);
     }
     in_pipeline
-}
-
-/// The device the simulator names (the same definition the firmware names).
-pub fn device() -> DeviceParams {
-    OMEGA_LIKE.params
 }

@@ -80,7 +80,7 @@ pub enum HomingStep {
     Drive([f32; 3]),
     /// Done: add these offsets to the extended motor counts to get homed counts.
     Done([i32; 3]),
-    /// Failed ([`Flags::HOMING_FAILED`]).
+    /// Failed ([`crate::Flags::HOMING_FAILED`]).
     Failed,
 }
 

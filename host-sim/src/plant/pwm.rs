@@ -21,6 +21,12 @@
 use softfinger_core::device::DeviceParams;
 use softfinger_core::pipeline::BridgeCommands;
 
+// The plant's duty path quantises with the device's PWM period: it must be the board's.
+const _: () = assert!(
+    softfinger_core::device::DeviceParams::OMEGA_LIKE.pwm_period_counts
+        == softfinger_core::pipeline::BoardTiming::STM32G474_10KHZ.pwm_period_counts()
+);
+
 /// One motor command as the drive sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DriveCommand {
