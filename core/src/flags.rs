@@ -108,6 +108,17 @@ impl core::ops::Not for Flags {
     }
 }
 
+/// Flags of the host link and the local model (`crate::local_model`). High bits, apart from the
+/// pipeline's, so the two sets grow without colliding.
+impl Flags {
+    /// The communication watchdog expired: the force faded to zero and stays there until re-armed.
+    pub const COMM_TIMEOUT: Flags = Flags(1 << 24);
+    /// The local model is older than its declared maximum age: its force fades to zero.
+    pub const MODEL_STALE: Flags = Flags(1 << 25);
+    /// A local model update was rejected; the model in force stays.
+    pub const MODEL_REJECTED: Flags = Flags(1 << 26);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

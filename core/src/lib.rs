@@ -26,6 +26,7 @@ pub mod device;
 pub mod devices;
 pub mod encoder;
 pub mod flags;
+pub mod local_model;
 pub mod math;
 pub mod output_guard;
 pub mod params;

@@ -3,3 +3,7 @@
 
 #[path = "../../core/tests/fuzz_harness/mod.rs"]
 pub mod harness;
+
+/// The protocol decoder's harness, shared with `protocol/tests/fuzz_regression.rs`.
+#[path = "../../protocol/tests/fuzz_harness/mod.rs"]
+pub mod protocol_harness;

@@ -36,6 +36,9 @@ pub enum Command {
     /// Speed against accuracy as SVG charts (per method x backend x sampling rate, RK45 at several
     /// tolerances, Pareto front), the paper's Fig. 3, and the MCU instruction counts against accuracy.
     Chart(crate::chart::Args),
+    /// The virtual device: the device core against the plant in real time, speaking the
+    /// softfinger protocol over TCP to several clients at once.
+    Serve(crate::serve::Args),
 }
 
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
@@ -62,6 +65,7 @@ where
         Some(Command::Pil(args)) => crate::pil::main(&args),
         Some(Command::PilDecode(args)) => crate::pil::decode_main(&args),
         Some(Command::Stability(args)) => crate::stability::main(&args),
+        Some(Command::Serve(args)) => crate::serve::main(&args),
         None => crate::run::main(&crate::run::Args::default()),
     };
     match result {

@@ -12,6 +12,7 @@ pub mod reference;
 pub mod replay;
 pub mod run;
 pub mod scene;
+pub mod serve;
 pub mod stability;
 pub mod svg_chart;
 pub mod validate;

@@ -1,0 +1,310 @@
+//! The virtual device's loop: the device core against the plant in real time, the clients'
+//! requests applied at tick boundaries, the state stream to each client at its own divisor.
+//!
+//! Real time: the loop runs the ticks that are due by the wall clock (`elapsed · rate`), in
+//! batches when the OS wakes it late. If it falls more than [`MAX_BACKLOG_S`] behind (a stalled
+//! machine), the backlog is skipped rather than raced through, and those ticks are counted as
+//! overruns.
+
+use crate::plant::{HandScript, Plant, Waypoint};
+use crate::serve::convert;
+use crate::serve::core::{CoreOutput, DeviceCore};
+use crate::serve::hand::{self, HandMode};
+use crate::serve::link::{Event, LinkStats, Outbox};
+use softfinger_core::device::DeviceParams;
+use softfinger_protocol::{
+    AckResult, DeviceInfo, DeviceMsg, ErrorCode, HostMsg, Request, StateSample, TickStatsWire,
+    PROTOCOL_VERSION,
+};
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{Receiver, TryRecvError};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Largest backlog of ticks run in a burst, s.
+pub const MAX_BACKLOG_S: f64 = 0.05;
+/// A tick run more than this after its time counts as an overrun, s (the host OS wakes the loop
+/// every 0.1-0.2 ms, so batches of a few ticks are normal, not overruns).
+pub const LATE_S: f64 = 0.001;
+
+/// One connected client.
+#[derive(Debug)]
+struct Client {
+    out: Outbox,
+    divisor: u16,
+    dropped: u32,
+}
+
+/// Tick timing over a window.
+#[derive(Debug, Default)]
+struct TickTiming {
+    max_ns: u32,
+    sum_ns: u64,
+    n: u32,
+    last: TickStatsWire,
+}
+
+impl TickTiming {
+    fn record(&mut self, ns: u32, window: u32) {
+        self.max_ns = self.max_ns.max(ns);
+        self.sum_ns += ns as u64;
+        self.n += 1;
+        if self.n >= window {
+            self.last.max_duration_ns = self.max_ns;
+            self.last.mean_duration_ns = (self.sum_ns / self.n as u64) as u32;
+            (self.max_ns, self.sum_ns, self.n) = (0, 0, 0);
+        }
+    }
+}
+
+/// The device: core, plant, hand and clients.
+pub struct DeviceLoop {
+    core: Box<dyn DeviceCore>,
+    device: DeviceParams,
+    plant: Plant,
+    scene_script: HandScript,
+    hand: HandMode,
+    clients: BTreeMap<u32, Client>,
+    stats: Arc<LinkStats>,
+    info: DeviceInfo,
+    tick: u64,
+    timing: TickTiming,
+    last: CoreOutput,
+}
+
+impl std::fmt::Debug for DeviceLoop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("DeviceLoop")
+            .field("tick", &self.tick)
+            .finish()
+    }
+}
+
+impl DeviceLoop {
+    /// A device running `core` against `plant`, whose hand plays `scene_script`.
+    pub fn new(
+        core: Box<dyn DeviceCore>,
+        device: DeviceParams,
+        plant: Plant,
+        scene_script: HandScript,
+        stats: Arc<LinkStats>,
+    ) -> DeviceLoop {
+        let rate = core.rate_hz();
+        let mut info = DeviceInfo {
+            protocol_version: PROTOCOL_VERSION,
+            name: heapless::String::new(),
+            firmware_version: heapless::String::new(),
+            virtual_device: true,
+            control_rate_hz: rate as u32,
+            max_force_n: core.contact_params().max_force_n,
+            min_stream_divisor: 1,
+            surfaces: heapless::Vec::from_slice(&convert::SURFACES).unwrap_or_default(),
+            watchdog_ms: 0,
+        };
+        let _ = info.name.push_str("virtual omega-like");
+        let _ = info
+            .firmware_version
+            .push_str(concat!("host-sim ", env!("CARGO_PKG_VERSION")));
+        DeviceLoop {
+            core,
+            device,
+            plant,
+            scene_script,
+            hand: HandMode::Script,
+            clients: BTreeMap::new(),
+            stats,
+            info,
+            tick: 0,
+            timing: TickTiming::default(),
+            last: CoreOutput::default(),
+        }
+    }
+
+    /// Run in real time until `stop` is set or `events` closes.
+    pub fn run(mut self, events: Receiver<Event>, stop: Arc<AtomicBool>) {
+        let rate = self.core.rate_hz() as f64;
+        let mut start = Instant::now();
+        let mut overruns: u32 = 0;
+        while !stop.load(Ordering::Relaxed) {
+            let due = (start.elapsed().as_secs_f64() * rate) as u64;
+            if due <= self.tick {
+                std::thread::sleep(Duration::from_micros(100));
+                continue;
+            }
+            let backlog = due - self.tick;
+            if backlog as f64 > MAX_BACKLOG_S * rate {
+                let skip = backlog - 1;
+                start += Duration::from_secs_f64(skip as f64 / rate);
+                overruns = overruns.saturating_add(skip as u32);
+                continue;
+            }
+            let late = backlog.saturating_sub((LATE_S * rate) as u64);
+            overruns = overruns.saturating_add(late as u32);
+            for _ in 0..backlog {
+                if !self.drain(&events) {
+                    return;
+                }
+                self.one_tick(overruns);
+            }
+        }
+    }
+
+    /// Apply every pending event; false when the event channel is closed.
+    fn drain(&mut self, events: &Receiver<Event>) -> bool {
+        loop {
+            match events.try_recv() {
+                Ok(Event::Connected { id, out }) => {
+                    self.clients.insert(
+                        id,
+                        Client {
+                            out,
+                            divisor: 0,
+                            dropped: 0,
+                        },
+                    );
+                }
+                Ok(Event::Disconnected { id }) => {
+                    self.clients.remove(&id);
+                }
+                Ok(Event::Message { id, msg }) => self.handle(id, msg),
+                Err(TryRecvError::Empty) => return true,
+                Err(TryRecvError::Disconnected) => return false,
+            }
+        }
+    }
+
+    fn one_tick(&mut self, overruns: u32) {
+        let rate = self.core.rate_hz();
+        let counts = self.plant.counts();
+        let t0 = Instant::now();
+        let out = self.core.tick(counts);
+        let ns = t0.elapsed().as_nanos().min(u32::MAX as u128) as u32;
+        self.timing.record(ns, (rate / 10.0) as u32);
+        self.timing.last.overruns = overruns;
+        self.plant
+            .step_with_enable(out.duties, out.enable, 1.0 / rate as f64);
+        self.last = out;
+        self.tick += 1;
+        if self.hand == HandMode::Script && self.plant.time_s() >= self.plant.script().duration_s()
+        {
+            match hand::following(&self.plant, &self.scene_script, self.device) {
+                Ok(p) => self.plant = p,
+                // The handle is somewhere no script can start from: it stays held where it is.
+                Err(_) => self.hand = HandMode::Driven,
+            }
+        }
+        self.stream();
+    }
+
+    /// Send a sample to every client whose divisor divides this tick.
+    fn stream(&mut self) {
+        let tick = self.tick;
+        let o = &self.last;
+        let mut sample = StateSample {
+            tick,
+            probe_m: o.probe_m.to_array(),
+            probe_vel_m_s: o.probe_vel_m_s.to_array(),
+            force_n: o.force_n.to_array(),
+            spin_torque_nm: o.spin_torque_nm,
+            contact: convert::contact_state(o.contact),
+            contact_point_m: o.contact_point_m.to_array(),
+            flags: o.flags.0,
+            mode: o.mode,
+            model_seq: o.model_seq,
+            tick_stats: self.timing.last,
+            dropped: 0,
+        };
+        for c in self.clients.values_mut() {
+            if c.divisor != 0 && tick.is_multiple_of(c.divisor as u64) {
+                sample.dropped = c.dropped;
+                if !c.out.send(&DeviceMsg::State(sample)) {
+                    c.dropped = c.dropped.saturating_add(1);
+                }
+            }
+        }
+    }
+
+    fn reply(&mut self, id: u32, msg: DeviceMsg) {
+        if let Some(c) = self.clients.get(&id) {
+            c.out.send(&msg);
+        }
+    }
+
+    /// One client message, at a tick boundary.
+    fn handle(&mut self, id: u32, msg: HostMsg) {
+        self.core.message_received();
+        let (seq, req) = match msg {
+            HostMsg::Hello {
+                min_version,
+                max_version,
+            } => {
+                let ok = (min_version..=max_version).contains(&PROTOCOL_VERSION);
+                let reply = DeviceMsg::HelloReply {
+                    version: ok.then_some(PROTOCOL_VERSION),
+                    device_version: PROTOCOL_VERSION,
+                };
+                return self.reply(id, reply);
+            }
+            HostMsg::Request { seq, req } => (seq, req),
+        };
+        let result = match &req {
+            Request::GetInfo => {
+                self.info.watchdog_ms = (self.core.watchdog_s() * 1000.0).round() as u16;
+                self.info.max_force_n = self.core.contact_params().max_force_n;
+                let info = self.info.clone();
+                return self.reply(id, DeviceMsg::Info { seq, info });
+            }
+            Request::GetCounters => {
+                let counters = self.stats.snapshot();
+                return self.reply(id, DeviceMsg::Counters { seq, counters });
+            }
+            Request::GetContactParams => {
+                let params = convert::contact_params_wire(&self.core.contact_params());
+                return self.reply(id, DeviceMsg::ContactParams { seq, params });
+            }
+            Request::Ping => AckResult::Ok,
+            Request::SetStream { divisor } => self.set_stream(id, *divisor),
+            Request::DriveHand(t) => {
+                let target = Waypoint {
+                    position_m: t.position_m.map(f64::from),
+                    wrist_rad: t.wrist_rad.map(f64::from),
+                };
+                self.rehand(
+                    hand::holding(&self.plant, target, self.device),
+                    HandMode::Driven,
+                )
+            }
+            Request::ReleaseHand => {
+                let p = hand::following(&self.plant, &self.scene_script, self.device);
+                self.rehand(p, HandMode::Script)
+            }
+            other => match convert::core_request(other, &self.core.contact_params()) {
+                Some(r) => self.core.request(r),
+                None => AckResult::Err(ErrorCode::Unsupported),
+            },
+        };
+        self.reply(id, DeviceMsg::Ack { seq, result });
+    }
+
+    fn set_stream(&mut self, id: u32, divisor: u16) -> AckResult {
+        if divisor != 0 && divisor < self.info.min_stream_divisor {
+            return AckResult::Err(ErrorCode::StreamTooFast);
+        }
+        if let Some(c) = self.clients.get_mut(&id) {
+            c.divisor = divisor;
+        }
+        AckResult::Ok
+    }
+
+    fn rehand(&mut self, plant: Result<Plant, String>, mode: HandMode) -> AckResult {
+        match plant {
+            Ok(p) => {
+                self.plant = p;
+                self.hand = mode;
+                AckResult::Ok
+            }
+            Err(_) => AckResult::Err(ErrorCode::InvalidValue),
+        }
+    }
+}

@@ -1,0 +1,158 @@
+//! `host-sim serve`: the virtual device. The device core runs against the plant in real time and
+//! speaks the softfinger protocol over TCP to any number of clients at once, so applications are
+//! written and tested without hardware.
+//!
+//! Threads: one device loop ([`device::DeviceLoop`]), one acceptor, and a reader and a writer per
+//! connection ([`link`]). Connections talk to the device loop through one event channel; the
+//! device answers through each connection's bounded queue. A client that sends garbage gets its
+//! bad frames counted and answered; a client that stops reading loses state samples (counted);
+//! neither affects the other clients or the tick.
+
+pub mod convert;
+pub mod core;
+pub mod device;
+pub mod hand;
+pub mod link;
+
+use crate::scene::Scene;
+use clap::Parser;
+use std::net::{Shutdown, TcpStream};
+use std::net::{SocketAddr, TcpListener};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::mpsc::channel;
+use std::sync::{Arc, Mutex};
+use std::thread::{self, JoinHandle};
+use std::time::Duration;
+
+/// `host-sim serve` arguments.
+#[derive(Clone, Debug, Parser)]
+pub struct Args {
+    /// Address to listen on (port 0: any free port, printed).
+    #[arg(long, default_value = "127.0.0.1:7700")]
+    pub listen: String,
+    /// Scene (built-in name or TOML file): the initial surface, contact parameters, control rate
+    /// and the hand's script.
+    #[arg(long, default_value = "finger-on-plane")]
+    pub scene: String,
+    /// Blend time of local model switches, ms.
+    #[arg(long, default_value_t = 2.0)]
+    pub blend_ms: f32,
+    /// Home and arm at start (bench mode: force without a client).
+    #[arg(long)]
+    pub auto_arm: bool,
+    /// Stop after this many seconds (default: run until killed).
+    #[arg(long)]
+    pub duration_s: Option<f64>,
+}
+
+/// A running virtual device.
+#[derive(Debug)]
+pub struct Server {
+    addr: SocketAddr,
+    stop: Arc<AtomicBool>,
+    threads: Vec<JoinHandle<()>>,
+    connections: Arc<Mutex<Vec<TcpStream>>>,
+}
+
+impl Server {
+    /// Bind, build the device from the scene, and start the threads.
+    pub fn start(args: &Args) -> Result<Server, String> {
+        let scene = Scene::load(&args.scene)?;
+        let (contact, model) = core::scene_model(&scene)?;
+        let device = softfinger_core::devices::OMEGA_LIKE.params;
+        let mut core = core::LocalModelCore::new(
+            device,
+            scene.rate_hz as f32,
+            contact,
+            model,
+            args.blend_ms * 1e-3,
+        )?;
+        let script = crate::closed_loop::touch_script(&scene, &contact);
+        let plant =
+            crate::closed_loop::plant(&scene, &contact).map_err(|e| format!("plant: {e:?}"))?;
+        if args.auto_arm {
+            // Home against the plant at rest (its counts do not move), then arm.
+            use crate::serve::core::{CoreRequest, DeviceCore};
+            core.request(CoreRequest::Home);
+            for _ in 0..(scene.rate_hz as u32) {
+                core.tick(plant.counts());
+            }
+            core.request(CoreRequest::Arm);
+        }
+        let listener =
+            TcpListener::bind(&args.listen).map_err(|e| format!("{}: {e}", args.listen))?;
+        let addr = listener.local_addr().map_err(|e| e.to_string())?;
+        listener.set_nonblocking(true).map_err(|e| e.to_string())?;
+        let stop = Arc::new(AtomicBool::new(false));
+        let stats = Arc::new(link::LinkStats::default());
+        let (events_tx, events_rx) = channel();
+        let dev = device::DeviceLoop::new(Box::new(core), device, plant, script, stats.clone());
+        let stop_dev = stop.clone();
+        let device_thread = thread::spawn(move || dev.run(events_rx, stop_dev));
+        let stop_acc = stop.clone();
+        let connections = Arc::new(Mutex::new(Vec::new()));
+        let conns = connections.clone();
+        let acceptor = thread::spawn(move || {
+            let next_id = AtomicU32::new(1);
+            while !stop_acc.load(Ordering::Relaxed) {
+                match listener.accept() {
+                    Ok((stream, _)) => {
+                        let _ = stream.set_nonblocking(false);
+                        if let (Ok(c), Ok(mut list)) = (stream.try_clone(), conns.lock()) {
+                            list.push(c);
+                        }
+                        let id = next_id.fetch_add(1, Ordering::Relaxed);
+                        let (ev, st) = (events_tx.clone(), stats.clone());
+                        thread::spawn(move || link::serve_connection(stream, id, ev, st));
+                    }
+                    Err(_) => thread::sleep(Duration::from_millis(5)),
+                }
+            }
+        });
+        Ok(Server {
+            addr,
+            stop,
+            threads: vec![device_thread, acceptor],
+            connections,
+        })
+    }
+
+    /// The address it listens on.
+    pub fn addr(&self) -> SocketAddr {
+        self.addr
+    }
+
+    /// Stop the device and the acceptor, and close every connection (clients see the device go
+    /// away).
+    pub fn stop(self) {
+        self.stop.store(true, Ordering::Relaxed);
+        for t in self.threads {
+            let _ = t.join();
+        }
+        if let Ok(list) = self.connections.lock() {
+            for c in list.iter() {
+                let _ = c.shutdown(Shutdown::Both);
+            }
+        }
+    }
+}
+
+/// Run `host-sim serve`.
+pub fn main(args: &Args) -> Result<(), String> {
+    let server = Server::start(args)?;
+    println!(
+        "virtual device listening on {} (scene '{}'{}); Ctrl-C to stop",
+        server.addr(),
+        args.scene,
+        if args.auto_arm { ", armed" } else { "" }
+    );
+    match args.duration_s {
+        Some(s) if s.is_finite() && s > 0.0 => thread::sleep(Duration::from_secs_f64(s)),
+        Some(s) => return Err(format!("--duration-s must be positive, got {s}")),
+        None => loop {
+            thread::sleep(Duration::from_secs(3600));
+        },
+    }
+    server.stop();
+    Ok(())
+}

@@ -1,0 +1,99 @@
+//! Link measurements on the virtual device over loopback (`softfinger bench`, and the
+//! integration tests with short durations): the state stream's rate and gaps, command round
+//! trips, local-model updates without force steps, the watchdog's fade, and bad input from one
+//! client while the others go on.
+//!
+//! Phases: (1) one client streams at 1 kHz for `stream_s` while a second pings and a third sends
+//! bad frames of every kind; (2) a fourth client holds the simulated hand pressed on the surface,
+//! arms, streams every tick and sends local models: still, at 1 kHz, and as 1 mm jumps;
+//! (3) it enables the watchdog and goes silent.
+
+mod bad_input;
+mod models;
+mod stream;
+
+pub use bad_input::{run as bad_input_phase, BadInputReport};
+pub use models::{run as models_phase, ModelReport, WatchdogReport};
+pub use stream::{rtt as rtt_phase, stream as stream_phase, RttReport, StreamReport};
+
+use crate::{Device, LinkError, Target};
+use serde::Serialize;
+
+/// Durations and counts of a run.
+#[derive(Clone, Debug)]
+pub struct BenchConfig {
+    /// Stream phase, s.
+    pub stream_s: f64,
+    /// Round trips to time.
+    pub pings: usize,
+    /// Seconds of each local-model pattern (still, 1 kHz stream, jumps).
+    pub model_s: f64,
+    /// Watchdog timeout, ms.
+    pub watchdog_ms: u16,
+}
+
+impl Default for BenchConfig {
+    fn default() -> Self {
+        BenchConfig {
+            stream_s: 60.0,
+            pings: 5000,
+            model_s: 2.0,
+            watchdog_ms: 100,
+        }
+    }
+}
+
+/// Everything measured.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchReport {
+    pub stream: StreamReport,
+    pub rtt: RttReport,
+    pub bad_input: BadInputReport,
+    pub models: ModelReport,
+    pub watchdog: WatchdogReport,
+}
+
+/// True for a loopback TCP target (the benchmark refuses anything else).
+pub fn is_loopback(target: &Target) -> bool {
+    match target {
+        Target::Tcp(a) => a
+            .rsplit_once(':')
+            .is_some_and(|(h, _)| matches!(h, "127.0.0.1" | "localhost" | "[::1]")),
+        _ => false,
+    }
+}
+
+/// Name the phase in an error.
+fn ctx(phase: &'static str) -> impl Fn(LinkError) -> LinkError {
+    move |e| LinkError::Context(format!("{phase}: {e}"))
+}
+
+/// Join a bench thread; a panic becomes an error.
+fn join<T>(h: std::thread::ScopedJoinHandle<'_, Result<T, LinkError>>) -> Result<T, LinkError> {
+    h.join()
+        .unwrap_or_else(|_| Err(LinkError::Protocol("a bench thread panicked".into())))
+}
+
+/// Run every phase against `target` (a loopback virtual device).
+pub fn run(target: &Target, cfg: &BenchConfig) -> Result<BenchReport, LinkError> {
+    if !is_loopback(target) {
+        return Err(LinkError::BadTarget(format!(
+            "{target}: the benchmark runs on a loopback virtual device only"
+        )));
+    }
+    let rate = Device::connect(target)?.info()?.control_rate_hz;
+    let (stream, rtt, bad_input) = std::thread::scope(|s| {
+        let streamer = s.spawn(|| stream::stream(target, cfg.stream_s).map_err(ctx("stream")));
+        let pinger = s.spawn(|| stream::rtt(target, cfg.pings).map_err(ctx("round trips")));
+        let bad = s.spawn(|| bad_input::run(target, cfg.stream_s / 2.0).map_err(ctx("bad input")));
+        Ok::<_, LinkError>((join(streamer)?, join(pinger)?, join(bad)?))
+    })?;
+    let (models, watchdog) = models::run(target, rate, cfg).map_err(ctx("local models"))?;
+    Ok(BenchReport {
+        stream,
+        rtt,
+        bad_input,
+        models,
+        watchdog,
+    })
+}

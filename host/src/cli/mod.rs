@@ -1,0 +1,98 @@
+//! The `softfinger` command line: parsing and dispatch. Errors print one line on stderr and exit
+//! with status 2; nothing is left half written.
+
+mod bench;
+mod control;
+mod stream;
+mod view;
+
+use clap::{Parser, Subcommand};
+use softfinger_host::{Device, LinkError, Target};
+use std::ffi::OsString;
+
+/// Talk to a softfinger haptic device (USB) or the virtual device of `host-sim serve` (TCP).
+#[derive(Debug, Parser)]
+#[command(name = "softfinger", version, about)]
+pub struct Cli {
+    /// The device: `usb` (the first softfinger USB device), `usb:/dev/ttyACM0`, or
+    /// `tcp:HOST:PORT` (the virtual device).
+    #[arg(long, default_value = "usb", global = true)]
+    pub connect: String,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Device description and the device's link counters (all connections).
+    Info {
+        /// As JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Find the encoders' reference (needed before arming).
+    Home,
+    /// Start rendering force (ramped in); re-arms the watchdog.
+    Arm,
+    /// Stop rendering force.
+    Disarm,
+    /// Clear latched faults (the device is then disarmed).
+    Clear,
+    /// Scenes (host-sim's scene files).
+    Scene {
+        #[command(subcommand)]
+        cmd: control::SceneCmd,
+    },
+    /// Contact parameters.
+    Params {
+        #[command(subcommand)]
+        cmd: control::ParamsCmd,
+    },
+    /// Record the state stream to CSV (progress shown; reconnects if the device goes away).
+    Stream(stream::Args),
+    /// A live view of the device state, refreshed 10 times a second.
+    View(view::Args),
+    /// Measure the link on a virtual device over loopback: stream rate and gaps, round-trip
+    /// times, local-model switches at 1 kHz, watchdog fade, bad input.
+    Bench(bench::Args),
+}
+
+/// Connect to the `--connect` target.
+pub fn connect(spec: &str) -> Result<Device, LinkError> {
+    let target: Target = spec.parse()?;
+    Device::connect(&target)
+}
+
+/// Parse `argv` and run; the exit code.
+pub fn run<I, T>(argv: I) -> u8
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(argv) {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() { 2 } else { 0 };
+        }
+    };
+    let result = match &cli.command {
+        Command::Info { json } => control::info(&cli.connect, *json),
+        Command::Home => control::simple(&cli.connect, |d| d.home()),
+        Command::Arm => control::simple(&cli.connect, |d| d.arm()),
+        Command::Disarm => control::simple(&cli.connect, |d| d.disarm()),
+        Command::Clear => control::simple(&cli.connect, |d| d.clear_faults()),
+        Command::Scene { cmd } => control::scene(&cli.connect, cmd),
+        Command::Params { cmd } => control::params(&cli.connect, cmd),
+        Command::Stream(a) => stream::main(&cli.connect, a),
+        Command::View(a) => view::main(&cli.connect, a),
+        Command::Bench(a) => bench::main(&cli.connect, a),
+    };
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("softfinger: {e}");
+            2
+        }
+    }
+}

@@ -1,0 +1,333 @@
+//! [`Device`]: one connection to a device, with blocking request/reply calls and the state
+//! stream on a queue.
+//!
+//! A reader thread decodes every frame the device sends: state samples go to a bounded queue
+//! (when the application does not keep up, the oldest samples are kept and the newest counted as
+//! dropped here), everything else to the reply queue. Requests carry a sequence number and wait
+//! for the reply with that number, skipping late replies to earlier requests.
+
+use crate::error::LinkError;
+use crate::target::{self, Target};
+use softfinger_protocol::{
+    encode_frame, AckResult, ContactParamsWire, DeviceInfo, DeviceMsg, FrameDecoder,
+    FrameErrorCounts, FrameErrorKind, HandTarget, HostMsg, LinkCounters, LocalModel, Request,
+    StateSample, MAX_FRAME_LEN, PROTOCOL_VERSION,
+};
+use std::io::{Read, Write};
+use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+use std::sync::mpsc::{channel, sync_channel, Receiver, RecvTimeoutError, Sender, SyncSender};
+use std::sync::{Arc, Mutex};
+use std::thread;
+use std::time::{Duration, Instant};
+
+/// State samples queued before the newest are dropped (65 s of a 1 kHz stream).
+pub const STATE_QUEUE: usize = 65_536;
+
+/// What the reader thread counted.
+#[derive(Debug, Default)]
+struct ReaderCounts {
+    errors: Mutex<FrameErrorCounts>,
+    states_dropped: AtomicU32,
+}
+
+/// A connection to a device.
+pub struct Device {
+    target: Option<Target>,
+    writer: Box<dyn Write + Send>,
+    replies: Receiver<DeviceMsg>,
+    states: Receiver<StateSample>,
+    counts: Arc<ReaderCounts>,
+    next_seq: u16,
+    rejected_by_device: u32,
+    timeout: Duration,
+    divisor: u16,
+    watchdog_ms: u16,
+}
+
+impl std::fmt::Debug for Device {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Device")
+            .field("target", &self.target)
+            .field("divisor", &self.divisor)
+            .finish()
+    }
+}
+
+fn spawn_reader(
+    mut r: Box<dyn Read + Send>,
+    replies: Sender<DeviceMsg>,
+    states: SyncSender<StateSample>,
+    counts: Arc<ReaderCounts>,
+) {
+    thread::spawn(move || {
+        let mut dec = FrameDecoder::new();
+        let mut buf = [0u8; 4096];
+        loop {
+            let n = match r.read(&mut buf) {
+                Ok(0) | Err(_) => return,
+                Ok(n) => n,
+            };
+            for &b in &buf[..n] {
+                match dec.push::<DeviceMsg>(b) {
+                    Some(Ok(DeviceMsg::State(s))) => {
+                        // Full: the application is not taking samples; keep the older ones.
+                        let _ = states.try_send(s).map_err(|_| {
+                            counts.states_dropped.fetch_add(1, Relaxed);
+                        });
+                    }
+                    Some(Ok(m)) => {
+                        // The device went on talking after the application dropped us.
+                        let Ok(()) = replies.send(m) else { return };
+                    }
+                    Some(Err(_)) => {
+                        if let Ok(mut e) = counts.errors.lock() {
+                            *e = dec.errors();
+                        }
+                    }
+                    None => {}
+                }
+            }
+        }
+    });
+}
+
+impl Device {
+    /// Connect to `target` and agree on the protocol version.
+    pub fn connect(target: &Target) -> Result<Device, LinkError> {
+        let (r, w) = target::open(target)?;
+        let mut d = Device::over(r, w)?;
+        d.target = Some(target.clone());
+        Ok(d)
+    }
+
+    /// Talk over any byte stream (a fake transport in tests, a pipe, ...); agrees on the version.
+    pub fn over(
+        reader: Box<dyn Read + Send>,
+        writer: Box<dyn Write + Send>,
+    ) -> Result<Device, LinkError> {
+        let (rtx, rrx) = channel();
+        let (stx, srx) = sync_channel(STATE_QUEUE);
+        let counts = Arc::new(ReaderCounts::default());
+        spawn_reader(reader, rtx, stx, counts.clone());
+        let mut d = Device {
+            target: None,
+            writer,
+            replies: rrx,
+            states: srx,
+            counts,
+            next_seq: 1,
+            rejected_by_device: 0,
+            timeout: Duration::from_secs(1),
+            divisor: 0,
+            watchdog_ms: 0,
+        };
+        d.hello()?;
+        Ok(d)
+    }
+
+    /// Open the same target again (after the device went away) and restore this connection's
+    /// stream divisor and watchdog. Fails if there is no target (a [`Device::over`] stream).
+    pub fn reconnect(&mut self) -> Result<(), LinkError> {
+        let target = self.target.clone().ok_or(LinkError::Disconnected)?;
+        let fresh = Device::connect(&target)?;
+        let (divisor, watchdog_ms) = (self.divisor, self.watchdog_ms);
+        *self = fresh;
+        if watchdog_ms != 0 {
+            self.set_watchdog_ms(watchdog_ms)?;
+        }
+        if divisor != 0 {
+            self.set_stream(divisor)?;
+        }
+        Ok(())
+    }
+
+    /// How long a request waits for its reply.
+    pub fn set_timeout(&mut self, t: Duration) {
+        self.timeout = t;
+    }
+
+    /// Send raw bytes (tests of the device's handling of bad input).
+    pub fn send_raw(&mut self, bytes: &[u8]) -> Result<(), LinkError> {
+        self.writer.write_all(bytes)?;
+        self.writer.flush()?;
+        Ok(())
+    }
+
+    fn send(&mut self, msg: &HostMsg) -> Result<(), LinkError> {
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let n = encode_frame(msg, &mut buf).map_err(|e| LinkError::Protocol(format!("{e:?}")))?;
+        self.send_raw(&buf[..n])
+    }
+
+    /// Wait for the next reply that `accept` takes (others are late replies: skipped).
+    fn wait_for(
+        &mut self,
+        mut accept: impl FnMut(&DeviceMsg) -> bool,
+    ) -> Result<DeviceMsg, LinkError> {
+        let deadline = Instant::now() + self.timeout;
+        let mut rejected: Option<FrameErrorKind> = None;
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.replies.recv_timeout(left) {
+                Ok(m) if accept(&m) => return Ok(m),
+                Ok(DeviceMsg::FrameError { kind, .. }) => {
+                    self.rejected_by_device += 1;
+                    rejected = Some(kind);
+                }
+                Ok(_) => {}
+                Err(RecvTimeoutError::Timeout) => {
+                    return Err(rejected.map_or(LinkError::Timeout, LinkError::Frame))
+                }
+                Err(RecvTimeoutError::Disconnected) => return Err(LinkError::Disconnected),
+            }
+        }
+    }
+
+    fn hello(&mut self) -> Result<u8, LinkError> {
+        self.send(&HostMsg::Hello {
+            min_version: PROTOCOL_VERSION,
+            max_version: PROTOCOL_VERSION,
+        })?;
+        match self.wait_for(|m| matches!(m, DeviceMsg::HelloReply { .. }))? {
+            DeviceMsg::HelloReply {
+                version: Some(v), ..
+            } => Ok(v),
+            DeviceMsg::HelloReply { device_version, .. } => Err(LinkError::Version {
+                device: device_version,
+            }),
+            other => Err(LinkError::Protocol(format!("{other:?}"))),
+        }
+    }
+
+    /// Send a request and wait for its reply. An `Ack` with an error becomes
+    /// [`LinkError::Refused`].
+    pub fn request(&mut self, req: Request) -> Result<DeviceMsg, LinkError> {
+        let seq = self.next_seq;
+        self.next_seq = self.next_seq.wrapping_add(1);
+        self.send(&HostMsg::Request { seq, req })?;
+        let reply = self.wait_for(|m| match m {
+            DeviceMsg::Ack { seq: s, .. }
+            | DeviceMsg::Info { seq: s, .. }
+            | DeviceMsg::Counters { seq: s, .. }
+            | DeviceMsg::ContactParams { seq: s, .. } => *s == seq,
+            _ => false,
+        })?;
+        match reply {
+            DeviceMsg::Ack {
+                result: AckResult::Err(code),
+                ..
+            } => Err(LinkError::Refused(code)),
+            other => Ok(other),
+        }
+    }
+
+    /// A request answered by a plain acknowledgement.
+    pub fn command(&mut self, req: Request) -> Result<(), LinkError> {
+        match self.request(req)? {
+            DeviceMsg::Ack { .. } => Ok(()),
+            other => Err(LinkError::Protocol(format!("{other:?}"))),
+        }
+    }
+
+    /// The device's description.
+    pub fn info(&mut self) -> Result<DeviceInfo, LinkError> {
+        match self.request(Request::GetInfo)? {
+            DeviceMsg::Info { info, .. } => Ok(info),
+            other => Err(LinkError::Protocol(format!("{other:?}"))),
+        }
+    }
+
+    /// The device's link counters (all connections).
+    pub fn counters(&mut self) -> Result<LinkCounters, LinkError> {
+        match self.request(Request::GetCounters)? {
+            DeviceMsg::Counters { counters, .. } => Ok(counters),
+            other => Err(LinkError::Protocol(format!("{other:?}"))),
+        }
+    }
+
+    /// The contact parameters in force.
+    pub fn contact_params(&mut self) -> Result<ContactParamsWire, LinkError> {
+        match self.request(Request::GetContactParams)? {
+            DeviceMsg::ContactParams { params, .. } => Ok(params),
+            other => Err(LinkError::Protocol(format!("{other:?}"))),
+        }
+    }
+
+    /// Round trip of a `Ping`.
+    pub fn ping(&mut self) -> Result<Duration, LinkError> {
+        let t0 = Instant::now();
+        self.command(Request::Ping)?;
+        Ok(t0.elapsed())
+    }
+
+    /// Home the device.
+    pub fn home(&mut self) -> Result<(), LinkError> {
+        self.command(Request::Home)
+    }
+    /// Arm (needs homing); re-arms the watchdog.
+    pub fn arm(&mut self) -> Result<(), LinkError> {
+        self.command(Request::Arm)
+    }
+    /// Disarm.
+    pub fn disarm(&mut self) -> Result<(), LinkError> {
+        self.command(Request::Disarm)
+    }
+    /// Clear latched faults (the device is then disarmed).
+    pub fn clear_faults(&mut self) -> Result<(), LinkError> {
+        self.command(Request::ClearFaults)
+    }
+    /// Replace the contact parameters.
+    pub fn set_contact_params(&mut self, p: ContactParamsWire) -> Result<(), LinkError> {
+        self.command(Request::SetContactParams(p))
+    }
+    /// Send a local model (applied at the device's next tick boundary, blended in).
+    pub fn set_local_model(&mut self, m: LocalModel) -> Result<(), LinkError> {
+        self.command(Request::SetLocalModel(m))
+    }
+    /// Stream a state sample every `divisor` control ticks (0: stop).
+    pub fn set_stream(&mut self, divisor: u16) -> Result<(), LinkError> {
+        self.command(Request::SetStream { divisor })?;
+        self.divisor = divisor;
+        Ok(())
+    }
+    /// Communication watchdog timeout, ms (0: off).
+    pub fn set_watchdog_ms(&mut self, timeout_ms: u16) -> Result<(), LinkError> {
+        self.command(Request::SetWatchdog { timeout_ms })?;
+        self.watchdog_ms = timeout_ms;
+        Ok(())
+    }
+    /// Virtual device: the simulated hand moves to `t` and holds it.
+    pub fn drive_hand(&mut self, t: HandTarget) -> Result<(), LinkError> {
+        self.command(Request::DriveHand(t))
+    }
+    /// Virtual device: the simulated hand follows the scene's script again.
+    pub fn release_hand(&mut self) -> Result<(), LinkError> {
+        self.command(Request::ReleaseHand)
+    }
+
+    /// The next state sample, waiting up to `timeout`; `Ok(None)` on timeout,
+    /// [`LinkError::Disconnected`] once the connection is gone and the queue empty.
+    pub fn next_state(&self, timeout: Duration) -> Result<Option<StateSample>, LinkError> {
+        match self.states.recv_timeout(timeout) {
+            Ok(s) => Ok(Some(s)),
+            Err(RecvTimeoutError::Timeout) => Ok(None),
+            Err(RecvTimeoutError::Disconnected) => Err(LinkError::Disconnected),
+        }
+    }
+
+    /// Frames from the device this side could not decode, by kind.
+    pub fn rx_errors(&self) -> FrameErrorCounts {
+        self.counts.errors.lock().map(|e| *e).unwrap_or_default()
+    }
+
+    /// Frames of ours the device rejected (its `FrameError` answers seen while waiting for
+    /// replies).
+    pub fn rejected_by_device(&self) -> u32 {
+        self.rejected_by_device
+    }
+
+    /// State samples dropped on this side because the application did not take them.
+    pub fn states_dropped_here(&self) -> u32 {
+        self.counts.states_dropped.load(Relaxed)
+    }
+}

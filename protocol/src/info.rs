@@ -1,0 +1,57 @@
+//! What a device says about itself, and its link counters.
+
+use crate::model::SurfaceKind;
+use serde::{Deserialize, Serialize};
+
+/// Fixed-capacity text (device name, firmware version).
+pub type Text<const N: usize> = heapless::String<N>;
+
+/// The device's description, answered to [`crate::Request::GetInfo`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct DeviceInfo {
+    /// Protocol version the device speaks.
+    pub protocol_version: u8,
+    /// Device name.
+    pub name: Text<24>,
+    /// Firmware (or simulator) version.
+    pub firmware_version: Text<16>,
+    /// True for the virtual device (host-sim), false for hardware.
+    pub virtual_device: bool,
+    /// Control rate, Hz.
+    pub control_rate_hz: u32,
+    /// Largest force the device renders, N.
+    pub max_force_n: f32,
+    /// Smallest stream divisor accepted (the fastest state stream is rate / this).
+    pub min_stream_divisor: u16,
+    /// Surfaces it can render.
+    pub surfaces: heapless::Vec<SurfaceKind, 8>,
+    /// Communication watchdog timeout in force, ms (0: off).
+    pub watchdog_ms: u16,
+}
+
+/// Link counters over all connections since the device started.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LinkCounters {
+    /// Frames received and decoded.
+    pub rx_frames: u32,
+    /// Frames received and rejected, all kinds (the sum of the five below).
+    pub rx_errors: u32,
+    /// Rejected: invalid COBS.
+    pub rx_cobs: u32,
+    /// Rejected: CRC mismatch (or too short to hold one).
+    pub rx_crc: u32,
+    /// Rejected: unknown protocol version.
+    pub rx_version: u32,
+    /// Rejected: body did not decode as a message.
+    pub rx_decode: u32,
+    /// Rejected: longer than the largest frame.
+    pub rx_oversized: u32,
+    /// Frames sent.
+    pub tx_frames: u32,
+    /// State samples dropped because a connection's queue was full.
+    pub tx_dropped: u32,
+    /// Connections open now.
+    pub connections: u16,
+}
