@@ -42,7 +42,13 @@ fn sweep<M: Math>(stride: u32) -> f32 {
         Vec3::new(-0.1, 0.994_987_4, 0.0),
     ];
     let mut angles: Vec<f32> = (0..24).map(|a| -12.0 + a as f32 * 1.047_197_6).collect();
-    angles.extend([core::f32::consts::PI, -core::f32::consts::PI, 1e4, -9999.0, 3.0e3]);
+    angles.extend([
+        core::f32::consts::PI,
+        -core::f32::consts::PI,
+        1e4,
+        -9999.0,
+        3.0e3,
+    ]);
     let one = 1.0f32.to_bits();
     let mut worst = 0.0f32;
     // Mantissas of |axis|² over [1, 4): 2^24 bit patterns.
@@ -64,8 +70,14 @@ fn from_axis_angle_orthonormality_stays_within_the_measured_worst() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(4099);
-    let (libm, fast, micro) = (sweep::<Libm>(stride), sweep::<Fast>(stride), sweep::<Micromath>(stride));
-    println!("orthonormality error, stride {stride}: libm {libm:e}, fast {fast:e}, micromath {micro:e}");
+    let (libm, fast, micro) = (
+        sweep::<Libm>(stride),
+        sweep::<Fast>(stride),
+        sweep::<Micromath>(stride),
+    );
+    println!(
+        "orthonormality error, stride {stride}: libm {libm:e}, fast {fast:e}, micromath {micro:e}"
+    );
     // The full sweep's worst figures (module docs), with the last digit rounded up.
     assert!(libm <= 1.073e-6, "libm {libm:e}");
     assert!(fast <= 1.073e-6, "fast {fast:e}");
