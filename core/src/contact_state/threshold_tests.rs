@@ -454,3 +454,12 @@ fn torsion_limit_is_bracketed() {
     let t = torsion_limit(0.8, 1e-3, 0.005);
     assert!((t - 3.0 * core::f32::consts::PI / 16.0 * 0.8 * 1e-3 * 0.005).abs() < 1e-12);
 }
+
+/// The names written to files and logs.
+#[test]
+fn state_names_are_the_file_and_log_names() {
+    assert_eq!(
+        [Broken.name(), Rolling.name(), Sliding.name()],
+        ["broken", "rolling", "sliding"]
+    );
+}
