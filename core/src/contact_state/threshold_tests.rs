@@ -463,3 +463,41 @@ fn state_names_are_the_file_and_log_names() {
         ["broken", "rolling", "sliding"]
     );
 }
+
+/// Parameters whose thresholds are exact in binary, so a case can sit exactly on the boundary
+/// (f_N = 2 N): static cone μ_s·f_N·(1 + h) = 0.5·2·1.25 = 1.25 N, kinetic cone μ_k·f_N = 0.5 N,
+/// twist threshold f_N·μ_s/(k_τ·r) = 1/(2·0.5) = 1 rad/s.
+const EXACT: StateParams = StateParams {
+    mu_s: 0.5,
+    mu_k: 0.25,
+    k_tau: 2.0,
+    radius_m: 0.5,
+    hysteresis: 0.25,
+    ..P
+};
+
+/// Exactly on each strict inequality: the rule does not fire (`>`, not `≥`; `≤`, not `<`).
+#[test]
+fn exactly_on_the_cone_twist_and_kinetic_thresholds() {
+    let ask = |from, i: StateInputs| next_state(from, &i, &EXACT);
+    let on_cone = StateInputs {
+        tangential_force_n: x(1.25),
+        ..over_cone()
+    };
+    assert_eq!(ask(Rolling, on_cone), STAY_ROLLING, "|f_T| = cone");
+    let on_twist = StateInputs {
+        tilt_rate_sq: 1.0,
+        ..pressed()
+    };
+    assert_eq!(ask(Rolling, on_twist), STAY_ROLLING, "Δθ = Δθ_max");
+    let over_twist = StateInputs {
+        tilt_rate_sq: 1.0 + 1e-6,
+        ..pressed()
+    };
+    assert_eq!(ask(Rolling, over_twist), (Sliding, Reason::TwistExceeded));
+    let on_kinetic = StateInputs {
+        tangential_force_n: x(0.5),
+        ..ready_to_stick()
+    };
+    assert_eq!(ask(Sliding, on_kinetic), STUCK, "|f_T| = μ_k·f_N");
+}
