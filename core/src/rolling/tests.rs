@@ -6,6 +6,8 @@ use crate::surface::{Plane, Sphere};
 use nalgebra::{UnitQuaternion, Vector3};
 use std::{vec, vec::Vec};
 
+#[path = "large_step_tests.rs"]
+mod large_step_tests;
 #[path = "sphere_tests.rs"]
 mod sphere_tests;
 
