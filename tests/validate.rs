@@ -43,7 +43,7 @@ fn exact_method_meets_the_accuracy_target_on_the_paper_scene() {
     let reference = reference_for(&scene, &closed).unwrap();
     const PLANE_MM: f64 = 1.6e-5;
     const SPHERE_MM: f64 = 6.4e-6;
-    assert!(PLANE_MM < TARGET_MM && SPHERE_MM < TARGET_MM);
+    const { assert!(PLANE_MM < TARGET_MM && SPHERE_MM < TARGET_MM) };
     for backend in [Backend::Libm, Backend::Fast] {
         let v = exact(backend);
         let (plane, sphere) = worst_mm(v, &scene, &reference.paths);

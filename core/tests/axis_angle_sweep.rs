@@ -14,6 +14,7 @@
 //! (f32 rounding of the nine products).
 //! CI runs a coarser sweep (stride 4099) and checks it stays within the measured worst.
 
+use core::f32::consts::{FRAC_1_SQRT_2, FRAC_PI_3};
 use softfinger_core::{Fast, Libm, Math, Micromath, Rot3, Vec3};
 
 /// Largest |RᵀR − I| entry.
@@ -37,11 +38,11 @@ fn sweep<M: Math>(stride: u32) -> f32 {
         Vec3::new(0.0, 0.0, 1.0),
         Vec3::new(-1.0, 0.0, 0.0),
         Vec3::new(0.577_350_3, 0.577_350_3, 0.577_350_3),
-        Vec3::new(0.707_106_8, -0.707_106_8, 0.0),
+        Vec3::new(FRAC_1_SQRT_2, -FRAC_1_SQRT_2, 0.0),
         Vec3::new(0.3, 0.4, -0.866_025_4),
         Vec3::new(-0.1, 0.994_987_4, 0.0),
     ];
-    let mut angles: Vec<f32> = (0..24).map(|a| -12.0 + a as f32 * 1.047_197_6).collect();
+    let mut angles: Vec<f32> = (0..24).map(|a| -12.0 + a as f32 * FRAC_PI_3).collect();
     angles.extend([
         core::f32::consts::PI,
         -core::f32::consts::PI,
