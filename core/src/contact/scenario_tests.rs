@@ -165,3 +165,18 @@ fn rolling_on_a_sphere_couples_through_the_anchor_at_r_plus_rho() {
         prev = a;
     }
 }
+
+/// The force limit is a ceiling: however deep the probe, |F| (in f64 from the f32 components)
+/// never exceeds max_force_n, and the rescale lands within a few ulps below it.
+#[test]
+fn limited_force_never_exceeds_the_limit() {
+    for depth in [0.01f32, 0.1, 1.0, 7.3] {
+        let mut m = plane_model();
+        let o = m.contact_step(&input(Quat::IDENTITY, 0.001, -0.002, 0.01 - depth, 0.0));
+        assert!(o.flags.contains(Flags::OUTPUT_LIMITED), "depth {depth}");
+        let f = o.force_n;
+        let n = ((f.x as f64).powi(2) + (f.y as f64).powi(2) + (f.z as f64).powi(2)).sqrt();
+        assert!(n <= 12.0, "depth {depth}: |F| = {n}");
+        assert!(n >= 12.0 * (1.0 - 1e-6), "depth {depth}: |F| = {n}");
+    }
+}
