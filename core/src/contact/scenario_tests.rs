@@ -131,6 +131,29 @@ fn a_rejected_sample_reports_the_accumulated_spin() {
     assert_eq!(bad.state, ContactState::Rolling);
 }
 
+/// An early return reports the contact point where it is, not the origin.
+#[test]
+fn a_rejected_sample_reports_the_current_contact_point() {
+    let mut m = plane_model();
+    let o = m.contact_step(&input(Quat::IDENTITY, 0.004, -0.003, 0.009, 0.0));
+    assert!((o.object_point_m - Vec3::new(0.004, -0.003, 0.0)).norm_squared() < 1e-14);
+    let bad = m.contact_step(&input(Quat::IDENTITY, f32::INFINITY, 0.0, 0.009, 0.0));
+    assert!(bad.flags.contains(Flags::NON_FINITE_INPUT));
+    assert_eq!(bad.object_point_m, o.object_point_m);
+}
+
+/// A non-finite orientation while apart is flagged and changes nothing.
+#[test]
+fn a_non_finite_orientation_while_apart_is_flagged() {
+    let mut m = plane_model();
+    m.contact_step(&input(Quat::IDENTITY, 0.0, 0.0, 0.05, 0.0));
+    let nan = Quat::new(f32::NAN, 0.0, 0.0, 0.0);
+    let o = m.contact_step(&input(nan, 0.0, 0.0, 0.05, 0.0));
+    assert!(o.flags.contains(Flags::NON_FINITE_INPUT), "{:?}", o.flags);
+    assert_eq!((o.state, o.force_n), (ContactState::Broken, Vec3::ZERO));
+    assert_eq!(m.rolling.q_prev, Quat::IDENTITY);
+}
+
 /// Rolling on a sphere (R = 50 mm) with the probe held still: the anchor (fingertip centre implied
 /// by rolling) is at (R + ρ)·n, and the coupling renders K_t·(anchor − probe) + b_t·(anchor
 /// velocity), tangential parts, computed here from the surface's contact frame after each step.
