@@ -267,12 +267,9 @@ mod tests {
         let mut s = Sphere::new(0.1);
         s.place_under::<Libm>(Vec3::new(0.0, 0.11, 0.0));
         assert!((s.normal() - Vec3::Y).norm_squared() < 1e-10);
-        assert!(
-            s.penetration::<Libm>(Vec3::new(0.0, 0.105, 0.0), 0.01)
-                .abs()
-                - 0.005
-                < 1e-7
-        );
+        // R + r − |c| = 0.1 + 0.01 − 0.105 = +0.005 m (overlapping): two-sided, so a sign error fails.
+        let pen = s.penetration::<Libm>(Vec3::new(0.0, 0.105, 0.0), 0.01);
+        assert!((pen - 0.005).abs() < 1e-7, "penetration {pen}");
         s.place_under::<Libm>(Vec3::ZERO);
         assert!(
             (s.normal() - Vec3::Y).norm_squared() < 1e-10,

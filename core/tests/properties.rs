@@ -112,12 +112,14 @@ fn from_axis_angle_contract<M: Math>(axis: Vec3, angle: f32) -> Result<(), TestC
     } else if !f.intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS)
         && (M::NAME != "micromath" || angle.abs() <= 1.0e4)
     {
-        // A rotation: orthonormal. f32 Rodrigues gives ~1e-6 per entry; micromath's ~5 %
-        // sqrt (axis normalisation) and ~0.002 trig put it at ~0.2. Micromath's sin/cos are
+        // A rotation: orthonormal, within about 3x the worst error the sweep in
+        // axis_angle_sweep.rs measured over non-unit axes: 1.073e-6 for libm and fast (f32
+        // rounding), 0.3951 for micromath (its sqrt, 6.07 % off, leaves the normalised axis up to
+        // 6 % short; at angle π that gives RᵀR = I + 4(m²−1)·aaᵀ). Micromath's sin/cos are
         // specified for |x| ≤ 1e4 only (beyond, sin² + cos² drifts from 1: 0.014 at 1e5, 1 at
         // 1e8, and the wrapper returns 0 for both beyond 2^33), so larger angles are only
         // required to give finite entries.
-        let tol = if M::NAME == "micromath" { 0.25 } else { 1e-5 };
+        let tol = if M::NAME == "micromath" { 1.2 } else { 3.2e-6 };
         prop_assert!(orthonormal(&r, tol), "{axis:?} {angle} -> {r:?}");
     }
     Ok(())

@@ -3,8 +3,9 @@
 //! exact method's accuracy, against our exact rolling step (Libm and Fast) over the same 100 steps.
 //!
 //! `cargo bench -p host-sim --bench reference`. Each case is one whole pass over the 100 samples
-//! (throughput in elements = steps). After criterion, the ratios are printed from one interleaved
-//! measurement (the same one `host-sim validate` uses), so they come from a single run.
+//! (throughput in elements = steps); our pass computes both contact points each step, as the RK45
+//! cases compute both paths. After criterion, the ratios are printed from one interleaved
+//! measurement (the same one `host-sim validate` uses), round by round with their spread.
 
 use criterion::{BenchmarkId, Criterion, Throughput};
 use softfinger_core::decompose::Method;
@@ -20,10 +21,12 @@ use host_sim::validate::ours::{self, Backend, Variant};
 use host_sim::validate::timing::{self, Timing};
 use host_sim::validate::{closed_form, reference_for, run_ours};
 
+/// One pass: every step and both contact points after it, as the RK45 cases compute both paths.
 fn pass<M: Math>(start: Rolling<Plane>, samples: &[Quat]) -> Rolling<Plane> {
     let mut r = start;
     for &q in &samples[1..] {
         black_box(r.step::<M>(black_box(q)));
+        black_box((r.surface.point, r.finger_point()));
     }
     r
 }
@@ -111,17 +114,33 @@ fn main() {
             .case(&samples, scene.radius as f32),
         );
     }
-    let ns = timing::measure(&mut cases, Timing::STANDARD);
-    let (ours_ns, rk_ns) = (&ns[runs.len()..], &ns[..runs.len()]);
+    let rounds = timing::measure_rounds(&mut cases, Timing::STANDARD);
+    let median = |v: &[f64]| {
+        let mut v = v.to_vec();
+        v.sort_by(f64::total_cmp);
+        timing::median(&v)
+    };
+    let (ours, rk) = (&rounds[runs.len()..], &rounds[..runs.len()]);
     println!(
-        "\nns per step (interleaved median): exact/libm {:.1}, exact/fast {:.1}",
-        ours_ns[0], ours_ns[1]
+        "\nns per step (interleaved median of {} rounds, both contact points each step): \
+         exact/libm {:.1}, exact/fast {:.1}",
+        ours[0].len(),
+        median(&ours[0]),
+        median(&ours[1])
     );
-    for ((name, _), t) in runs.iter().zip(rk_ns) {
+    for ((name, _), t) in runs.iter().zip(rk) {
+        let spread = |o: &[f64]| match timing::ratio_spread(t, o) {
+            Some(s) => format!(
+                "{:.1}x (quartiles {:.1}-{:.1}x, range {:.1}-{:.1}x)",
+                s.median, s.q1, s.q3, s.min, s.max
+            ),
+            None => "n/a".to_string(),
+        };
         println!(
-            "  rk45 {name}: {t:.0} ns per step = {:.1}x exact/libm, {:.1}x exact/fast",
-            t / ours_ns[0],
-            t / ours_ns[1]
+            "  rk45 {name}: {:.0} ns per step; per round: {} exact/libm, {} exact/fast",
+            median(t),
+            spread(&ours[0]),
+            spread(&ours[1])
         );
     }
 }

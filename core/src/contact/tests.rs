@@ -4,6 +4,9 @@ use super::*;
 use crate::math::Libm;
 use crate::surface::Plane;
 
+#[path = "scenario_tests.rs"]
+mod scenario_tests;
+
 const DT: f32 = 1e-4; // 10 kHz
 
 fn model() -> ContactModel<Libm, Plane> {

@@ -2,6 +2,9 @@
 
 use super::*;
 
+#[path = "threshold_tests.rs"]
+mod threshold_tests;
+
 const P: StateParams = StateParams {
     mu_s: 0.8,
     mu_k: 0.6,

@@ -82,6 +82,9 @@ pub struct Validation {
     pub ode45_defaults: Vec<Rk45Run>,
     /// The classical method at matched accuracy, per call style that can reach it.
     pub matched: Vec<Rk45Run>,
+    /// Our speed-up over the cheapest classical run at matched accuracy, taken round by round over
+    /// the timing rounds (see [`timing::ratio_spread`]).
+    pub speedup_spread: Option<timing::Spread>,
 }
 
 impl Validation {
@@ -228,8 +231,18 @@ pub fn run(timing: Timing) -> Result<Validation, String> {
         .chain(&ode45_defaults)
         .chain(&matched);
     cases.extend(classical_runs.map(|r| r.case(sref)));
-    let ns = timing::measure(&mut cases, timing);
+    let rounds = timing::measure_rounds(&mut cases, timing);
     drop(cases);
+    let ns: Vec<f64> = rounds
+        .iter()
+        .map(|s| {
+            let mut s = s.clone();
+            s.sort_by(f64::total_cmp);
+            timing::median(&s)
+        })
+        .collect();
+    let n_ours = ours.len();
+    let matched_first = n_ours + 1 + ode45_defaults.len();
     let mut ns = ns.into_iter();
     for o in ours.iter_mut() {
         o.ns_per_step = ns.next().unwrap_or(f64::NAN);
@@ -241,7 +254,16 @@ pub fn run(timing: Timing) -> Result<Validation, String> {
         r.ns_per_step = ns.next();
     }
     let best = pick_best(&ours);
+    let timed_matched: Vec<(Rk45Call, f64)> = matched.iter().map(|m| (m.call, m.rtol)).collect();
     let matched = select_matched(matched, ours[best].errors.max_mm());
+    // The cheapest selected matched run, found again among the timed cases for its rounds.
+    let cheapest = matched
+        .iter()
+        .filter_map(|m| Some((m.ns_per_step?, m.call, m.rtol)))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .and_then(|(_, call, rtol)| timed_matched.iter().position(|&t| t == (call, rtol)));
+    let speedup_spread =
+        cheapest.and_then(|i| timing::ratio_spread(&rounds[matched_first + i], &rounds[best]));
     Ok(Validation {
         scene,
         reference,
@@ -250,6 +272,7 @@ pub fn run(timing: Timing) -> Result<Validation, String> {
         reference_run,
         ode45_defaults,
         matched,
+        speedup_spread,
     })
 }
 

@@ -102,11 +102,14 @@ fn paths_with<M: Math>(samples: &[Quat], radius_m: f32, method: Method) -> Paths
     out
 }
 
-/// One pass over the scene: every step, the final state returned (for `black_box`).
+/// One pass over the scene: every step, and both contact points after it (on the plane and on the
+/// fingertip), as the classical cases compute both paths; the final state returned (for
+/// `black_box`).
 fn pass<M: Math>(start: Rolling<Plane>, samples: &[Quat]) -> Rolling<Plane> {
     let mut r = start;
     for &q in samples.iter().skip(1) {
         black_box(r.step::<M>(black_box(q)));
+        black_box((r.surface.point, r.finger_point()));
     }
     r
 }

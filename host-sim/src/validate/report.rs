@@ -1,7 +1,8 @@
 //! `validate`'s output: an aligned table for people, JSON for scripts.
 //!
 //! JSON layout: `{"methods": [{"method", "plane_max_error_mm": [x, y, z], "sphere_max_error_mm": [x, y, z],
-//! "ns_per_step", "error_against", "rtol"?, "atol"?}, ...], "best", "speedup", "reference", "paper"}`.
+//! "ns_per_step", "error_against", "rtol"?, "atol"?}, ...], "best", "speedup", "speedup_spread"
+//! ({"median", "q1", "q3", "min", "max", "rounds"} of the per-round ratio, or null), "reference", "paper"}`.
 //! Our rows are named `method/backend` (e.g. `exact/libm`) and measured against the RK45 reference; the
 //! classical rows' names start with `rk45` and are measured against the closed form.
 
@@ -47,6 +48,7 @@ struct Json<'a> {
     methods: &'a [Row],
     best: String,
     speedup: Option<f64>,
+    speedup_spread: Option<super::timing::Spread>,
     reference: JsonReference,
     paper: JsonPaper,
 }
@@ -117,6 +119,7 @@ pub fn json(v: &Validation) -> Result<String, String> {
         methods: &rows,
         best: v.best().variant.name(),
         speedup: v.speedup(),
+        speedup_spread: v.speedup_spread,
         reference: JsonReference {
             method: "rk45-reference/restart",
             rtol: REFERENCE_TOLERANCES.0,
@@ -269,9 +272,17 @@ pub fn table(v: &Validation) -> String {
             );
             let _ = writeln!(
                 out,
-                "Speed-up (RK45 at matched accuracy / our best): {:.1}x   (paper: {paper_speedup:.0}x)",
+                "Speed-up (RK45 at matched accuracy / our best, both computing both contact paths): \
+                 {:.1}x   (paper: {paper_speedup:.0}x)",
                 ns / best.ns_per_step
             );
+            if let Some(s) = v.speedup_spread {
+                let _ = writeln!(
+                    out,
+                    "  per timing round: median {:.1}x, quartiles {:.1}x-{:.1}x, range {:.1}x-{:.1}x over {} rounds",
+                    s.median, s.q1, s.q3, s.min, s.max, s.rounds
+                );
+            }
         }
         None => {
             let _ = writeln!(

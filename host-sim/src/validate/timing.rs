@@ -6,6 +6,9 @@
 //! round starting one case further on), and each case's median batch gives its figure. Interleaving the cases spreads any disturbance from other
 //! processes on a shared machine over all of them, and the median discards the disturbed batches. Pass
 //! results go through [`std::hint::black_box`] so the optimiser cannot drop the work.
+//!
+//! A speed ratio between two cases is taken round by round (both timed in the same round, moments
+//! apart) and reported with its spread over the rounds ([`Spread`]), not as one ratio of medians.
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -64,6 +67,17 @@ impl<'a> Case<'a> {
 
 /// Median time per step (ns) of every case, in order.
 pub fn measure(cases: &mut [Case<'_>], timing: Timing) -> Vec<f64> {
+    measure_rounds(cases, timing)
+        .into_iter()
+        .map(|mut s| {
+            s.sort_by(f64::total_cmp);
+            median(&s)
+        })
+        .collect()
+}
+
+/// Time per step (ns) of every case in every round: `result[case][round]`.
+pub fn measure_rounds(cases: &mut [Case<'_>], timing: Timing) -> Vec<Vec<f64>> {
     let reps: Vec<u64> = cases
         .iter_mut()
         .map(|c| calibrate(c, timing.min_batch))
@@ -80,13 +94,54 @@ pub fn measure(cases: &mut [Case<'_>], timing: Timing) -> Vec<f64> {
         }
     }
     per_pass
-        .iter_mut()
+        .into_iter()
         .zip(cases.iter())
-        .map(|(s, c)| {
-            s.sort_by(f64::total_cmp);
-            median(s) / c.steps.max(1) as f64
-        })
+        .map(|(s, c)| s.into_iter().map(|t| t / c.steps.max(1) as f64).collect())
         .collect()
+}
+
+/// The spread of a ratio over the timing rounds: median, quartiles and extremes.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Spread {
+    /// Median of the per-round ratios.
+    pub median: f64,
+    /// Lower quartile.
+    pub q1: f64,
+    /// Upper quartile.
+    pub q3: f64,
+    /// Smallest per-round ratio.
+    pub min: f64,
+    /// Largest per-round ratio.
+    pub max: f64,
+    /// Number of rounds.
+    pub rounds: usize,
+}
+
+/// The per-round ratio `numerator[r] / denominator[r]` (two cases timed in the same round r) and its
+/// spread; `None` when there is no round or a time is not positive and finite.
+pub fn ratio_spread(numerator: &[f64], denominator: &[f64]) -> Option<Spread> {
+    let ok = |t: &f64| t.is_finite() && *t > 0.0;
+    if numerator.is_empty() || numerator.len() != denominator.len() {
+        return None;
+    }
+    if !numerator.iter().all(ok) || !denominator.iter().all(ok) {
+        return None;
+    }
+    let mut r: Vec<f64> = numerator
+        .iter()
+        .zip(denominator)
+        .map(|(a, b)| a / b)
+        .collect();
+    r.sort_by(f64::total_cmp);
+    let n = r.len();
+    Some(Spread {
+        median: median(&r),
+        q1: median(&r[..n / 2 + n % 2]),
+        q3: median(&r[n / 2..]),
+        min: r[0],
+        max: r[n - 1],
+        rounds: n,
+    })
 }
 
 /// Passes per batch for `case` to last at least `min_batch` (also warms caches and branch predictors).
@@ -116,7 +171,7 @@ fn time_batch(reps: u64, case: &mut Case<'_>) -> Duration {
 }
 
 /// Median of a sorted slice (mean of the two middle values for an even length); 0 if empty.
-fn median(sorted: &[f64]) -> f64 {
+pub fn median(sorted: &[f64]) -> f64 {
     match sorted.len() {
         0 => 0.0,
         n if n % 2 == 1 => sorted[n / 2],
@@ -134,6 +189,25 @@ mod tests {
         assert_eq!(median(&[1.0, 2.0, 10.0]), 2.0);
         assert_eq!(median(&[1.0, 2.0, 4.0, 10.0]), 3.0);
         assert_eq!(median(&[]), 0.0);
+    }
+
+    #[test]
+    fn ratio_spread_is_taken_round_by_round() {
+        // Rounds where both cases were slowed together give the same ratio: per-round ratios see
+        // through a disturbance that a ratio of medians would not.
+        let rk = [20.0, 40.0, 22.0, 200.0, 21.0];
+        let ours = [1.0, 2.0, 1.0, 10.0, 1.0];
+        let s = ratio_spread(&rk, &ours).unwrap();
+        assert_eq!(
+            (s.min, s.q1, s.median, s.q3, s.max),
+            (20.0, 20.0, 20.0, 21.0, 22.0)
+        );
+        assert_eq!(s.rounds, 5);
+        let even = ratio_spread(&[4.0, 8.0, 12.0, 16.0], &[1.0; 4]).unwrap();
+        assert_eq!((even.q1, even.median, even.q3), (6.0, 10.0, 14.0));
+        assert_eq!(ratio_spread(&[], &[]), None);
+        assert_eq!(ratio_spread(&[1.0], &[0.0]), None);
+        assert_eq!(ratio_spread(&[1.0, 2.0], &[1.0]), None);
     }
 
     #[test]
