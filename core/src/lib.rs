@@ -24,6 +24,7 @@ pub mod decompose;
 pub mod delta;
 pub mod device;
 pub mod encoder;
+pub mod fixed;
 pub mod flags;
 pub mod math;
 pub mod output_guard;

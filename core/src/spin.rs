@@ -11,6 +11,8 @@
 //! outward normal and τn = +k_z·φ_el has the same sign; the moment the contact exerts on the
 //! fingertip (what a 6-DoF device would render on the hand) is −τn.
 
+use crate::fixed::Fixed;
+
 /// Coefficient of the Hertzian torsional friction limit, 3π/16.
 pub const HERTZ_TORSION_COEFF: f32 = 3.0 * core::f32::consts::PI / 16.0;
 
@@ -25,13 +27,21 @@ pub fn torsion_limit(mu: f32, normal_force_n: f32, patch_radius_m: f32) -> f32 {
 }
 
 /// The torsion spring's state.
+///
+/// The total spin Σδφ is a fixed-point sum ([`Fixed`]) and the elastic twist is its difference from
+/// the slip offset (also fixed point), which only a slip changes: a zero δφ changes nothing, and a
+/// fingertip that twists back by the exact negated increments returns its spin and, unless the
+/// spring slipped meanwhile, its torque bit for bit. A spring that slipped keeps its offset: that
+/// is friction, not creep.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SpinSpring {
-    /// Elastic twist φ_el, rad.
+    /// Elastic twist φ_el, rad (read-only: a cache of `total − offset`).
     pub elastic_rad: f32,
-    /// Total spin Σδφ since the contact began, rad.
+    /// Total spin Σδφ since the contact began, rad (read-only: a cache of `total`).
     pub accumulated_rad: f32,
+    total: Fixed,
+    offset: Fixed,
 }
 
 impl SpinSpring {
@@ -39,18 +49,20 @@ impl SpinSpring {
     /// `tau_max` in N·m (≥ 0). Non-finite `dphi` is ignored (the caller flags it).
     pub fn update(&mut self, dphi: f32, k_z: f32, tau_max: f32) -> (f32, bool) {
         if dphi.is_finite() {
-            self.elastic_rad += dphi;
-            self.accumulated_rad += dphi;
+            self.total.add_f32(dphi);
+            self.accumulated_rad = self.total.to_f32();
         }
         let limit = if k_z > 0.0 { tau_max / k_z } else { 0.0 };
-        let saturated = self.elastic_rad.abs() > limit;
-        if saturated {
-            self.elastic_rad = if self.elastic_rad > 0.0 {
-                limit
-            } else {
-                -limit
-            };
-        }
+        let el = self.total.minus(self.offset).to_f32();
+        let saturated = el.abs() > limit;
+        self.elastic_rad = if saturated {
+            // Slip: move the offset so the elastic twist sits on the limit.
+            let e = if el > 0.0 { limit } else { -limit };
+            self.offset = self.total.minus(Fixed::from_f32(e));
+            e
+        } else {
+            el
+        };
         (k_z * self.elastic_rad, saturated)
     }
 

@@ -31,6 +31,9 @@ pub enum Command {
     /// Speed against accuracy as SVG charts (per method x backend x sampling rate, RK45 at several
     /// tolerances, Pareto front), the paper's Fig. 3, and the MCU instruction counts against accuracy.
     Chart(crate::chart::Args),
+    /// Creep at rest (identical and dithering samples, held contact, closed-loop hold) for every
+    /// method and backend on the plane.
+    Creep(crate::creep::Args),
 }
 
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
@@ -54,6 +57,7 @@ where
         Some(Command::Soak(args)) => crate::faults::soak::main(&args),
         Some(Command::Validate(args)) => crate::validate::main(&args),
         Some(Command::Chart(args)) => crate::chart::main(&args),
+        Some(Command::Creep(args)) => crate::creep::main(&args),
         Some(Command::Stability(args)) => crate::stability::main(&args),
         None => crate::run::main(&crate::run::Args::default()),
     };

@@ -5,6 +5,7 @@ pub mod atomic_file;
 pub mod chart;
 pub mod cli;
 pub mod closed_loop;
+pub mod creep;
 pub mod faults;
 pub mod plant;
 pub mod reference;
