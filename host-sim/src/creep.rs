@@ -137,6 +137,11 @@ pub struct HoldForces {
     /// With one wrist count dithering every tick: the largest tangential force averaged over each
     /// pair of ticks (the dither's damping force alternates sign tick by tick and cancels).
     pub dither_pair_max_n: f64,
+    /// Wrist still: tangential stiffness × the largest walk of the rolling anchor (contact point)
+    /// from where it was after 1 s of hold: the part of the rendered force that creep would make.
+    pub still_anchor_walk_n: f64,
+    /// The same with the wrist dithering.
+    pub dither_anchor_walk_n: f64,
     /// The force of one encoder count of displacement.
     pub one_count_n: f64,
 }
@@ -148,16 +153,24 @@ pub fn closed_loop_hold<M: Math>(method: Method, hold_s: f64) -> Result<HoldForc
         method,
         ..ContactParams::DEFAULT
     };
-    let still = hold_run::<M>(contact, hold_s, false)?;
-    let dither = hold_run::<M>(contact, hold_s, true)?;
+    let (still, still_walk) = hold_run::<M>(contact, hold_s, false)?;
+    let (dither, dither_walk) = hold_run::<M>(contact, hold_s, true)?;
+    let k_t = contact.tangential_stiffness as f64;
     Ok(HoldForces {
         still_max_n: still,
         dither_pair_max_n: dither,
+        still_anchor_walk_n: k_t * still_walk,
+        dither_anchor_walk_n: k_t * dither_walk,
         one_count_n: one_count_force_n(&contact),
     })
 }
 
-fn hold_run<M: Math>(contact: ContactParams, hold_s: f64, dither: bool) -> Result<f64, String> {
+/// (largest tangential force, N; largest anchor walk, m) of one hold.
+fn hold_run<M: Math>(
+    contact: ContactParams,
+    hold_s: f64,
+    dither: bool,
+) -> Result<(f64, f64), String> {
     let top = closed_loop::surface_top_z_m();
     let c = DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
     let wrist = [0.3, -0.2, 0.1];
@@ -197,6 +210,8 @@ fn hold_run<M: Math>(contact: ContactParams, hold_s: f64, dither: bool) -> Resul
     let settle = (1.5 * rate) as u64;
     let mut worst = 0.0f64;
     let mut prev = [0.0f64; 2];
+    let mut anchor0: Option<Vec3> = None;
+    let mut walk = 0.0f64;
     closed_loop::simulate(
         &mut ctrl,
         &mut plant,
@@ -206,7 +221,12 @@ fn hold_run<M: Math>(contact: ContactParams, hold_s: f64, dither: bool) -> Resul
                 input.counts[4] += (k & 1) as i32
             }
         },
-        |k, _, out, _, _| {
+        |k, _, out, ctrl, _| {
+            let a = ctrl.contact().rolling.surface.contact_point();
+            if k >= settle {
+                let a0 = *anchor0.get_or_insert(a);
+                walk = walk.max((a - a0).norm::<Libm>() as f64);
+            }
             let f = [out.force_n.x as f64, out.force_n.y as f64];
             let g = if dither {
                 [(f[0] + prev[0]) / 2.0, (f[1] + prev[1]) / 2.0]
@@ -219,7 +239,7 @@ fn hold_run<M: Math>(contact: ContactParams, hold_s: f64, dither: bool) -> Resul
             }
         },
     );
-    Ok(worst)
+    Ok((worst, walk))
 }
 
 fn per_backend(args: &Args, method: Method) -> Result<(), String> {
@@ -237,8 +257,8 @@ fn per_backend(args: &Args, method: Method) -> Result<(), String> {
             let cl = if args.hold_s > 0.0 {
                 let h = closed_loop_hold::<$m>(method, args.hold_s)?;
                 format!(
-                    "still {:.3e} N, dither (pair mean) {:.3e} N, one count {:.3e} N",
-                    h.still_max_n, h.dither_pair_max_n, h.one_count_n
+                    "still {:.3e} N (anchor walk {:.3e} N), dither pair mean {:.3e} N (anchor walk {:.3e} N), one count {:.3e} N",
+                    h.still_max_n, h.still_anchor_walk_n, h.dither_pair_max_n, h.dither_anchor_walk_n, h.one_count_n
                 )
             } else {
                 "skipped".to_string()
