@@ -4,14 +4,14 @@
 //! with Kahan compensation), `(s + d) − d` is not `s`: a fingertip dithering between two encoder
 //! counts walks its contact point away one rounding at a time. Here the sum is an `i64` in units of
 //! 2⁻⁴⁴ (5.7e-14 m for lengths, 5.7e-14 rad for angles; range ±5.2e5 m or rad). Each increment is
-//! rounded once to that unit, by a rounding that is odd (`round(−x) = −round(x)`), and integer
+//! truncated once to that unit, by a rounding that is odd (`trunc(−x) = −trunc(x)`), and integer
 //! addition is exact and associative, so:
 //!
 //! - a zero increment leaves the sum bit for bit unchanged;
 //! - an increment followed by its exact negative returns the sum bit for bit;
 //! - any sequence of increments followed by their negatives in any order returns it too.
 //!
-//! The price is one rounding of at most half a unit (2.8e-14) per increment, independent of the
+//! The price is one truncation of less than one unit (5.7e-14) per increment, independent of the
 //! size of the sum, where f32 rounds to half an ulp of the sum (4.7e-10 m at 1 cm).
 //!
 //! Conversion to f32 (for output) is correctly rounded up to one ulp: the high and low 32-bit
@@ -35,43 +35,44 @@ impl Fixed {
     /// Zero.
     pub const ZERO: Fixed = Fixed(0);
 
-    /// `x` rounded to the nearest unit (ties away from zero). Odd: `from_f32(−x) == −from_f32(x)`
-    /// bit for bit. NaN gives zero; beyond ±5.2e5 saturates.
+    /// `x` truncated to a whole number of units (towards zero). Odd: `from_f32(−x) == −from_f32(x)`
+    /// bit for bit. NaN gives zero; beyond ±5.2e5 saturates. (Truncation rather than rounding to
+    /// nearest saves instructions on the M4F; its bias, below one unit = 5.7e-14 per increment, is
+    /// 5.7e-8 after 10⁶ increments.)
     #[inline]
     pub fn from_f32(x: f32) -> Fixed {
         let s = x * SCALE; // exact: a power of two
-        let r = s + 0.5f32.copysign(s);
-        if r.abs() < I32_FAST {
+        if s.abs() < I32_FAST {
             // `as` truncates towards zero (odd) and saturates; NaN becomes 0.
-            Fixed(r as i32 as i64)
+            Fixed(s as i32 as i64)
         } else {
-            Fixed(r as i64)
+            Fixed(s as i64)
         }
     }
 
     /// The value as f32 (within one f32 ulp). Odd: `Fixed(−v).to_f32() == −Fixed(v).to_f32()`.
+    ///
+    /// v = hi·2³² + lo with lo the low 32 bits read as signed, so both halves convert with one
+    /// signed conversion each, a small v (hi = 0) converts exactly once, and the split of −v is
+    /// the negated split of v.
     #[inline]
     pub fn to_f32(self) -> f32 {
-        let a = self.0.unsigned_abs();
-        let m = (a >> 32) as u32 as f32 * HIGH_WEIGHT + a as u32 as f32 * INV_SCALE;
-        if self.0 < 0 {
-            -m
-        } else {
-            m
-        }
+        let lo = self.0 as i32;
+        let hi = (self.0.wrapping_sub(lo as i64) >> 32) as i32;
+        hi as f32 * HIGH_WEIGHT + lo as f32 * INV_SCALE
     }
 
-    /// Add an f32 increment (rounded once, see [`Fixed::from_f32`]). Wraps never: the sum
-    /// saturates at the ends of the i64 range.
+    /// Add an f32 increment (truncated once, see [`Fixed::from_f32`]). The sum wraps only beyond
+    /// ±5.2e5, far outside any workspace.
     #[inline]
     pub fn add_f32(&mut self, d: f32) {
-        self.0 = self.0.saturating_add(Fixed::from_f32(d).0);
+        self.0 = self.0.wrapping_add(Fixed::from_f32(d).0);
     }
 
-    /// `self − other`, saturating.
+    /// `self − other` (wrapping, see [`Fixed::add_f32`]).
     #[inline]
     pub fn minus(self, other: Fixed) -> Fixed {
-        Fixed(self.0.saturating_sub(other.0))
+        Fixed(self.0.wrapping_sub(other.0))
     }
 }
 
@@ -88,7 +89,7 @@ mod tests {
         ] {
             let f = Fixed::from_f32(x);
             let as64 = f.0 as f64 / 2f64.powi(44);
-            assert!((as64 - x as f64).abs() <= 0.5 / 2f64.powi(44) + (x as f64).abs() * 1e-15);
+            assert!((as64 - x as f64).abs() <= 1.0 / 2f64.powi(44) + (x as f64).abs() * 1e-15, "{x}");
             let back = f.to_f32();
             assert!(
                 (back as f64 - as64).abs() <= (as64.abs() * f32::EPSILON as f64).max(1e-45),

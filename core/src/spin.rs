@@ -42,6 +42,8 @@ pub struct SpinSpring {
     pub accumulated_rad: f32,
     total: Fixed,
     offset: Fixed,
+    /// `offset` as f32 (so the total needs no second conversion: total = φ_el + offset).
+    offset_rad: f32,
 }
 
 impl SpinSpring {
@@ -50,7 +52,6 @@ impl SpinSpring {
     pub fn update(&mut self, dphi: f32, k_z: f32, tau_max: f32) -> (f32, bool) {
         if dphi.is_finite() {
             self.total.add_f32(dphi);
-            self.accumulated_rad = self.total.to_f32();
         }
         let limit = if k_z > 0.0 { tau_max / k_z } else { 0.0 };
         let el = self.total.minus(self.offset).to_f32();
@@ -59,10 +60,13 @@ impl SpinSpring {
             // Slip: move the offset so the elastic twist sits on the limit.
             let e = if el > 0.0 { limit } else { -limit };
             self.offset = self.total.minus(Fixed::from_f32(e));
-            e
+            self.offset_rad = self.offset.to_f32();
+            self.total.minus(self.offset).to_f32()
         } else {
             el
         };
+        // A function of the state alone (both terms are), so it returns when the state does.
+        self.accumulated_rad = self.elastic_rad + self.offset_rad;
         (k_z * self.elastic_rad, saturated)
     }
 
