@@ -73,7 +73,7 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = SurfaceKind::Plane)]
     pub surface: SurfaceKind,
     /// Object radius R for sphere, bowl and cylinder, m (bowl: larger than --radius-m).
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
     pub object_radius_m: f64,
 }
 
