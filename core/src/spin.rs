@@ -119,4 +119,32 @@ mod tests {
         let (tau, _) = s.update(f32::NAN, 0.05, 1.0);
         assert!(tau.is_finite());
     }
+
+    /// Twisting back by the exact negated increments returns the spin and the torque bit for bit;
+    /// after a slip the spring keeps its offset (friction), and the total spin still returns.
+    #[test]
+    fn twisting_back_returns_exactly_and_a_slip_keeps_its_offset() {
+        let incs: [f32; 5] = [3.1e-4, -1.7e-4, 2.9e-5, 4.4e-4, -6.0e-6];
+        let mut s = SpinSpring::default();
+        let _ = s.update(0.0123, 0.05, 1.0);
+        let start = s;
+        for _ in 0..10_000 {
+            for d in incs {
+                let _ = s.update(d, 0.05, 1.0);
+            }
+            for d in incs.iter().rev() {
+                let _ = s.update(-*d, 0.05, 1.0);
+            }
+        }
+        assert_eq!(s, start);
+        // Slip: limit 1e-3 rad (τ_max 5e-5 N·m at k_z 0.05).
+        let mut s = SpinSpring::default();
+        let (_, sat) = s.update(0.004, 0.05, 5e-5);
+        assert!(sat);
+        // Back by the limit: the spring is exactly unwound, 3 mrad of slip stay in the total.
+        let (tau, sat) = s.update(-0.001, 0.05, 5e-5);
+        assert!(!sat);
+        assert_eq!((tau, s.elastic_rad), (0.0, 0.0));
+        assert!((s.accumulated_rad - 0.003).abs() < 1e-9, "{}", s.accumulated_rad);
+    }
 }
