@@ -134,6 +134,9 @@ pub fn one_count_force_n(params: &ContactParams) -> f64 {
 pub struct HoldForces {
     /// Largest rendered tangential force after 1 s of hold, wrist still.
     pub still_max_n: f64,
+    /// Wrist still: the largest change of the rendered tangential force (vector) from its value
+    /// after 1 s of hold.
+    pub still_growth_n: f64,
     /// With one wrist count dithering every tick: the largest tangential force averaged over each
     /// pair of ticks (the dither's damping force alternates sign tick by tick and cancels).
     pub dither_pair_max_n: f64,
@@ -153,11 +156,12 @@ pub fn closed_loop_hold<M: Math>(method: Method, hold_s: f64) -> Result<HoldForc
         method,
         ..ContactParams::DEFAULT
     };
-    let (still, still_walk) = hold_run::<M>(contact, hold_s, false)?;
-    let (dither, dither_walk) = hold_run::<M>(contact, hold_s, true)?;
+    let (still, still_walk, growth) = hold_run::<M>(contact, hold_s, false)?;
+    let (dither, dither_walk, _) = hold_run::<M>(contact, hold_s, true)?;
     let k_t = contact.tangential_stiffness as f64;
     Ok(HoldForces {
         still_max_n: still,
+        still_growth_n: growth,
         dither_pair_max_n: dither,
         still_anchor_walk_n: k_t * still_walk,
         dither_anchor_walk_n: k_t * dither_walk,
@@ -165,12 +169,13 @@ pub fn closed_loop_hold<M: Math>(method: Method, hold_s: f64) -> Result<HoldForc
     })
 }
 
-/// (largest tangential force, N; largest anchor walk, m) of one hold.
+/// (largest tangential force, N; largest anchor walk, m; largest change of the force, N) of one
+/// hold.
 fn hold_run<M: Math>(
     contact: ContactParams,
     hold_s: f64,
     dither: bool,
-) -> Result<(f64, f64), String> {
+) -> Result<(f64, f64, f64), String> {
     let top = closed_loop::surface_top_z_m();
     let c = DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
     let wrist = [0.3, -0.2, 0.1];
@@ -212,6 +217,8 @@ fn hold_run<M: Math>(
     let mut prev = [0.0f64; 2];
     let mut anchor0: Option<Vec3> = None;
     let mut walk = 0.0f64;
+    let mut f0: Option<[f64; 2]> = None;
+    let mut growth = 0.0f64;
     closed_loop::simulate(
         &mut ctrl,
         &mut plant,
@@ -236,10 +243,12 @@ fn hold_run<M: Math>(
             prev = f;
             if k >= settle && (!dither || k % 2 == 1) {
                 worst = worst.max((g[0] * g[0] + g[1] * g[1]).sqrt());
+                let a = *f0.get_or_insert(g);
+                growth = growth.max(((g[0] - a[0]).powi(2) + (g[1] - a[1]).powi(2)).sqrt());
             }
         },
     );
-    Ok((worst, walk))
+    Ok((worst, walk, growth))
 }
 
 fn per_backend(args: &Args, method: Method) -> Result<(), String> {
@@ -257,8 +266,8 @@ fn per_backend(args: &Args, method: Method) -> Result<(), String> {
             let cl = if args.hold_s > 0.0 {
                 let h = closed_loop_hold::<$m>(method, args.hold_s)?;
                 format!(
-                    "still {:.3e} N (anchor walk {:.3e} N), dither pair mean {:.3e} N (anchor walk {:.3e} N), one count {:.3e} N",
-                    h.still_max_n, h.still_anchor_walk_n, h.dither_pair_max_n, h.dither_anchor_walk_n, h.one_count_n
+                    "still {:.3e} N (change {:.3e} N, anchor walk {:.3e} N), dither pair mean {:.3e} N (anchor walk {:.3e} N), one count {:.3e} N",
+                    h.still_max_n, h.still_growth_n, h.still_anchor_walk_n, h.dither_pair_max_n, h.dither_anchor_walk_n, h.one_count_n
                 )
             } else {
                 "skipped".to_string()
