@@ -26,6 +26,7 @@ pub mod device;
 pub mod encoder;
 pub mod fixed;
 pub mod flags;
+pub mod limit_surface;
 pub mod math;
 pub mod output_guard;
 pub mod params;
