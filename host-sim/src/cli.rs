@@ -34,6 +34,8 @@ pub enum Command {
     /// Creep at rest (identical and dithering samples, held contact, closed-loop hold) for every
     /// method and backend on the plane.
     Creep(crate::creep::Args),
+    /// The ellipsoidal limit surface against the numerically integrated Hertzian one.
+    LimitSurface(crate::limit_surface_cmd::Args),
 }
 
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
@@ -58,6 +60,7 @@ where
         Some(Command::Validate(args)) => crate::validate::main(&args),
         Some(Command::Chart(args)) => crate::chart::main(&args),
         Some(Command::Creep(args)) => crate::creep::main(&args),
+        Some(Command::LimitSurface(args)) => crate::limit_surface_cmd::main(&args),
         Some(Command::Stability(args)) => crate::stability::main(&args),
         None => crate::run::main(&crate::run::Args::default()),
     };

@@ -6,6 +6,7 @@ pub mod chart;
 pub mod cli;
 pub mod closed_loop;
 pub mod creep;
+pub mod limit_surface_cmd;
 pub mod faults;
 pub mod plant;
 pub mod reference;

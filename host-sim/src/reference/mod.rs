@@ -16,6 +16,7 @@
 pub mod closed_form;
 pub mod montana;
 pub mod montana_paths;
+pub mod limit_surface;
 pub mod rk45;
 pub mod rolling_ode;
 pub mod scene;
