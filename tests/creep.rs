@@ -18,8 +18,14 @@ fn a_held_finger_does_not_creep_in_closed_loop() {
         let h = closed_loop_hold::<Fast>(method, 3.0).unwrap();
         assert_eq!(h.still_anchor_walk_n, 0.0, "{method:?} still: {h:?}");
         let step_n = 1000.0 * 0.01 * std::f64::consts::TAU / 4096.0;
-        assert!(h.dither_anchor_walk_n <= 1.01 * step_n, "{method:?} dither: {h:?}");
-        assert!(h.dither_anchor_walk_n >= 0.99 * step_n, "{method:?} the dither rolls: {h:?}");
+        assert!(
+            h.dither_anchor_walk_n <= 1.01 * step_n,
+            "{method:?} dither: {h:?}"
+        );
+        assert!(
+            h.dither_anchor_walk_n >= 0.99 * step_n,
+            "{method:?} the dither rolls: {h:?}"
+        );
         // One encoder count of displacement: K_t × 12.7 µm (the Omega-like delta at the centre).
         assert!((h.one_count_n - 0.01274).abs() < 1e-4, "{h:?}");
     }

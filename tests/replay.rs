@@ -219,8 +219,11 @@ fn every_surface_follows_the_rolling_reference() {
     use host_sim::validate::surfaces::samples;
     let dir = tmpdir("surfaces");
     let s = samples();
-    let qs: Vec<(f64, UnitQuaternion<f64>)> =
-        s.iter().enumerate().map(|(k, q)| (k as f64 * 1e-3, *q)).collect();
+    let qs: Vec<(f64, UnitQuaternion<f64>)> = s
+        .iter()
+        .enumerate()
+        .map(|(k, q)| (k as f64 * 1e-3, *q))
+        .collect();
     write_quats(&dir.join("in.csv"), &qs);
     for (name, object, bound_mm) in [
         ("plane", Object::Plane, 1e-4),
@@ -258,7 +261,12 @@ fn every_surface_follows_the_rolling_reference() {
         assert_eq!(column(&rows, "sphere_z_m"), column(&rows, "finger_z_m"));
     }
     // The start conventions: (0, 0, R) on the sphere and the cylinder, (0, 0, −R) in the bowl.
-    for (name, z0) in [("sphere", 0.05), ("bowl", -0.05), ("cylinder", 0.05), ("plane", 0.0)] {
+    for (name, z0) in [
+        ("sphere", 0.05),
+        ("bowl", -0.05),
+        ("cylinder", 0.05),
+        ("plane", 0.0),
+    ] {
         let rows = read_rows(&dir.join(format!("{name}.csv")));
         assert_eq!(column(&rows, "object_z_m")[0], z0, "{name}");
     }

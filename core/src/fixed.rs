@@ -89,7 +89,10 @@ mod tests {
         ] {
             let f = Fixed::from_f32(x);
             let as64 = f.0 as f64 / 2f64.powi(44);
-            assert!((as64 - x as f64).abs() <= 1.0 / 2f64.powi(44) + (x as f64).abs() * 1e-15, "{x}");
+            assert!(
+                (as64 - x as f64).abs() <= 1.0 / 2f64.powi(44) + (x as f64).abs() * 1e-15,
+                "{x}"
+            );
             let back = f.to_f32();
             assert!(
                 (back as f64 - as64).abs() <= (as64.abs() * f32::EPSILON as f64).max(1e-45),

@@ -70,7 +70,11 @@ pub fn project(
         return (0.0, s);
     }
     if !(tau_max > 0.0) || !(k_z > 0.0) {
-        let s = if f_trial > f_max { f_max / f_trial } else { 1.0 };
+        let s = if f_trial > f_max {
+            f_max / f_trial
+        } else {
+            1.0
+        };
         return (s, 0.0);
     }
     let a = k_t / (f_max * f_max);
@@ -136,7 +140,13 @@ mod tests {
     #[test]
     fn projection_is_the_closest_point_and_slips_along_the_normal() {
         let (fm, tm, kt, kz) = (1.6f32, 0.004f32, 1000.0f32, 0.01f32);
-        for &(ft, tt) in &[(2.0f32, 0.003f32), (1.0, 0.006), (3.0, 0.0), (0.0, 0.01), (1.5, -0.004)] {
+        for &(ft, tt) in &[
+            (2.0f32, 0.003f32),
+            (1.0, 0.006),
+            (3.0, 0.0),
+            (0.0, 0.01),
+            (1.5, -0.004),
+        ] {
             let (sf, st) = project(ft, tt, fm, tm, kt, kz);
             let (f, t) = (ft * sf, tt * st);
             let on = (f / fm).powi(2) + (t / tm).powi(2);
@@ -145,7 +155,10 @@ mod tests {
             let (sv, sw) = ((ft - f) / kt, (tt - t) / kz);
             let cross = sv as f64 * (t / (tm * tm)) as f64 - sw as f64 * (f / (fm * fm)) as f64;
             let scale = (sv.abs() as f64 * (t.abs() / (tm * tm)) as f64).max(1e-30);
-            assert!(cross.abs() <= 1e-4 * scale.max(sw.abs() as f64 * (f / (fm * fm)) as f64), "({ft}, {tt})");
+            assert!(
+                cross.abs() <= 1e-4 * scale.max(sw.abs() as f64 * (f / (fm * fm)) as f64),
+                "({ft}, {tt})"
+            );
             // Brute force.
             let mut best = (f64::INFINITY, 0.0, 0.0);
             for k in 0..100_000 {
@@ -156,8 +169,16 @@ mod tests {
                     best = (e, bf, bt);
                 }
             }
-            assert!((best.1 - f as f64).abs() < 2e-3 * fm as f64, "({ft}, {tt}) f {f} vs {}", best.1);
-            assert!((best.2 - t as f64).abs() < 2e-3 * tm as f64, "({ft}, {tt}) t {t} vs {}", best.2);
+            assert!(
+                (best.1 - f as f64).abs() < 2e-3 * fm as f64,
+                "({ft}, {tt}) f {f} vs {}",
+                best.1
+            );
+            assert!(
+                (best.2 - t as f64).abs() < 2e-3 * tm as f64,
+                "({ft}, {tt}) t {t} vs {}",
+                best.2
+            );
         }
         assert_eq!(project(1.0, 0.001, fm, tm, kt, kz), (1.0, 1.0));
         let (sf, st) = project(1.0, 0.01, 0.0, tm, kt, kz);

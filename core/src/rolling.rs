@@ -118,8 +118,7 @@ impl<S: Surface> Rolling<S> {
     pub fn finger_point(&self) -> Vec3 {
         // q_prev is within 1e-3 of unit norm but not normalised (see `step`).
         let (q, _) = self.q_prev.normalized_checked::<crate::math::Fast>();
-        q.conjugate()
-            .rotate(self.surface.normal() * -self.radius_m)
+        q.conjugate().rotate(self.surface.normal() * -self.radius_m)
     }
 
     /// Restart the contact at orientation `q` (after a break or a slide).

@@ -70,6 +70,18 @@ impl SpinSpring {
         (k_z * self.elastic_rad, saturated)
     }
 
+    /// Slip the spring so its elastic twist is `el` (rad), keeping the total spin: the offset
+    /// moves (friction). Used by the limit-surface projection of the sliding proxy.
+    pub fn slip_to(&mut self, el: f32) {
+        if el == self.elastic_rad || !el.is_finite() {
+            return;
+        }
+        self.offset = self.total.minus(Fixed::from_f32(el));
+        self.offset_rad = self.offset.to_f32();
+        self.elastic_rad = self.total.minus(self.offset).to_f32();
+        self.accumulated_rad = self.elastic_rad + self.offset_rad;
+    }
+
     /// Release the spring (contact broken).
     pub fn reset(&mut self) {
         *self = SpinSpring::default();
@@ -146,7 +158,15 @@ mod tests {
         // in the total.
         let (tau, sat) = s.update(-0.001, 0.05, 5e-5);
         assert!(!sat);
-        assert!(s.elastic_rad.abs() < 4e-10 && tau.abs() < 0.05 * 4e-10, "{}", s.elastic_rad);
-        assert!((s.accumulated_rad - 0.003).abs() < 1e-9, "{}", s.accumulated_rad);
+        assert!(
+            s.elastic_rad.abs() < 4e-10 && tau.abs() < 0.05 * 4e-10,
+            "{}",
+            s.elastic_rad
+        );
+        assert!(
+            (s.accumulated_rad - 0.003).abs() < 1e-9,
+            "{}",
+            s.accumulated_rad
+        );
     }
 }

@@ -293,7 +293,11 @@ fn per_backend(args: &Args, method: Method) -> Result<(), String> {
 }
 
 pub fn main(args: &Args) -> Result<(), String> {
-    if !(args.seconds.is_finite() && args.seconds > 0.0 && args.rate_hz.is_finite() && args.rate_hz > 0.0) {
+    if !(args.seconds.is_finite()
+        && args.seconds > 0.0
+        && args.rate_hz.is_finite()
+        && args.rate_hz > 0.0)
+    {
         return Err("--seconds and --rate-hz must be positive numbers".into());
     }
     if !(args.hold_s.is_finite() && args.hold_s >= 0.0) {

@@ -25,7 +25,8 @@ pub fn render(args: &Args) -> Result<String, String> {
     let c = curve(args.points, args.cells, 2 * args.cells);
     let (lo, hi) = ellipse_error_range(&c);
     if args.json {
-        let doc = serde_json::json!({ "curve": c, "ellipse_error_min": lo, "ellipse_error_max": hi });
+        let doc =
+            serde_json::json!({ "curve": c, "ellipse_error_min": lo, "ellipse_error_max": hi });
         return serde_json::to_string_pretty(&doc).map_err(|e| format!("JSON output: {e}"));
     }
     let mut out = String::from(
@@ -56,4 +57,3 @@ pub fn main(args: &Args) -> Result<(), String> {
     println!("{}", render(args)?);
     Ok(())
 }
-

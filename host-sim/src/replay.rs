@@ -244,7 +244,11 @@ fn replay_args(args: &Args, samples: &[Sample]) -> Result<Vec<Row>, String> {
             args.radius_m
         ));
     }
-    let (r, f, m) = (args.radius_m as f32, args.normal_force_n as f32, args.method);
+    let (r, f, m) = (
+        args.radius_m as f32,
+        args.normal_force_n as f32,
+        args.method,
+    );
     let big = big as f32;
     Ok(match args.surface {
         SurfaceKind::Plane => replay(samples, m, r, f),

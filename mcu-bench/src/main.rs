@@ -190,6 +190,8 @@ fn state_machine(b: &mut Bencher) {
         roll_disp_m: Vec3::new(2.0e-6, -3.0e-6, 0.0),
         tilt_rate_sq: 0.36 * 0.36,
         time_in_state_s: 1.0,
+        spin_torque_nm: 5.0e-4,
+        torsion_limit_nm: 4.7e-3,
     };
     let (state, _) = next_state(ContactState::Rolling, &inputs, &params);
     if state != ContactState::Rolling {

@@ -223,7 +223,12 @@ fn a_pressed_and_held_finger_does_not_creep() {
         assert_eq!(first.state, ContactState::Rolling);
         for k in 0..200_000 {
             let o = m.contact_step(&input(q));
-            assert_eq!((o.force_n, o.spin_rad, o.object_point_m), (first.force_n, first.spin_rad, first.object_point_m), "{method:?} {} tick {k}", M::NAME);
+            assert_eq!(
+                (o.force_n, o.spin_rad, o.object_point_m),
+                (first.force_n, first.spin_rad, first.object_point_m),
+                "{method:?} {} tick {k}",
+                M::NAME
+            );
         }
         if method == Method::PaperVerbatim {
             // Its printed equations turn a one-count tilt into a spin of about π/2 per tick: the
@@ -238,7 +243,12 @@ fn a_pressed_and_held_finger_does_not_creep() {
             let o = m.contact_step(&input([tilt, q, twist, q][k % 4]));
             assert_eq!(o.state, ContactState::Rolling);
             if k % 2 == 1 {
-                assert_eq!((o.spin_rad, o.object_point_m, o.tau_n_nm), (first.spin_rad, first.object_point_m, first.tau_n_nm), "{method:?} {} dither {k}", M::NAME);
+                assert_eq!(
+                    (o.spin_rad, o.object_point_m, o.tau_n_nm),
+                    (first.spin_rad, first.object_point_m, first.tau_n_nm),
+                    "{method:?} {} dither {k}",
+                    M::NAME
+                );
                 assert_eq!(m.rolling.finger_point(), {
                     let mut r = m.rolling;
                     r.q_prev = q;

@@ -228,7 +228,9 @@ fn increment_is_exactly_antisymmetric() {
         let z = increment(a, a);
         assert_eq!((z.x, z.y, z.z), (0.0, 0.0, 0.0));
         assert_eq!(increment(b, a), increment(a, b).conjugate());
-        if (a * a.conjugate()).vector() != Vec3::ZERO || b * a.conjugate() != (a * b.conjugate()).conjugate() {
+        if (a * a.conjugate()).vector() != Vec3::ZERO
+            || b * a.conjugate() != (a * b.conjugate()).conjugate()
+        {
             hamilton_fails += 1;
         }
     }
@@ -244,7 +246,12 @@ fn rolling_back_along_the_same_samples_returns_exactly() {
         let qs: std::vec::Vec<Quat> = (0..3000)
             .map(|k| {
                 let t = k as f32 * 1e-3;
-                Quat::from_rotation_vector::<Libm>(Vec3::new(0.4 * t, 0.2 * libm::sinf(3.0 * t), 0.3 * t)).0
+                Quat::from_rotation_vector::<Libm>(Vec3::new(
+                    0.4 * t,
+                    0.2 * libm::sinf(3.0 * t),
+                    0.3 * t,
+                ))
+                .0
             })
             .collect();
         let mut r = Rolling::new(Plane::at(Vec3::new(0.01, 0.02, 0.0)), 0.01, qs[0], method);

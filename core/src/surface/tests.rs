@@ -31,7 +31,11 @@ impl Shape {
         match self {
             Shape::Sphere(_) | Shape::Bowl(_) => {
                 let n = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
-                let s = if matches!(self, Shape::Sphere(_)) { 1.0 } else { -1.0 };
+                let s = if matches!(self, Shape::Sphere(_)) {
+                    1.0
+                } else {
+                    -1.0
+                };
                 [s * c[0] / n, s * c[1] / n, s * c[2] / n]
             }
             Shape::Cylinder(_) => {
@@ -90,7 +94,10 @@ fn path_error<S: Surface>(mut s: S, shape: Shape, r: f64, steps: usize) -> f64 {
         c = reference_step(shape, c, w, r, 200);
         let p = shape.contact(c, r);
         let q = s.contact_point();
-        let e = ((q.x as f64 - p[0]).powi(2) + (q.y as f64 - p[1]).powi(2) + (q.z as f64 - p[2]).powi(2)).sqrt();
+        let e = ((q.x as f64 - p[0]).powi(2)
+            + (q.y as f64 - p[1]).powi(2)
+            + (q.z as f64 - p[2]).powi(2))
+        .sqrt();
         worst = worst.max(e);
     }
     worst
@@ -104,8 +111,14 @@ fn path_error<S: Surface>(mut s: S, shape: Shape, r: f64, steps: usize) -> f64 {
 fn curved_surfaces_follow_the_rolling_constraint() {
     let r = 0.01;
     let cases: [(f64, &str); 3] = [
-        (path_error(Sphere::new(0.05), Shape::Sphere(0.05), r, 1000), "sphere"),
-        (path_error(Bowl::new(0.05), Shape::Bowl(0.05), r, 1000), "bowl"),
+        (
+            path_error(Sphere::new(0.05), Shape::Sphere(0.05), r, 1000),
+            "sphere",
+        ),
+        (
+            path_error(Bowl::new(0.05), Shape::Bowl(0.05), r, 1000),
+            "bowl",
+        ),
         (
             path_error(Cylinder::new(0.05), Shape::Cylinder(0.05), r, 1000),
             "cylinder",
@@ -221,7 +234,10 @@ fn penetration_and_placement() {
     assert!((s.normal() - Vec3::Y).norm_squared() < 1e-10);
     assert!((s.penetration::<Libm>(Vec3::new(0.0, 0.105, 0.0), 0.01) - 0.005).abs() < 1e-7);
     s.place_under::<Libm>(Vec3::ZERO);
-    assert!((s.normal() - Vec3::Y).norm_squared() < 1e-10, "no direction: unchanged");
+    assert!(
+        (s.normal() - Vec3::Y).norm_squared() < 1e-10,
+        "no direction: unchanged"
+    );
     // Bowl: the fingertip inside; normal towards the centre; overlapping beyond R − r.
     let mut b = Bowl::new(0.1);
     assert_eq!(b.contact_point(), Vec3::new(0.0, 0.0, -0.1));

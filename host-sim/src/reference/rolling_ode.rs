@@ -113,7 +113,11 @@ mod tests {
         (0..n)
             .map(|k| {
                 let t = k as f64 * 1e-3;
-                UnitQuaternion::from_euler_angles(0.4 * (1.1 * t).sin(), 0.3 * t, 0.5 * (0.8 * t).sin())
+                UnitQuaternion::from_euler_angles(
+                    0.4 * (1.1 * t).sin(),
+                    0.3 * t,
+                    0.5 * (0.8 * t).sin(),
+                )
             })
             .collect()
     }

@@ -43,7 +43,10 @@ pub fn samples() -> Vec<UnitQuaternion<f64>> {
         .collect()
 }
 
-fn ours<M: Math, S: Surface>(surface: S, s: &[UnitQuaternion<f64>]) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+fn ours<M: Math, S: Surface>(
+    surface: S,
+    s: &[UnitQuaternion<f64>],
+) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
     let q = |u: &UnitQuaternion<f64>| Quat::new(u.w as f32, u.i as f32, u.j as f32, u.k as f32);
     let mut r = Rolling::new(surface, FINGER_R as f32, q(&s[0]), Method::Exact);
     let mut obj = Vec::with_capacity(s.len());
@@ -65,7 +68,9 @@ fn ours<M: Math, S: Surface>(surface: S, s: &[UnitQuaternion<f64>]) -> (Vec<[f64
 fn max_dist(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
     a.iter()
         .zip(b)
-        .map(|(x, y)| ((x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2) + (x[2] - y[2]).powi(2)).sqrt())
+        .map(|(x, y)| {
+            ((x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2) + (x[2] - y[2]).powi(2)).sqrt()
+        })
         .fold(0.0, f64::max)
 }
 
