@@ -166,7 +166,8 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             // static ellipse (|f_T|/(μ_s·f_N))² + (τn/τ_max)² ≤ (1 + h)². With no torque this is
             // the friction cone.
             let cone = p.mu_s * f_n;
-            let outside = if i.spin_torque_nm == 0.0 || !(i.torsion_limit_nm > 0.0) {
+            let has_torsion = i.torsion_limit_nm > 0.0;
+            let outside = if i.spin_torque_nm == 0.0 || !has_torsion {
                 let c = cone * (1.0 + p.hysteresis);
                 ft2 > c * c
             } else {

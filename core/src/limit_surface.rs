@@ -22,7 +22,7 @@
 /// The patch radius a = a_ref·(f_N/f_ref)^γ, m. Zero for f_N ≤ 0 (and for non-finite input).
 /// `a_ref` (m) at `f_ref` (N, > 0), exponent `gamma` in [0, 1] (see [`crate::params`]).
 pub fn patch_radius(f_n: f32, a_ref: f32, f_ref: f32, gamma: f32) -> f32 {
-    if !(f_n > 0.0 && f_ref > 0.0) || !f_n.is_finite() {
+    if !(f_n > 0.0 && f_ref > 0.0 && f_n.is_finite()) {
         return 0.0;
     }
     let a = a_ref * libm::powf(f_n / f_ref, gamma);
@@ -60,7 +60,9 @@ pub fn project(
     if !outside(f_trial * f_trial, tau_trial, f_max, tau_max, 1.0) {
         return (1.0, 1.0);
     }
-    if !(f_max > 0.0) || !(k_t > 0.0) {
+    // Comparisons with NaN are false: a NaN axis or spring counts as none.
+    let (tangential, torsional) = (f_max > 0.0 && k_t > 0.0, tau_max > 0.0 && k_z > 0.0);
+    if !tangential {
         // No tangential budget (or no spring): the torque alone meets its limit.
         let s = if tau_trial.abs() > tau_max && tau_trial != 0.0 {
             tau_max / tau_trial.abs()
@@ -69,7 +71,7 @@ pub fn project(
         };
         return (0.0, s);
     }
-    if !(tau_max > 0.0) || !(k_z > 0.0) {
+    if !torsional {
         let s = if f_trial > f_max {
             f_max / f_trial
         } else {
@@ -89,11 +91,13 @@ pub fn project(
         let (ga, gb) = (x2 / (da * da), y2 / (db * db));
         let g = ga + gb - 1.0;
         let dg = -2.0 * (ga * a / da + gb * b / db);
-        if !(dg < 0.0) {
+        let decreasing = dg < 0.0;
+        if !decreasing {
             break;
         }
         let next = lam - g / dg;
-        if !(next > lam) {
+        let advanced = next > lam;
+        if !advanced {
             break;
         }
         lam = next;
