@@ -48,7 +48,8 @@ pub fn pow(x: f32, y: f32) -> f32 {
     let log2m =
         2.885_39 * t * (1.0 + t2 * (1.0 / 3.0 + t2 * (0.2 + t2 * (1.0 / 7.0 + t2 * (1.0 / 9.0)))));
     let l = y * (e as f32 + log2m);
-    if !(l.abs() < 126.0) {
+    let in_range = l.abs() < 126.0; // false for NaN too
+    if !in_range {
         return if l > 0.0 { f32::INFINITY } else { 0.0 };
     }
     let n = if l >= 0.0 {
