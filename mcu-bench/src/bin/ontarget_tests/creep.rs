@@ -62,7 +62,12 @@ fn held<M: Math, S: Surface>(c: &mut Checker, name: &str, surface: S, method: Me
 pub fn checks<M: Math>(c: &mut Checker) {
     held::<M, _>(c, "no creep: plane, exact", Plane::default(), Method::Exact);
     held::<M, _>(c, "no creep: plane, rpy", Plane::default(), Method::Rpy);
-    held::<M, _>(c, "no creep: plane, paper", Plane::default(), Method::PaperVerbatim);
+    held::<M, _>(
+        c,
+        "no creep: plane, paper",
+        Plane::default(),
+        Method::PaperVerbatim,
+    );
     held::<M, _>(c, "no creep: sphere", Sphere::new(0.05), Method::Exact);
     held::<M, _>(c, "no creep: bowl", Bowl::new(0.05), Method::Exact);
     held::<M, _>(c, "no creep: cylinder", Cylinder::new(0.05), Method::Exact);
