@@ -92,6 +92,10 @@ pub struct ContactModel<M: Math, S: Surface> {
     inv_dt: f32,
     prev_vel: Vec3,
     prev_anchor: Vec3,
+    /// The normal force (N) at which `patch` was last evaluated (see [`ContactModel::patch_at`]).
+    patch_key_n: f32,
+    /// (patch radius a in m, static torsion limit τ_max in N·m) at `patch_key_n`.
+    patch: (f32, f32),
     _m: PhantomData<M>,
 }
 
@@ -117,6 +121,9 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             inv_dt: 1.0 / dt_s,
             prev_vel: Vec3::ZERO,
             prev_anchor: Vec3::ZERO,
+            // Both functions give 0 at f_N = 0.
+            patch_key_n: 0.0,
+            patch: (0.0, 0.0),
             _m: PhantomData,
         })
     }
@@ -129,6 +136,21 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
     /// The parameters in force.
     pub fn params(&self) -> &ContactParams {
         &self.params
+    }
+
+    /// (patch radius a in m, static torsion limit τ_max in N·m) at the normal force `f_n` (N): a
+    /// pure function of `f_n` and the fixed parameters, evaluated again only when `f_n` changes
+    /// (a held contact keeps its force bit for bit, and the power law is the dearest term of the
+    /// step). NaN never equals the key, so it is always evaluated.
+    #[inline]
+    fn patch_at(&mut self, f_n: f32) -> (f32, f32) {
+        if f_n != self.patch_key_n {
+            let p = &self.params;
+            let a = patch_radius(f_n, p.patch_radius_m, p.patch_ref_force_n, p.patch_exponent);
+            self.patch = (a, torsion_limit(p.mu_s, f_n, a));
+            self.patch_key_n = f_n;
+        }
+        self.patch
     }
 
     /// The fingertip centre implied by rolling: contact point + ρ·n (object frame).
@@ -234,8 +256,8 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         let tilt2 = roll.angles.theta * roll.angles.theta + roll.angles.psi * roll.angles.psi;
         // The patch grows with the normal force; its torsional limit joins the tangential one in
         // one limit surface (see `crate::limit_surface`).
-        let patch = patch_radius(f_n, p.patch_radius_m, p.patch_ref_force_n, p.patch_exponent);
-        let tau_max_s = torsion_limit(p.mu_s, f_n, patch);
+        let (patch, tau_max_s) = self.patch_at(f_n);
+        let p = &self.params;
         let inputs = StateInputs {
             normal_force_n: f_n,
             gap_m: -pen,

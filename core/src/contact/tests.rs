@@ -269,3 +269,44 @@ fn a_pressed_and_held_finger_does_not_creep() {
     check::<Libm, _>(Bowl::new(0.05), Method::Exact);
     check::<Micromath, _>(Cylinder::new(0.05), Method::Exact);
 }
+
+/// The remembered patch radius and torsion limit equal a fresh evaluation bit for bit, for a
+/// force that repeats, changes, returns, crosses zero (both signed zeros), is NaN or infinite.
+#[test]
+fn remembered_patch_equals_a_fresh_evaluation() {
+    let mut m = model();
+    let p = ContactParams::DEFAULT;
+    let fresh = |f_n: f32| {
+        let a = patch_radius(f_n, p.patch_radius_m, p.patch_ref_force_n, p.patch_exponent);
+        (a, torsion_limit(p.mu_s, f_n, a))
+    };
+    let forces = [
+        0.0f32,
+        2.0,
+        2.0,
+        1.999_999_9,
+        2.0,
+        0.0,
+        -0.0,
+        0.5,
+        f32::NAN,
+        0.5,
+        f32::NAN,
+        f32::INFINITY,
+        -1.0,
+        7.3,
+        7.3,
+        1e-30,
+        1e-30,
+        0.0,
+    ];
+    for f_n in forces {
+        let (a, t) = m.patch_at(f_n);
+        let (a0, t0) = fresh(f_n);
+        assert_eq!(
+            (a.to_bits(), t.to_bits()),
+            (a0.to_bits(), t0.to_bits()),
+            "f_N = {f_n}"
+        );
+    }
+}
