@@ -129,9 +129,9 @@ mod tests {
     }
 
     /// The two-halves conversion equals the general one (`s as i64`, i.e. __aeabi_f2lz on the M4F)
-    /// bit for bit: on both sides of each boundary (2³¹ − 128, 2³¹, 2³², 2⁶³), on every f32 with
-    /// a stride of 61 bit patterns from 2⁻⁴⁴ to 2⁶⁴ (about 2.2 million values, each power of two
-    /// included) and on their negatives, infinities and NaN.
+    /// bit for bit: on both sides of each boundary (2³¹ − 128, 2³¹, 2³², 2⁶³ units), on every 61st
+    /// f32 bit pattern from 1 to 2⁶⁴ units (about 8.8 million values), on every power of two in
+    /// that range, on their negatives, and on infinities and NaN.
     #[test]
     fn fast_conversions_equal_the_general_one() {
         let general = |x: f32| {
