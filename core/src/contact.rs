@@ -20,6 +20,7 @@
 use crate::contact_state::{next_state, ContactState, Reason, StateInputs, StateParams};
 use crate::decompose::Angles;
 use crate::flags::Flags;
+use crate::limit_surface::{patch_radius, project};
 use crate::math::Math;
 use crate::params::{ContactParams, ParamError};
 use crate::quat::Quat;
@@ -91,6 +92,10 @@ pub struct ContactModel<M: Math, S: Surface> {
     inv_dt: f32,
     prev_vel: Vec3,
     prev_anchor: Vec3,
+    /// The normal force (N) at which `patch` was last evaluated (see [`ContactModel::patch_at`]).
+    patch_key_n: f32,
+    /// (patch radius a in m, static torsion limit τ_max in N·m) at `patch_key_n`.
+    patch: (f32, f32),
     _m: PhantomData<M>,
 }
 
@@ -116,6 +121,9 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             inv_dt: 1.0 / dt_s,
             prev_vel: Vec3::ZERO,
             prev_anchor: Vec3::ZERO,
+            // Both functions give 0 at f_N = 0.
+            patch_key_n: 0.0,
+            patch: (0.0, 0.0),
             _m: PhantomData,
         })
     }
@@ -128,6 +136,21 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
     /// The parameters in force.
     pub fn params(&self) -> &ContactParams {
         &self.params
+    }
+
+    /// (patch radius a in m, static torsion limit τ_max in N·m) at the normal force `f_n` (N): a
+    /// pure function of `f_n` and the fixed parameters, evaluated again only when `f_n` changes
+    /// (a held contact keeps its force bit for bit, and the power law is the dearest term of the
+    /// step). NaN never equals the key, so it is always evaluated.
+    #[inline]
+    fn patch_at(&mut self, f_n: f32) -> (f32, f32) {
+        if f_n != self.patch_key_n {
+            let p = &self.params;
+            let a = patch_radius(f_n, p.patch_radius_m, p.patch_ref_force_n, p.patch_exponent);
+            self.patch = (a, torsion_limit(p.mu_s, f_n, a));
+            self.patch_key_n = f_n;
+        }
+        self.patch
     }
 
     /// The fingertip centre implied by rolling: contact point + ρ·n (object frame).
@@ -231,6 +254,10 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         };
         let f_couple = couple(anchor - probe, anchor_vel - vel);
         let tilt2 = roll.angles.theta * roll.angles.theta + roll.angles.psi * roll.angles.psi;
+        // The patch grows with the normal force; its torsional limit joins the tangential one in
+        // one limit surface (see `crate::limit_surface`).
+        let (patch, tau_max_s) = self.patch_at(f_n);
+        let p = &self.params;
         let inputs = StateInputs {
             normal_force_n: f_n,
             gap_m: -pen,
@@ -245,6 +272,8 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             roll_disp_m: roll.object_disp_m,
             tilt_rate_sq: tilt2 * inv_dt * inv_dt,
             time_in_state_s: self.time_in_state_s,
+            spin_torque_nm: p.spin_stiffness * (self.spin.elastic_rad + roll.angles.phi),
+            torsion_limit_nm: tau_max_s,
         };
 
         // 4. State transition and entry actions.
@@ -263,49 +292,55 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         self.state = state;
 
         // 5. Force and spin torque for the new state.
-        let mut slide_force = Vec3::ZERO;
-        if state == ContactState::Sliding {
-            // The spring slips: drag the anchor so it stays within μ_k·f_N/K_t of the probe.
-            let p = &self.params;
-            let e = anchor - probe;
-            let (_, e_t) = surface.split(e);
-            let d = e_t.norm::<M>();
-            let reach = if p.tangential_stiffness > 0.0 {
-                p.mu_k * f_n / p.tangential_stiffness
-            } else {
-                0.0
-            };
-            let e_t = if d > reach && d > 0.0 {
-                e_t * (reach / d)
-            } else {
-                e_t
-            };
-            slide_force = e_t * p.tangential_stiffness;
-            self.restart_at(probe + e_t, q_now);
-        }
-        let p = &self.params;
-        let mut force = match state {
-            ContactState::Broken => Vec3::ZERO,
+        let p = self.params;
+        let k_z = p.spin_stiffness;
+        let (mut force, tau_n_nm, saturated) = match state {
+            ContactState::Broken => (Vec3::ZERO, 0.0, false),
             ContactState::Rolling => {
                 let f_t = if reason == Reason::MadeContact || reason == Reason::Stuck {
                     Vec3::ZERO // anchor just placed under the probe
                 } else {
                     f_couple
                 };
-                surface.along_normal(f_n) + f_t
+                // The torsion spring gets what the tangential load leaves of the static limit
+                // surface: τ ≤ τ_max·√(1 − (|f_t|/(μ_s·f_N))²).
+                let f_max = p.mu_s * f_n;
+                let used = if f_max > 0.0 {
+                    f_t.norm_squared() / (f_max * f_max)
+                } else {
+                    1.0
+                };
+                let left = if used < 1.0 { M::sqrt(1.0 - used) } else { 0.0 };
+                let (tau, sat) = self.spin.update(roll.angles.phi, k_z, tau_max_s * left);
+                (surface.along_normal(f_n) + f_t, tau, sat)
             }
-            ContactState::Sliding => surface.along_normal(f_n) + slide_force,
-        };
-        let tau_n_nm = if state == ContactState::Broken {
-            0.0
-        } else {
-            let tau_max = torsion_limit(p.mu_s, f_n, p.patch_radius_m);
-            let (tau, saturated) = self.spin.update(roll.angles.phi, p.spin_stiffness, tau_max);
-            if saturated && f_n > p.force_eps_n {
-                flags |= Flags::SPIN_SATURATED;
+            ContactState::Sliding => {
+                // Kinetic limit surface: the anchor spring and the torsion spring slip together to
+                // the closest point of the ellipse (slip along its normal).
+                let tau_max_k = torsion_limit(p.mu_k, f_n, patch);
+                let (tau, sat) = self.spin.update(roll.angles.phi, k_z, tau_max_k);
+                let (_, e_t) = surface.split(anchor - probe);
+                let k_t = p.tangential_stiffness;
+                let d = e_t.norm::<M>();
+                let (sf, st) = project(d * k_t, tau, p.mu_k * f_n, tau_max_k, k_t, k_z);
+                let e_t = e_t * sf;
+                let tau = if st < 1.0 {
+                    self.spin.slip_to(self.spin.elastic_rad * st);
+                    k_z * self.spin.elastic_rad
+                } else {
+                    tau
+                };
+                self.restart_at(probe + e_t, q_now);
+                (
+                    surface.along_normal(f_n) + e_t * k_t,
+                    tau,
+                    sat || sf < 1.0 && st < 1.0,
+                )
             }
-            tau
         };
+        if saturated && f_n > p.force_eps_n {
+            flags |= Flags::SPIN_SATURATED;
+        }
 
         // 6. Limits and the last NaN guard.
         let f2 = force.norm_squared();

@@ -9,7 +9,7 @@
 //! | --- | --- | --- |
 //! | any contact | broken | f_N ≤ ε_f and (a_N > ε_a or gap > ε_gap) — the paper's "f_N = 0, a_N > 0"; the gap test is ours, so a probe lifted off at constant speed also breaks contact |
 //! | broken | rolling | f_N > f_make (contact made; the paper gives no rule for it). f_make > ε_f is a hysteresis band: encoder quantisation makes the penetration of a grazing probe flicker around zero, and without the band the state chatters broken ↔ rolling ↔ sliding; and at least t_broken since the break (a probe lifted off fast re-crosses zero penetration for single ticks) |
-//! | rolling | sliding | |a_N| ≤ tol_a, \|f_T\| > μ_s·f_N·(1 + h), relative tangential motion (\|a_T\| > ε_a or \|v_T\| > v_stick), and the haptic rule: f_T·d_roll ≥ 0 (the user's tangential force agrees with the rolling displacement d_roll) or no rolling this step |
+//! | rolling | sliding | |a_N| ≤ tol_a, (\|f_T\|/(μ_s·f_N))² + (τn/τ_max)² > (1 + h)² (the limit surface; the friction cone when τn = 0), relative tangential motion (\|a_T\| > ε_a or \|v_T\| > v_stick), and the haptic rule: f_T·d_roll ≥ 0 (the user's tangential force agrees with the rolling displacement d_roll) or no rolling this step |
 //! | rolling | sliding | the twist threshold: Δθ > Δθ_max = f_N·μ_s/(k_τ·r), with Δθ the tilt rate δξ/T (see below) |
 //! | sliding | rolling | |a_N| ≤ tol_a, \|f_T\| ≤ μ_k·f_N, \|v_T\| ≤ v_stick, and at least t_slide in sliding (a dwell: at the onset of a slide the probe has not picked up speed yet) |
 //! | otherwise | unchanged | rolling kept inside the cone; sliding kept while moving or pushed |
@@ -95,6 +95,10 @@ pub struct StateInputs {
     pub tilt_rate_sq: f32,
     /// Time spent in the current state, s.
     pub time_in_state_s: f32,
+    /// τn: the spin torque the contact would carry this step (trial, before any slip), N·m.
+    pub spin_torque_nm: f32,
+    /// τ_max: the static torsional limit (3π/16)·μ_s·f_N·a, N·m. Zero: no twist in the budget.
+    pub torsion_limit_nm: f32,
 }
 
 /// Thresholds and friction (validated by [`crate::params`]).
@@ -158,8 +162,24 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             }
             // Predicates are evaluated lazily, cheapest and most often false first: on the
             // common path (inside the cone) only |f_T|² is computed.
-            let cone = p.mu_s * f_n * (1.0 + p.hysteresis);
-            if normal_steady && ft2 > cone * cone {
+            // One friction budget for slide and twist (see `crate::limit_surface`): outside the
+            // static ellipse (|f_T|/(μ_s·f_N))² + (τn/τ_max)² ≤ (1 + h)². With no torque this is
+            // the friction cone.
+            let cone = p.mu_s * f_n;
+            let has_torsion = i.torsion_limit_nm > 0.0;
+            let outside = if i.spin_torque_nm == 0.0 || !has_torsion {
+                let c = cone * (1.0 + p.hysteresis);
+                ft2 > c * c
+            } else {
+                crate::limit_surface::outside(
+                    ft2,
+                    i.spin_torque_nm,
+                    cone,
+                    i.torsion_limit_nm,
+                    1.0 + p.hysteresis,
+                )
+            };
+            if normal_steady && outside {
                 let moving = i.tangential_accel.norm_squared() > p.accel_eps * p.accel_eps
                     || i.tangential_velocity.norm_squared() > p.stick_speed * p.stick_speed;
                 let agrees = i.roll_disp_m.norm_squared() <= p.roll_eps_m * p.roll_eps_m

@@ -90,8 +90,15 @@ pub struct ContactParams {
     pub mu_k: f32,
     /// k_z: spin stiffness of eq. (1), N·m/rad.
     pub spin_stiffness: f32,
-    /// Radius a of the contact patch for the torsional limit τ_max = (3π/16)·μ_s·f_N·a, m.
+    /// a_ref: radius of the contact patch at the normal force `patch_ref_force_n`, m. The patch
+    /// radius is a = a_ref·(f_N/f_ref)^γ ([`crate::limit_surface::patch_radius`]) and sets the
+    /// torsional limit τ_max = (3π/16)·μ·f_N·a.
     pub patch_radius_m: f32,
+    /// f_ref: the normal force at which the patch radius is `patch_radius_m`, N (> 0).
+    pub patch_ref_force_n: f32,
+    /// γ: exponent of the patch radius's power law in [0, 1] (Hertz 1/3; human fingertips about
+    /// 0.2-0.3, Xydas and Kao 1999; 0: a fixed patch).
+    pub patch_exponent: f32,
     /// k_τ: twist stiffness of the rolling→sliding threshold, N·m·s/rad.
     pub k_tau: f32,
     /// Largest force the model may ask for, N (the device's limit; also enforced after it).
@@ -133,6 +140,9 @@ impl ContactParams {
         mu_k: 0.6,
         spin_stiffness: 0.01,
         patch_radius_m: 0.005,
+        // 2 N: the default scenes' press (1 mm at 2 N/mm), where the patch is a_ref = 5 mm.
+        patch_ref_force_n: 2.0,
+        patch_exponent: 1.0 / 3.0,
         k_tau: 4.0,
         max_force_n: 12.0,
         force_eps_n: 0.01,
@@ -162,6 +172,8 @@ impl ContactParams {
         mu_k: 100.0,
         spin_stiffness: 1.0e3,
         patch_radius_m: 1.0,
+        patch_ref_force_n: 1.0e4,
+        patch_exponent: 1.0,
         k_tau: 1.0e6,
         max_force_n: 1.0e4,
         force_eps_n: 1.0e4,
@@ -225,6 +237,14 @@ impl ContactParams {
         at_most("spin_stiffness", self.spin_stiffness, m.spin_stiffness)?;
         non_negative("patch_radius_m", self.patch_radius_m)?;
         at_most("patch_radius_m", self.patch_radius_m, m.patch_radius_m)?;
+        positive("patch_ref_force_n", self.patch_ref_force_n)?;
+        at_most(
+            "patch_ref_force_n",
+            self.patch_ref_force_n,
+            m.patch_ref_force_n,
+        )?;
+        non_negative("patch_exponent", self.patch_exponent)?;
+        at_most("patch_exponent", self.patch_exponent, m.patch_exponent)?;
         positive("k_tau", self.k_tau)?;
         at_most("k_tau", self.k_tau, m.k_tau)?;
         positive("max_force_n", self.max_force_n)?;
@@ -360,5 +380,36 @@ mod tests {
         for (p, e) in cases {
             assert_eq!(p.validate(), Err(e));
         }
+    }
+
+    /// The patch law's parameters: exponent in [0, 1], reference force > 0 (both ends and just
+    /// beyond them).
+    #[test]
+    fn patch_law_parameters_are_checked_at_their_ends() {
+        let d = ContactParams::DEFAULT;
+        let with = |g: f32, f: f32| ContactParams {
+            patch_exponent: g,
+            patch_ref_force_n: f,
+            ..d
+        };
+        assert_eq!(with(0.0, 2.0).validate(), Ok(()));
+        assert_eq!(with(1.0, 2.0).validate(), Ok(()));
+        assert_eq!(
+            with(-1e-6, 2.0).validate(),
+            Err(ParamError::Negative("patch_exponent"))
+        );
+        assert_eq!(
+            with(1.000_001, 2.0).validate(),
+            Err(ParamError::OutOfRange("patch_exponent"))
+        );
+        assert_eq!(
+            with(0.3, 0.0).validate(),
+            Err(ParamError::NotPositive("patch_ref_force_n"))
+        );
+        assert_eq!(with(0.3, 1e-6).validate(), Ok(()));
+        assert_eq!(
+            with(0.3, f32::NAN).validate(),
+            Err(ParamError::NotFinite("patch_ref_force_n"))
+        );
     }
 }

@@ -39,6 +39,11 @@ pub enum Command {
     /// The virtual device: the device core against the plant in real time, speaking the
     /// softfinger protocol over TCP to several clients at once.
     Serve(crate::serve::Args),
+    /// Creep at rest (identical and dithering samples, held contact, closed-loop hold) for every
+    /// method and backend on the plane.
+    Creep(crate::creep::Args),
+    /// The ellipsoidal limit surface against the numerically integrated Hertzian one.
+    LimitSurface(crate::limit_surface_cmd::Args),
 }
 
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
@@ -64,6 +69,8 @@ where
         Some(Command::Chart(args)) => crate::chart::main(&args),
         Some(Command::Pil(args)) => crate::pil::main(&args),
         Some(Command::PilDecode(args)) => crate::pil::decode_main(&args),
+        Some(Command::Creep(args)) => crate::creep::main(&args),
+        Some(Command::LimitSurface(args)) => crate::limit_surface_cmd::main(&args),
         Some(Command::Stability(args)) => crate::stability::main(&args),
         Some(Command::Serve(args)) => crate::serve::main(&args),
         None => crate::run::main(&crate::run::Args::default()),

@@ -4,13 +4,23 @@
 //! mapping the fingertip sphere's body frame to the plane's frame; time non-decreasing. A
 //! quaternion whose norm is off unity by more than 1e-3 is an error; within that it is normalised.
 //!
-//! Physics: the plane z = 0 with normal +z, the sphere of radius R resting on it, rolling without
-//! slip. The spin torque uses the default contact parameters and a nominal normal force
-//! (`--normal-force-n`) for the torsional limit, since a log of orientations carries no force.
+//! Physics (`--surface`, object radius R = `--object-radius-m`, fingertip radius r = `--radius-m`):
+//! - `plane`: z = 0, normal +z;
+//! - `sphere`: centred at the object origin, radius R, the contact starting at (0, 0, R);
+//! - `bowl`: the inside of a spherical shell of radius R > r centred at the origin, the contact
+//!   starting at (0, 0, −R);
+//! - `cylinder`: radius R, axis along object x through the origin, the contact starting at (0, 0, R).
 //!
-//! Output CSV, header `t_s,plane_x_m,plane_y_m,sphere_x_m,sphere_y_m,sphere_z_m,spin_rad,tau_n_nm,state`,
-//! one row per input row. Row 0 is the initial contact: plane (0, 0), sphere R₀ᵀ·(0, 0, −R).
-//! `state` is `rolling`, or the method's failure on that row (`singular`, `gimbal-lock`).
+//! The normal at the start is +z (towards the fingertip) on every surface. Between samples the
+//! fingertip turns at constant angular velocity in the object frame and rolls without slip. The
+//! spin torque uses the default contact parameters and a nominal normal force (`--normal-force-n`)
+//! for the torsional limit, since a log of orientations carries no force.
+//!
+//! Output CSV, header [`OUTPUT_HEADER`], one row per input row: `plane_x_m, plane_y_m` are the
+//! object contact point's x and y (the plane's contact point on the plane), `sphere_*` and
+//! `finger_*` the contact point on the fingertip (fingertip frame), `object_*` the contact point on
+//! the object (object frame). Row 0 is the initial contact. `state` is `rolling`, or the method's
+//! failure on that row (`singular`, `gimbal-lock`).
 //!
 //! Bad input: a one-line error naming the line on stderr, exit code 2, and no output file.
 
@@ -19,7 +29,7 @@ use softfinger_core::decompose::Method;
 use softfinger_core::params::ContactParams;
 use softfinger_core::rolling::Rolling;
 use softfinger_core::spin::{torsion_limit, SpinSpring};
-use softfinger_core::surface::Plane;
+use softfinger_core::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::{Flags, Libm, Quat};
 use std::io::Write;
 use std::path::PathBuf;
@@ -31,8 +41,16 @@ pub const NORM_TOLERANCE: f64 = 1e-3;
 pub const INPUT_HEADER: [&str; 5] = ["t_s", "qw", "qx", "qy", "qz"];
 
 /// The output header.
-pub const OUTPUT_HEADER: &str =
-    "t_s,plane_x_m,plane_y_m,sphere_x_m,sphere_y_m,sphere_z_m,spin_rad,tau_n_nm,state";
+pub const OUTPUT_HEADER: &str = "t_s,plane_x_m,plane_y_m,sphere_x_m,sphere_y_m,sphere_z_m,spin_rad,tau_n_nm,state,object_x_m,object_y_m,object_z_m,finger_x_m,finger_y_m,finger_z_m";
+
+/// The object surface of a replay.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SurfaceKind {
+    Plane,
+    Sphere,
+    Bowl,
+    Cylinder,
+}
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -51,6 +69,12 @@ pub struct Args {
     /// Nominal normal force for the torsional friction limit, N.
     #[arg(long, default_value_t = 1.0)]
     pub normal_force_n: f64,
+    /// The object: plane, sphere, bowl or cylinder (conventions in the module doc).
+    #[arg(long, value_enum, default_value_t = SurfaceKind::Plane)]
+    pub surface: SurfaceKind,
+    /// Object radius R for sphere, bowl and cylinder, m (bowl: larger than --radius-m).
+    #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
+    pub object_radius_m: f64,
 }
 
 fn parse_method(s: &str) -> Result<Method, String> {
@@ -148,6 +172,7 @@ pub struct Row {
     pub t_s: f64,
     pub plane: [f32; 2],
     pub sphere: [f32; 3],
+    pub object: [f32; 3],
     pub spin_rad: f32,
     pub tau_n_nm: f32,
     pub state: &'static str,
@@ -164,21 +189,33 @@ fn state_name(flags: Flags) -> &'static str {
     }
 }
 
-/// Run the samples through the core (libm backend, f32).
+/// Run the samples through the core on the plane (libm backend, f32).
 pub fn replay(samples: &[Sample], method: Method, radius_m: f32, normal_force_n: f32) -> Vec<Row> {
+    replay_on(Plane::default(), samples, method, radius_m, normal_force_n)
+}
+
+/// Run the samples through the core on `surface` (libm backend, f32).
+pub fn replay_on<S: Surface>(
+    surface: S,
+    samples: &[Sample],
+    method: Method,
+    radius_m: f32,
+    normal_force_n: f32,
+) -> Vec<Row> {
     let params = ContactParams::DEFAULT;
     let tau_max = torsion_limit(params.mu_s, normal_force_n, params.patch_radius_m);
     let to_q = |s: &Sample| Quat::new(s.q[0] as f32, s.q[1] as f32, s.q[2] as f32, s.q[3] as f32);
-    let mut rolling = Rolling::new(Plane::default(), radius_m, to_q(&samples[0]), method);
+    let mut rolling = Rolling::new(surface, radius_m, to_q(&samples[0]), method);
     let mut spin = SpinSpring::default();
     let mut rows = Vec::with_capacity(samples.len());
-    let mut push = |t_s: f64, r: &Rolling<Plane>, spin: &SpinSpring, tau: f32, state| {
-        let p = r.surface.point;
+    let mut push = |t_s: f64, r: &Rolling<S>, spin: &SpinSpring, tau: f32, state| {
+        let p = r.surface.contact_point();
         let f = r.finger_point();
         rows.push(Row {
             t_s,
             plane: [p.x, p.y],
             sphere: [f.x, f.y, f.z],
+            object: [p.x, p.y, p.z],
             spin_rad: spin.accumulated_rad,
             tau_n_nm: tau,
             state,
@@ -191,6 +228,34 @@ pub fn replay(samples: &[Sample], method: Method, radius_m: f32, normal_force_n:
         push(s.t_s, &rolling, &spin, tau, state_name(step.flags));
     }
     rows
+}
+
+/// Check the radii and run the replay on the surface `args` asks for.
+fn replay_args(args: &Args, samples: &[Sample]) -> Result<Vec<Row>, String> {
+    let big = args.object_radius_m;
+    if !(big.is_finite() && big > 0.0) {
+        return Err(format!(
+            "--object-radius-m must be a positive number, got {big}"
+        ));
+    }
+    if args.surface == SurfaceKind::Bowl && big <= args.radius_m {
+        return Err(format!(
+            "--object-radius-m ({big}) must be larger than --radius-m ({}) for a bowl",
+            args.radius_m
+        ));
+    }
+    let (r, f, m) = (
+        args.radius_m as f32,
+        args.normal_force_n as f32,
+        args.method,
+    );
+    let big = big as f32;
+    Ok(match args.surface {
+        SurfaceKind::Plane => replay(samples, m, r, f),
+        SurfaceKind::Sphere => replay_on(Sphere::new(big), samples, m, r, f),
+        SurfaceKind::Bowl => replay_on(Bowl::new(big), samples, m, r, f),
+        SurfaceKind::Cylinder => replay_on(Cylinder::new(big), samples, m, r, f),
+    })
 }
 
 pub fn main(args: &Args) -> Result<(), String> {
@@ -207,12 +272,7 @@ pub fn main(args: &Args) -> Result<(), String> {
         ));
     }
     let samples = read_samples(&args.input)?;
-    let rows = replay(
-        &samples,
-        args.method,
-        args.radius_m as f32,
-        args.normal_force_n as f32,
-    );
+    let rows = replay_args(args, &samples)?;
     let out = args.out.display();
     let mut file =
         AtomicFile::create(&args.out).map_err(|e| format!("{out}: cannot create: {e}"))?;
@@ -228,6 +288,9 @@ pub fn main(args: &Args) -> Result<(), String> {
             r.sphere[2],
             r.spin_rad,
             r.tau_n_nm,
+            r.object[0],
+            r.object[1],
+            r.object[2],
         ];
         if vals.iter().any(|v| !v.is_finite()) {
             return Err(format!(
@@ -237,17 +300,32 @@ pub fn main(args: &Args) -> Result<(), String> {
         }
         writeln!(
             w,
-            "{},{},{},{},{},{},{},{},{}",
-            r.t_s, vals[0], vals[1], vals[2], vals[3], vals[4], vals[5], vals[6], r.state
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            r.t_s,
+            vals[0],
+            vals[1],
+            vals[2],
+            vals[3],
+            vals[4],
+            vals[5],
+            vals[6],
+            r.state,
+            vals[7],
+            vals[8],
+            vals[9],
+            vals[2],
+            vals[3],
+            vals[4]
         )
         .map_err(io)?;
     }
     file.commit()
         .map_err(|e| format!("{out}: cannot publish: {e}"))?;
     eprintln!(
-        "host-sim replay: {} rows, method {}, written to {out}",
+        "host-sim replay: {} rows, method {}, surface {:?}, written to {out}",
         rows.len(),
-        args.method.name()
+        args.method.name(),
+        args.surface
     );
     Ok(())
 }

@@ -19,7 +19,7 @@ use softfinger_core::params::ContactParams;
 use softfinger_core::pipeline::passivity::{Passivity, PassivityConfig};
 use softfinger_core::rolling::Rolling;
 use softfinger_core::spin::{torsion_limit, SpinSpring};
-use softfinger_core::surface::{Plane, Sphere};
+use softfinger_core::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Rot3, Vec3};
 use softfinger_mcu_bench::bench::Bencher;
 use softfinger_mcu_bench::counter::Counter;
@@ -151,12 +151,26 @@ fn pipeline(b: &mut Bencher) {
     state_machine(b);
     spin_torque(b);
     passivity_step(b);
-    contact_step::<Libm>(b, "contact_step", Method::Exact);
-    contact_step::<Micromath>(b, "contact_step", Method::Exact);
-    contact_step::<Fast>(b, "contact_step", Method::Exact);
-    contact_step::<Libm>(b, "contact_step_rpy", Method::Rpy);
-    contact_step::<Micromath>(b, "contact_step_rpy", Method::Rpy);
-    contact_step::<Fast>(b, "contact_step_rpy", Method::Rpy);
+    let plane = Plane::default();
+    contact_step::<Libm, _>(b, "contact_step", Method::Exact, plane);
+    contact_step::<Micromath, _>(b, "contact_step", Method::Exact, plane);
+    contact_step::<Fast, _>(b, "contact_step", Method::Exact, plane);
+    contact_step::<Libm, _>(b, "contact_step_rpy", Method::Rpy, plane);
+    contact_step::<Micromath, _>(b, "contact_step_rpy", Method::Rpy, plane);
+    contact_step::<Fast, _>(b, "contact_step_rpy", Method::Rpy, plane);
+    // Curved objects of radius 5 cm, the contact at the top (bottom for the bowl).
+    let sphere = Sphere::new(0.05);
+    let bowl = Bowl::new(0.05);
+    let cylinder = Cylinder::new(0.05);
+    contact_step::<Libm, _>(b, "contact_step_sphere", Method::Exact, sphere);
+    contact_step::<Micromath, _>(b, "contact_step_sphere", Method::Exact, sphere);
+    contact_step::<Fast, _>(b, "contact_step_sphere", Method::Exact, sphere);
+    contact_step::<Libm, _>(b, "contact_step_bowl", Method::Exact, bowl);
+    contact_step::<Micromath, _>(b, "contact_step_bowl", Method::Exact, bowl);
+    contact_step::<Fast, _>(b, "contact_step_bowl", Method::Exact, bowl);
+    contact_step::<Libm, _>(b, "contact_step_cylinder", Method::Exact, cylinder);
+    contact_step::<Micromath, _>(b, "contact_step_cylinder", Method::Exact, cylinder);
+    contact_step::<Fast, _>(b, "contact_step_cylinder", Method::Exact, cylinder);
 
     device_kinematics(b);
     control_tick::<Libm>(b);
@@ -179,6 +193,8 @@ fn state_machine(b: &mut Bencher) {
         roll_disp_m: Vec3::new(2.0e-6, -3.0e-6, 0.0),
         tilt_rate_sq: 0.36 * 0.36,
         time_in_state_s: 1.0,
+        spin_torque_nm: 5.0e-4,
+        torsion_limit_nm: 4.7e-3,
     };
     let (state, _) = next_state(ContactState::Rolling, &inputs, &params);
     if state != ContactState::Rolling {
@@ -232,12 +248,14 @@ fn passivity_step(b: &mut Bencher) {
     }
 }
 
-/// The full contact step (`ContactModel::contact_step`) on the plane at 10 kHz: orientation and
-/// probe sample in; force, contact points, spin torque and state out. The probe presses 1 mm into
-/// the plane (f_N = 2 N) and holds still while the orientation alternates between q0 and q0·dq,
-/// dq = the paper scene's increment / 100 (rolling at 3.6 rad/s: δ ≈ 0.6 mrad per tick), so every
-/// step rolls and the model stays in the rolling state (checked after the measurement).
-fn contact_step<M: Math>(b: &mut Bencher, name: &str, method: Method) {
+/// The full contact step (`ContactModel::contact_step`) at 10 kHz: orientation and probe sample in;
+/// force, contact points, spin torque and state out. The probe presses 1 mm into the surface
+/// (f_N = 2 N) and holds still while the orientation alternates between q0 and q0·dq, dq = the
+/// paper scene's increment / 100 (rolling at 3.6 rad/s: δ ≈ 0.6 mrad per tick), so every step rolls
+/// and the model stays in the rolling state (checked after the measurement). Every surface starts
+/// with the normal +z at its contact point, so the pressed probe is 1 mm less than the fingertip
+/// radius above it.
+fn contact_step<M: Math, S: Surface>(b: &mut Bencher, name: &str, method: Method, surface: S) {
     let dt_s = 1.0e-4;
     let params = ContactParams {
         method,
@@ -245,14 +263,15 @@ fn contact_step<M: Math>(b: &mut Bencher, name: &str, method: Method) {
     };
     let q0 = Quat::IDENTITY;
     let (dq, _) = Quat::from_rotation_vector::<Libm>(SCENE_STEP * 0.01);
-    let Ok(mut model) = ContactModel::<M, Plane>::new(params, Plane::default(), q0, dt_s) else {
+    let Ok(mut model) = ContactModel::<M, S>::new(params, surface, q0, dt_s) else {
         hprintln!(
             "ERROR {}: ContactModel::new rejected the default parameters",
             name
         );
         return;
     };
-    let probe_m = Vec3::new(0.0, 0.0, params.fingertip_radius_m - 0.001);
+    let top = surface.contact_point().z;
+    let probe_m = Vec3::new(0.0, 0.0, top + params.fingertip_radius_m - 0.001);
     let inputs = [
         ContactInput {
             q: q0 * dq,

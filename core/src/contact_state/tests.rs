@@ -338,3 +338,34 @@ fn force_on_the_cone_boundary_does_not_chatter() {
     }
     assert_eq!(transitions, 0);
 }
+
+/// One friction budget: pushing sideways at 80 % of the static cone (1.6 N at 2 N, μ_s = 0.8,
+/// beyond the hysteresis-free 0.8² + 0.8² > 1.05²) while twisting at 80 % of τ_max slips; either
+/// alone does not. Just inside and just outside the ellipse scaled by 1 + h on the diagonal.
+#[test]
+fn twisting_while_pushing_sideways_slips_sooner() {
+    let p = crate::params::ContactParams::DEFAULT.state_params();
+    let cone = p.mu_s * 2.0;
+    let tau_max = crate::spin::torsion_limit(p.mu_s, 2.0, 0.005);
+    let with = |ft: f32, tau: f32| StateInputs {
+        tangential_force_n: x(ft),
+        tangential_accel: x(1.0),
+        spin_torque_nm: tau,
+        torsion_limit_nm: tau_max,
+        ..pressed()
+    };
+    let state = |i: StateInputs| next_state(Rolling, &i, &p).0;
+    assert_eq!(state(with(0.8 * cone, 0.0)), Rolling);
+    assert_eq!(state(with(0.0, 0.8 * tau_max)), Rolling);
+    assert_eq!(state(with(0.8 * cone, 0.8 * tau_max)), Sliding);
+    let d = core::f32::consts::FRAC_1_SQRT_2 * (1.0 + p.hysteresis);
+    assert_eq!(state(with(0.999 * d * cone, 0.999 * d * tau_max)), Rolling);
+    assert_eq!(state(with(1.001 * d * cone, 1.001 * d * tau_max)), Sliding);
+    // No torsional budget (τ_max = 0): the friction cone alone, as before.
+    let cone_only = |ft: f32| StateInputs {
+        torsion_limit_nm: 0.0,
+        ..with(ft, 0.01)
+    };
+    assert_eq!(state(cone_only(0.999 * 1.05 * cone)), Rolling);
+    assert_eq!(state(cone_only(1.001 * 1.05 * cone)), Sliding);
+}

@@ -189,6 +189,8 @@ pub fn contact_params(b: &mut Bytes) -> ContactParams {
         mu_k: b.param(d.mu_k),
         spin_stiffness: b.param(d.spin_stiffness),
         patch_radius_m: b.param(d.patch_radius_m),
+        patch_ref_force_n: b.param(d.patch_ref_force_n),
+        patch_exponent: b.param(d.patch_exponent),
         k_tau: b.param(d.k_tau),
         max_force_n: b.param(d.max_force_n),
         force_eps_n: b.param(d.force_eps_n),
@@ -264,6 +266,8 @@ pub fn contact_params_valid(p: &ContactParams) -> bool {
         && within(p.tangential_damping, m.tangential_damping)
         && within(p.spin_stiffness, m.spin_stiffness)
         && within(p.patch_radius_m, m.patch_radius_m)
+        && positive_within(p.patch_ref_force_n, m.patch_ref_force_n)
+        && within(p.patch_exponent, m.patch_exponent)
         && within(p.force_eps_n, m.force_eps_n)
         && within(p.accel_eps, m.accel_eps)
         && within(p.normal_accel_tol, m.normal_accel_tol)

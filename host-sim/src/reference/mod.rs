@@ -14,9 +14,11 @@
 //! orientation samples map the sphere's body frame to the fixed frame; all lengths in metres.
 
 pub mod closed_form;
+pub mod limit_surface;
 pub mod montana;
 pub mod montana_paths;
 pub mod rk45;
+pub mod rolling_ode;
 pub mod scene;
 pub mod surface;
 

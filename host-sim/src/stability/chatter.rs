@@ -77,6 +77,7 @@ pub fn run(single_mu: bool, hysteresis: f32, noise: f64, steps: u64, seed: u64) 
             roll_disp_m: Vec3::ZERO,
             tilt_rate_sq: 0.0,
             time_in_state_s,
+            ..StateInputs::default()
         };
         let (s, r) = next_state(state, &inputs, &sp);
         time_in_state_s = if s == state {

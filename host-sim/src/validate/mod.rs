@@ -20,6 +20,7 @@ pub mod classical;
 pub mod errors;
 pub mod ours;
 pub mod report;
+pub mod surfaces;
 pub mod timing;
 
 use crate::reference::scene::{paper_scene, Scene};
@@ -297,10 +298,16 @@ pub fn render(args: &Args) -> Result<String, String> {
         Timing::STANDARD
     };
     let v = run(timing)?;
+    let surf = surfaces::run()?;
     if args.json {
-        report::json(&v)
+        let text = report::json(&v)?;
+        let mut doc: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| format!("internal JSON error: {e}"))?;
+        doc["surfaces"] =
+            serde_json::to_value(&surf).map_err(|e| format!("internal JSON error: {e}"))?;
+        serde_json::to_string_pretty(&doc).map_err(|e| format!("internal JSON error: {e}"))
     } else {
-        Ok(report::table(&v))
+        Ok(report::table(&v) + &surfaces::table(&surf))
     }
 }
 

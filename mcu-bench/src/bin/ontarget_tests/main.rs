@@ -13,6 +13,7 @@
 mod accuracy;
 mod contact;
 mod controller;
+mod creep;
 mod decompose;
 mod kernels;
 mod pipeline;
@@ -37,6 +38,7 @@ fn backend_checks<M: Accuracy>(c: &mut Checker, accurate_kinematics: bool) {
     rolling::checks::<M>(c);
     robustness::checks::<M>(c);
     contact::step_checks::<M>(c);
+    creep::checks::<M>(c);
     controller::checks::<M>(c, accurate_kinematics);
 }
 

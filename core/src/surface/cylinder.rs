@@ -1,0 +1,157 @@
+//! A fixed cylinder of radius R with its axis along the object frame's x axis through the origin.
+//!
+//! Contact state: the position x along the axis and the angle α around it, the contact point
+//! (x, R·sin α, R·cos α), the normal n = (0, sin α, cos α) (the contact starts at (0, 0, R) with
+//! normal +z). Contact frame: x along the axis, y = t = (0, cos α, −sin α), z = n.
+//!
+//! Rolling (fingertip radius r, ω constant in the object frame over the step, w = ω·T): the centre
+//! c = (x, (R + r)·n) moves with ċ = r·ω × n, so α̇ = −r·ω_x/(R + r) (constant) and
+//! ẋ = r·(ω_y·cos α − ω_z·sin α). Integrated exactly over the step, with Δα = −r·w_x/(R + r) and
+//! α_m the mid-step angle:
+//!
+//! Δx = r·sinc(Δα/2)·(w_y·cos α_m − w_z·sin α_m),
+//!
+//! exact for constant ω (no order: a closed form). The relative curvature of eq. (3) depends on the
+//! rolling direction β (see [`Cylinder::k_gamma`]).
+//!
+//! Exactness: x and α are fixed-point sums ([`Fixed`]), Δα is an odd function of w_x, α_m is
+//! computed from the integer sum of the step's two ends and Δx is odd in (w_y, w_z): a zero step
+//! moves nothing, and any path retraced with the negated steps returns x and α bit for bit.
+
+use super::Surface;
+use crate::fixed::Fixed;
+use crate::math::Math;
+use crate::vec3::Vec3;
+
+/// A cylinder along the object x axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Cylinder {
+    /// Cylinder radius R, m.
+    pub radius_m: f32,
+    /// Position of the contact along the axis, m.
+    x: Fixed,
+    /// Angle of the contact around the axis, rad (0: on top, normal +z).
+    alpha: Fixed,
+    /// (sin α, cos α).
+    sc: (f32, f32),
+    /// (sin α_m, cos α_m) of the last roll (mid-step angle).
+    mid_sc: (f32, f32),
+    /// Cached contact point, object frame, m.
+    point: Vec3,
+}
+
+impl Cylinder {
+    /// Contact on top, at (0, 0, R), normal +z.
+    pub fn new(radius_m: f32) -> Cylinder {
+        let mut c = Cylinder {
+            radius_m,
+            x: Fixed::ZERO,
+            alpha: Fixed::ZERO,
+            sc: (0.0, 1.0),
+            mid_sc: (0.0, 1.0),
+            point: Vec3::ZERO,
+        };
+        c.refresh::<crate::math::Libm>();
+        c.mid_sc = c.sc;
+        c
+    }
+
+    /// The paper's eq. (3) relative curvature for this cylinder: rolling in direction β (eq. 2,
+    /// contact moving along (sin β, −cos β) in the contact frame), the cylinder's normal curvature
+    /// is cos²β/R (zero along the axis, 1/R across it), so k_γ = 1/r + cos²β/R (1/m). Our update is
+    /// the closed form above; it agrees with δs = δξ/k_γ for rolling along (β = ±π/2) and across
+    /// (β = 0, π) the axis.
+    pub fn k_gamma<M: Math>(&self, r: f32, beta: f32) -> f32 {
+        let c = M::cos(beta);
+        1.0 / r + c * c / self.radius_m
+    }
+
+    /// Angle of the contact around the axis, rad.
+    pub fn angle_rad(&self) -> f32 {
+        self.alpha.to_f32()
+    }
+
+    fn refresh<M: Math>(&mut self) {
+        self.sc = M::sin_cos(self.alpha.to_f32());
+        let (s, c) = self.sc;
+        self.point = Vec3::new(self.x.to_f32(), self.radius_m * s, self.radius_m * c);
+    }
+}
+
+/// sin(h)/h for h ≥ 0 (series below 0.01, where its truncation is below 1e-12).
+fn sinc<M: Math>(h: f32) -> f32 {
+    if h < 0.01 {
+        let h2 = h * h;
+        1.0 - h2 * (1.0 / 6.0 - h2 * (1.0 / 120.0))
+    } else {
+        M::sin(h) / h
+    }
+}
+
+impl Surface for Cylinder {
+    #[inline]
+    fn curvature(&self) -> f32 {
+        1.0 / self.radius_m
+    }
+    #[inline]
+    fn to_contact(&self, v: Vec3) -> Vec3 {
+        let (s, c) = self.sc;
+        Vec3::new(v.x, v.y * c - v.z * s, v.y * s + v.z * c)
+    }
+    #[inline]
+    fn to_step_contact<M: Math>(&self, v: Vec3) -> Vec3 {
+        let (s, c) = self.mid_sc;
+        Vec3::new(v.x, v.y * c - v.z * s, v.y * s + v.z * c)
+    }
+    #[inline]
+    fn contact_to_object(&self, v: Vec3) -> Vec3 {
+        let (s, c) = self.sc;
+        Vec3::new(v.x, v.y * c + v.z * s, -v.y * s + v.z * c)
+    }
+    /// The closed form of the module doc.
+    fn roll<M: Math>(&mut self, w: Vec3, r: f32) -> Vec3 {
+        if w.x == 0.0 && w.y == 0.0 && w.z == 0.0 {
+            self.mid_sc = self.sc;
+            return Vec3::ZERO;
+        }
+        let before = self.point;
+        let d_alpha = Fixed::from_f32(-r * w.x / (self.radius_m + r));
+        let a0 = self.alpha.0;
+        let a1 = a0.saturating_add(d_alpha.0);
+        // (a0 + a1)/2 without overflow, symmetric in a0 and a1.
+        let mid = Fixed((a0 >> 1) + (a1 >> 1) + (a0 & a1 & 1));
+        self.mid_sc = M::sin_cos(mid.to_f32());
+        let (sm, cm) = self.mid_sc;
+        let half = Fixed(d_alpha.0.saturating_abs()).to_f32() * 0.5;
+        let dx = r * sinc::<M>(half) * (w.y * cm - w.z * sm);
+        self.x.add_f32(dx);
+        self.alpha = Fixed(a1);
+        self.refresh::<M>();
+        self.point - before
+    }
+    #[inline]
+    fn contact_point(&self) -> Vec3 {
+        self.point
+    }
+    #[inline]
+    fn normal(&self) -> Vec3 {
+        Vec3::new(0.0, self.sc.0, self.sc.1)
+    }
+    /// Put the contact under `c`: x = c_x, α = atan2(c_y, c_z). A centre on the axis keeps α.
+    fn place_under<M: Math>(&mut self, c: Vec3) {
+        if !c.is_finite() {
+            return;
+        }
+        self.x = Fixed::from_f32(c.x);
+        if c.y * c.y + c.z * c.z > 1e-20 {
+            self.alpha = Fixed::from_f32(M::atan2(c.y, c.z));
+        }
+        self.refresh::<M>();
+        self.mid_sc = self.sc;
+    }
+    #[inline]
+    fn penetration<M: Math>(&self, c: Vec3, r: f32) -> f32 {
+        self.radius_m + r - M::sqrt(c.y * c.y + c.z * c.z)
+    }
+}

@@ -1,0 +1,146 @@
+//! `host-sim limit-surface`: the ellipsoidal limit surface against the true limit surface of a
+//! Hertzian patch (numerical integration in f64, [`crate::reference::limit_surface`]): the curve,
+//! the ellipse's radial error at each point, and the worst error; `--svg` charts both curves.
+
+use crate::chart::style::{draw_legend, draw_line, write_svg};
+use crate::reference::limit_surface::{curve, ellipse_error_range, LimitPoint};
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Points on the curve (instantaneous centres between 0.01 a and 100 a).
+    #[arg(long, default_value_t = 60)]
+    pub points: usize,
+    /// Radial cells of the integration (the angular ones are twice as many).
+    #[arg(long, default_value_t = 200)]
+    pub cells: usize,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    /// Also draw the true limit curve and the ellipse (normalised) into this SVG file.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+}
+
+/// The true curve and the ellipse, normalised by μ·f_N and τ_max, as an SVG chart.
+pub fn chart(path: &Path, c: &[LimitPoint]) -> Result<(), String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (640, 600)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| format!("{e:?}"))?;
+        let mut ch = ChartBuilder::on(&root)
+            .caption(
+                "Soft-finger limit surface: Hertzian patch vs ellipse",
+                ("sans-serif", 18),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(0.0f64..1.1, 0.0f64..1.1)
+            .map_err(|e| format!("{e:?}"))?;
+        ch.configure_mesh()
+            .x_desc("|f_t| / (mu f_N)")
+            .y_desc("tau_n / tau_max")
+            .draw()
+            .map_err(|e| format!("{e:?}"))?;
+        let truth: Vec<(f64, f64)> = c.iter().map(|p| (p.x, p.y)).collect();
+        let ellipse: Vec<(f64, f64)> = (0..=90)
+            .map(|k| {
+                let t = k as f64 / 90.0 * std::f64::consts::FRAC_PI_2;
+                (t.cos(), t.sin())
+            })
+            .collect();
+        draw_line(
+            &mut ch,
+            &truth,
+            BLACK.stroke_width(2),
+            Some("Hertzian patch (f64 integration)"),
+        )?;
+        draw_line(
+            &mut ch,
+            &ellipse,
+            RED.stroke_width(2),
+            Some("ellipse (rendered model)"),
+        )?;
+        draw_legend(&mut ch, SeriesLabelPosition::LowerLeft, 14)?;
+        root.present().map_err(|e| format!("{e:?}"))?;
+    }
+    write_svg(path, &svg)
+}
+
+/// The curve and the worst errors, rendered as the command prints them.
+pub fn render(args: &Args) -> Result<String, String> {
+    if args.points < 2 || args.cells < 10 || args.cells > 5000 {
+        return Err("--points must be >= 2 and --cells between 10 and 5000".into());
+    }
+    let c = curve(args.points, args.cells, 2 * args.cells);
+    let (lo, hi) = ellipse_error_range(&c);
+    if let Some(path) = &args.svg {
+        chart(path, &c)?;
+    }
+    if args.json {
+        let doc =
+            serde_json::json!({ "curve": c, "ellipse_error_min": lo, "ellipse_error_max": hi });
+        return serde_json::to_string_pretty(&doc).map_err(|e| format!("JSON output: {e}"));
+    }
+    let mut out = String::from(
+        "Hertzian limit surface (f64 integration) vs the ellipse (|f|/(mu fN))^2 + (tau/tau_max)^2 = 1\n\
+         centre/a          |f|/(mu fN)   tau/tau_max   ellipse radial error\n",
+    );
+    for p in &c {
+        out += &format!(
+            "{:<16.4e} {:>12.6} {:>13.6} {:>14.4e}\n",
+            p.centre_a,
+            p.x,
+            p.y,
+            p.ellipse_error()
+        );
+    }
+    out += &format!(
+        "worst radial error of the ellipse: {lo:.4e} (over-estimate), {hi:.4e} (under-estimate)\n"
+    );
+    Ok(out)
+}
+
+pub fn main(args: &Args) -> Result<(), String> {
+    println!("{}", render(args)?);
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    /// The command prints the worst error (the reference module tests its value), writes the
+    /// chart, and rejects bad options with exit code 2 and no file.
+    #[test]
+    fn command_writes_the_chart_and_rejects_bad_options() {
+        let dir = std::env::temp_dir().join(format!("softfinger-ls-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let svg = dir.join("ls.svg");
+        let s = svg.to_str().unwrap();
+        let argv = [
+            "host-sim",
+            "limit-surface",
+            "--points",
+            "8",
+            "--cells",
+            "40",
+            "--svg",
+            s,
+        ];
+        assert_eq!(crate::cli::run(argv), 0);
+        assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
+        let bad = dir.join("bad.svg");
+        let b = bad.to_str().unwrap();
+        assert_eq!(
+            crate::cli::run(["host-sim", "limit-surface", "--points", "1", "--svg", b]),
+            2
+        );
+        assert_eq!(
+            crate::cli::run(["host-sim", "limit-surface", "--cells", "9", "--svg", b]),
+            2
+        );
+        assert!(!bad.exists());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
