@@ -16,10 +16,11 @@
 use crate::closed_loop;
 use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
 use softfinger_core::contact::{ContactInput, ContactModel};
-use softfinger_core::controller::{Controller, ControllerConfig};
 use softfinger_core::decompose::Method;
 use softfinger_core::delta::DeltaGeometry;
 use softfinger_core::device::DeviceParams;
+use softfinger_core::devices::OMEGA_LIKE;
+use softfinger_core::pipeline::{BoardTiming, Pipeline, PipelineConfig};
 use softfinger_core::params::ContactParams;
 use softfinger_core::rolling::Rolling;
 use softfinger_core::spin::SpinSpring;
@@ -201,17 +202,24 @@ fn hold_run<M: Math>(
             wrist_rad: wrist,
         },
     );
-    let mut plant = Plant::new(DeviceParams::OMEGA_LIKE, PlantParams::OMEGA_LIKE, script)
+    let mut plant = Plant::new(OMEGA_LIKE.params, PlantParams::OMEGA_LIKE, script)
         .map_err(|e| format!("plant: {e:?}"))?;
-    let config = ControllerConfig {
+    let timing = BoardTiming::STM32G474_10KHZ;
+    let config = PipelineConfig {
+        device: OMEGA_LIKE,
+        timing,
         contact,
+        surface: Plane::default(),
         object_origin_m: Vec3::new(0.0, 0.0, top as f32),
-        ..ControllerConfig::default_plane()
+        log_rate_hz: softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ,
     };
-    let mut ctrl: Controller<M, Plane> =
-        Controller::new(config).map_err(|e| format!("controller: {e}"))?;
-    let rate = config.rate_hz as f64;
+    let mut ctrl: Pipeline<M, Plane> =
+        Pipeline::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
+    // The operator's session first (home, grasp, arm); the script starts when armed.
+    closed_loop::prepare(&mut ctrl, &mut plant)?;
+    let rate = f64::from(timing.control_hz);
     let ticks = ((0.5 + hold_s) * rate) as u64;
+    // Press (0.5 s) and the arming ramp (within it) settle before the hold is judged.
     let settle = (1.5 * rate) as u64;
     let mut worst = 0.0f64;
     let mut prev = [0.0f64; 2];
@@ -225,16 +233,16 @@ fn hold_run<M: Math>(
         ticks,
         |k, input| {
             if dither {
-                input.counts[4] += (k & 1) as i32
+                input.counts[4] = input.counts[4].wrapping_add((k & 1) as u16)
             }
         },
         |k, _, out, ctrl, _| {
-            let a = ctrl.contact().rolling.surface.contact_point();
+            let a = ctrl.controller().contact().rolling.surface.contact_point();
             if k >= settle {
                 let a0 = *anchor0.get_or_insert(a);
                 walk = walk.max((a - a0).norm::<Libm>() as f64);
             }
-            let f = [out.force_n.x as f64, out.force_n.y as f64];
+            let f = [out.control.force_n.x as f64, out.control.force_n.y as f64];
             let g = if dither {
                 [(f[0] + prev[0]) / 2.0, (f[1] + prev[1]) / 2.0]
             } else {

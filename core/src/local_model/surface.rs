@@ -3,7 +3,6 @@
 
 use crate::local_model::spec::ModelKind;
 use crate::math::Math;
-use crate::quat::Quat;
 use crate::surface::{Plane, Sphere, Surface};
 use crate::vec3::Vec3;
 
@@ -42,8 +41,12 @@ impl Surface for ModelSurface {
         forward!(self, s => s.curvature())
     }
     #[inline]
-    fn to_contact_frame(&self, dq: Quat) -> Quat {
-        forward!(self, s => s.to_contact_frame(dq))
+    fn to_contact(&self, v: Vec3) -> Vec3 {
+        forward!(self, s => s.to_contact(v))
+    }
+    #[inline]
+    fn to_step_contact<M: Math>(&self, v: Vec3) -> Vec3 {
+        forward!(self, s => s.to_step_contact::<M>(v))
     }
     #[inline]
     fn contact_to_object(&self, v: Vec3) -> Vec3 {
