@@ -14,6 +14,10 @@
 //! settled to its resolution, where only a sub-count limit cycle of the quantised loop remains.
 //! (The amplitude over [0.35, 0.45) s is reported beside it: equal amplitudes are a sustained
 //! oscillation.) K_max: log sweep, then bisection to 2 %.
+//!
+//! **Diagnostic.** Every figure is also computed with the winding inductance made negligible
+//! ([`NEGLIGIBLE_INDUCTANCE_H`]): the current then follows the duty at once, and what remains is
+//! the sampled loop of the model in [`super::haptic`].
 
 use crate::closed_loop;
 use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
@@ -53,6 +57,9 @@ pub struct DeviceLoop {
     /// Sample-to-output delay, ticks in [0, 1].
     pub delay_ticks: f64,
     pub passivity: bool,
+    /// Motor winding inductance, H (the plant's 0.24 mH; a near-zero value isolates the
+    /// electrical lag).
+    pub inductance_h: f64,
 }
 
 fn script() -> HandScript {
@@ -88,7 +95,11 @@ pub fn run(l: &DeviceLoop, k: f64) -> Result<DeviceOutcome, String> {
         ..PassivityConfig::DEFAULT
     })
     .map_err(|e| format!("passivity: {e}"))?;
-    let mut plant = Plant::new(DeviceParams::OMEGA_LIKE, PlantParams::OMEGA_LIKE, script())
+    let params = PlantParams {
+        motor_inductance_h: l.inductance_h,
+        ..PlantParams::OMEGA_LIKE
+    };
+    let mut plant = Plant::new(DeviceParams::OMEGA_LIKE, params, script())
         .map_err(|e| format!("plant: {e:?}"))?;
     let dt = 1.0 / l.rate_hz;
     let ticks = (RUN_S * l.rate_hz).round() as u64;
@@ -170,14 +181,30 @@ pub struct DeviceRow {
     /// Late peak-to-peak amplitude of the 3x wall without and with passivity, m.
     pub passivity_3x_late_amp_without_m: Option<f64>,
     pub passivity_3x_late_amp_with_m: Option<f64>,
+    /// The same with the winding inductance at [`NEGLIGIBLE_INDUCTANCE_H`]: K_max for one tick and
+    /// the firmware timing, N/m, and whether the 3x wall with passivity settles.
+    pub no_lag_kmax_one_tick: Option<f64>,
+    pub no_lag_kmax_firmware_timing: Option<f64>,
+    pub no_lag_passivity_3x_stable: Option<bool>,
 }
 
-/// The device figures at `rate_hz` with the firmware's delay `delay_ticks`.
-pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
+/// A winding inductance whose L/R (0.5 µs) is negligible against the tick, H.
+pub const NEGLIGIBLE_INDUCTANCE_H: f64 = 1e-6;
+
+/// K_max for one tick and for `delay_ticks`, and the 3x wall without and with passivity.
+type Figures = (
+    Option<f64>,
+    Option<f64>,
+    Option<DeviceOutcome>,
+    Option<DeviceOutcome>,
+);
+
+fn figures(rate_hz: f64, delay_ticks: f64, inductance_h: f64) -> Result<Figures, String> {
     let mk = |delay_ticks, passivity| DeviceLoop {
         rate_hz,
         delay_ticks,
         passivity,
+        inductance_h,
     };
     let one = kmax(&mk(1.0, false))?;
     let fw = kmax(&mk(delay_ticks, false))?;
@@ -188,6 +215,14 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
         ),
         None => (None, None),
     };
+    Ok((one, fw, with, without))
+}
+
+/// The device figures at `rate_hz` with the firmware's delay `delay_ticks`.
+pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
+    let l = PlantParams::OMEGA_LIKE.motor_inductance_h;
+    let (one, fw, with, without) = figures(rate_hz, delay_ticks, l)?;
+    let (n_one, n_fw, n_with, _) = figures(rate_hz, delay_ticks, NEGLIGIBLE_INDUCTANCE_H)?;
     Ok(DeviceRow {
         rate_hz,
         firmware_delay_ticks: delay_ticks,
@@ -198,5 +233,8 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
         passivity_3x_peak_force_n: with.map(|o| o.peak_force_n),
         passivity_3x_late_amp_without_m: without.map(|o| o.late_amp_m),
         passivity_3x_late_amp_with_m: with.map(|o| o.late_amp_m),
+        no_lag_kmax_one_tick: n_one,
+        no_lag_kmax_firmware_timing: n_fw,
+        no_lag_passivity_3x_stable: n_with.map(|o| o.stable),
     })
 }

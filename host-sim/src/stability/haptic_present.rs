@@ -453,6 +453,8 @@ pub fn device_table(rows: &[DeviceRow]) -> Table {
             "3x wall p-p without (um)",
             "3x wall p-p with passivity (um)",
             "settled with passivity",
+            "L ~ 0: K_max one tick / firmware (N/m)",
+            "L ~ 0: 3x settled with passivity",
         ],
     );
     let k = |v: Option<f64>| v.map_or("-".to_string(), |k| format!("{k:.0}"));
@@ -471,6 +473,13 @@ pub fn device_table(rows: &[DeviceRow]) -> Table {
             um(r.passivity_3x_late_amp_without_m),
             um(r.passivity_3x_late_amp_with_m),
             r.passivity_3x_stable.map_or("-".into(), |s| s.to_string()),
+            format!(
+                "{} / {}",
+                k(r.no_lag_kmax_one_tick),
+                k(r.no_lag_kmax_firmware_timing)
+            ),
+            r.no_lag_passivity_3x_stable
+                .map_or("-".into(), |s| s.to_string()),
         ]);
     }
     t
