@@ -282,3 +282,36 @@ fn rolling_back_along_the_same_samples_returns_exactly() {
         check::<Fast>(m);
     }
 }
+
+/// The canonical sign of an increment's vector part is the sign of its first non-zero component
+/// (x, then y, then z); the zero vector is not negative. Each branch alone, both signs.
+#[test]
+fn negative_canonical_follows_the_first_non_zero_component() {
+    for (v, negative) in [
+        (Vec3::new(-1e-30, 5.0, 5.0), true),
+        (Vec3::new(1e-30, -5.0, -5.0), false),
+        (Vec3::new(0.0, -1e-30, 5.0), true),
+        (Vec3::new(0.0, 1e-30, -5.0), false),
+        (Vec3::new(0.0, 0.0, -1e-30), true),
+        (Vec3::new(0.0, 0.0, 1e-30), false),
+        (Vec3::ZERO, false),
+    ] {
+        assert_eq!(negative_canonical(v), negative, "{v:?}");
+        if v != Vec3::ZERO {
+            assert_eq!(negative_canonical(-v), !negative, "-{v:?}");
+        }
+    }
+}
+
+/// k_γ = 1/ρ + 1/R₂ against the closed forms: fingertip ρ = 10 mm on a plane (100 /m), on a
+/// sphere of R = 50 mm (120 /m) and in a bowl of R = 50 mm (80 /m); exact in f32 to 1 ulp.
+#[test]
+fn relative_curvature_adds_the_two_curvatures() {
+    for (surface, expected) in [(0.0, 100.0), (20.0, 120.0), (-20.0, 80.0)] {
+        let k = relative_curvature(0.01, surface);
+        assert!(
+            (k - expected).abs() <= expected * f32::EPSILON,
+            "{surface}: {k}"
+        );
+    }
+}
