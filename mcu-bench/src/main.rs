@@ -25,6 +25,8 @@ use softfinger_mcu_bench::bench::Bencher;
 use softfinger_mcu_bench::counter::Counter;
 use softfinger_mcu_bench::{bb, bench, exit::exit, install_fault_handler};
 
+mod link_bench;
+
 install_fault_handler!();
 
 #[entry]
@@ -38,6 +40,7 @@ fn main() -> ! {
     math_kernels(&mut b);
     rotations(&mut b);
     pipeline(&mut b);
+    link_bench::benches(&mut b);
 
     exit(b.ok())
 }

@@ -17,6 +17,7 @@ mod creep;
 mod decompose;
 mod kernels;
 mod pipeline;
+mod protocol;
 mod robustness;
 mod rolling;
 mod rotations;
@@ -56,6 +57,7 @@ fn main() -> ! {
     backend_checks::<Micromath>(&mut c, false);
     backend_checks::<Fast>(&mut c, true);
     pipeline::checks(&mut c);
+    protocol::checks(&mut c);
     c.finish()
 }
 
