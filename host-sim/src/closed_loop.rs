@@ -15,12 +15,13 @@ use softfinger_core::params::ContactParams;
 use softfinger_core::pipeline::{
     BoardTiming, Command, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
 };
-use softfinger_core::surface::{Plane, Sphere, Surface};
+use softfinger_core::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::{Math, Vec3};
 use std::time::{Duration, Instant};
 
-/// Height (base frame, m) of the plane, or of the sphere's top, in every built-in scene: 10 mm
-/// below the workspace centre, so a 10 mm fingertip touches with its centre there.
+/// Height (base frame, m) of the first contact point in every built-in scene (the plane, the top
+/// of the sphere or the cylinder, the bottom of the bowl): 10 mm below the workspace centre, so a
+/// 10 mm fingertip touches with its centre there.
 pub fn surface_top_z_m() -> f64 {
     DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M.z as f64 - 0.010
 }
@@ -58,6 +59,8 @@ pub fn touch_script(scene: &Scene, contact: &ContactParams) -> HandScript {
         twist_rad: s.twist_rad.unwrap_or(d.twist_rad),
         slide_m: s.slide_m.unwrap_or(d.slide_m),
         clearance_m: s.clearance_m.unwrap_or(d.clearance_m),
+        heading_rad: s.heading_rad.unwrap_or(d.heading_rad),
+        twist_while_sliding: s.twist_while_sliding.unwrap_or(d.twist_while_sliding),
         ..d
     }
     .script()
@@ -129,6 +132,35 @@ pub fn sphere_config(
 ) -> Result<PipelineConfig<Sphere>, String> {
     let origin = Vec3::new(0.0, 0.0, (surface_top_z_m() - radius_m) as f32);
     config_for(scene, contact, Sphere::new(radius_m as f32), origin)
+}
+
+/// The pipeline configuration for a bowl scene: the object frame's origin is the bowl's centre,
+/// above its bottom. The bowl must be larger than the fingertip.
+pub fn bowl_config(
+    scene: &Scene,
+    contact: ContactParams,
+    radius_m: f64,
+) -> Result<PipelineConfig<Bowl>, String> {
+    let r = contact.fingertip_radius_m as f64;
+    if radius_m <= r {
+        return Err(format!(
+            "scene '{}': a bowl of radius {radius_m} m cannot hold a fingertip of radius {r} m",
+            scene.name
+        ));
+    }
+    let origin = Vec3::new(0.0, 0.0, (surface_top_z_m() + radius_m) as f32);
+    config_for(scene, contact, Bowl::new(radius_m as f32), origin)
+}
+
+/// The pipeline configuration for a cylinder scene: the object frame's origin is on the
+/// cylinder's axis (along the base x axis), below its top.
+pub fn cylinder_config(
+    scene: &Scene,
+    contact: ContactParams,
+    radius_m: f64,
+) -> Result<PipelineConfig<Cylinder>, String> {
+    let origin = Vec3::new(0.0, 0.0, (surface_top_z_m() - radius_m) as f32);
+    config_for(scene, contact, Cylinder::new(radius_m as f32), origin)
 }
 
 /// Which surface a scene needs, for dispatch to the monomorphised loop.

@@ -59,6 +59,9 @@ pub struct Row {
     pub object_point_m: [f32; 3],
     /// Contact point on the fingertip, fingertip frame, m.
     pub finger_point_m: [f32; 3],
+    /// Contact normal (unit, towards the fingertip), object frame, which is parallel to the base
+    /// frame in every scene.
+    pub normal: [f32; 3],
     pub duties: [f32; 3],
     /// The hand's force on the handle (plant truth), N.
     pub hand_force_n: [f64; 3],
@@ -182,6 +185,7 @@ fn run_with<M: Math, S: Surface>(
                 spin_rad: contact.spin.accumulated_rad,
                 object_point_m: contact.rolling.surface.contact_point().to_array(),
                 finger_point_m: contact.rolling.finger_point().to_array(),
+                normal: contact.rolling.surface.normal().to_array(),
                 duties: out.bridges.duties(full_scale),
                 hand_force_n: truth.hand_force_n,
             });
@@ -208,7 +212,7 @@ pub fn simulate_scene(args: &Args) -> Result<RunResult, String> {
     if let Some(d) = args.duration_s {
         scene.duration_s = d;
     }
-    let scene = Scene::parse(&toml_of(&scene), &scene.name)?; // re-check the overrides
+    let scene = Scene::parse(&scene.to_toml(), &scene.name)?; // re-check the overrides
     let contact = closed_loop::contact_params(&scene)?;
     let ticks = (scene.duration_s * scene.rate_hz).round() as u64;
     match scene.surface {
@@ -220,46 +224,15 @@ pub fn simulate_scene(args: &Args) -> Result<RunResult, String> {
             let cfg = closed_loop::sphere_config(&scene, contact, radius_m)?;
             run_with::<Fast, _>(scene, cfg, ticks)
         }
-    }
-}
-
-/// Re-serialise the fields that the command line can override, for re-validation.
-fn toml_of(s: &Scene) -> String {
-    let surface = match s.surface {
-        SurfaceSpec::Plane => "kind = \"plane\"".to_string(),
-        SurfaceSpec::Sphere { radius_m } => format!("kind = \"sphere\"\nradius_m = {radius_m:?}"),
-    };
-    let mut t = format!("name = {:?}\ndescription = {:?}\nmethod = {:?}\nrate_hz = {:?}\nduration_s = {:?}\n[surface]\n{surface}\n", s.name, s.description, s.method, s.rate_hz, s.duration_s);
-    let sc = &s.script;
-    t += "[script]\n";
-    for (k, v) in [
-        ("press_depth_m", sc.press_depth_m),
-        ("roll_rad", sc.roll_rad),
-        ("twist_rad", sc.twist_rad),
-        ("slide_m", sc.slide_m),
-        ("clearance_m", sc.clearance_m),
-    ] {
-        if let Some(v) = v {
-            t += &format!("{k} = {v:?}\n");
+        SurfaceSpec::Bowl { radius_m } => {
+            let cfg = closed_loop::bowl_config(&scene, contact, radius_m)?;
+            run_with::<Fast, _>(scene, cfg, ticks)
+        }
+        SurfaceSpec::Cylinder { radius_m } => {
+            let cfg = closed_loop::cylinder_config(&scene, contact, radius_m)?;
+            run_with::<Fast, _>(scene, cfg, ticks)
         }
     }
-    let c = &s.contact;
-    t += "[contact]\n";
-    for (k, v) in [
-        ("fingertip_radius_m", c.fingertip_radius_m),
-        ("normal_stiffness", c.normal_stiffness),
-        ("normal_damping", c.normal_damping),
-        ("tangential_stiffness", c.tangential_stiffness),
-        ("tangential_damping", c.tangential_damping),
-        ("mu_s", c.mu_s),
-        ("mu_k", c.mu_k),
-        ("spin_stiffness", c.spin_stiffness),
-    ] {
-        if let Some(v) = v {
-            t += &format!("{k} = {:?}\n", v as f64);
-        }
-    }
-    t
 }
 
 fn write_csv(path: &Path, rows: &[Row]) -> Result<(), String> {
@@ -399,7 +372,8 @@ pub fn main(args: &Args) -> Result<(), String> {
     std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
     let csv = args.out.join("run.csv");
     write_csv(&csv, &res.rows)?;
-    let charts = write_charts(&args.out, &res)?;
+    let mut charts = write_charts(&args.out, &res)?;
+    let limit = crate::limit_path::write_for_run(&args.out, &res)?;
     println!(
         "scene {} ({}), {} ticks at {} Hz, method {}, backend {}",
         res.scene.name,
@@ -445,6 +419,13 @@ pub fn main(args: &Args) -> Result<(), String> {
         "  faults latched: {} ticks; non-finite values: {}",
         s.latched_fault_ticks, s.non_finite_values
     );
+    if let Some((file, l)) = limit {
+        println!(
+            "  limit surface (1 = static ellipse): largest load {:.3} rolling, {:.3} sliding ({} ticks); twist used up to {:.3} of τ_max",
+            l.max_rolling, l.max_sliding, l.sliding_ticks, l.max_twist
+        );
+        charts.push(file);
+    }
     println!("  wrote {}", csv.display());
     for c in charts {
         println!("  wrote {}", c.display());

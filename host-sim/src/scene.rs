@@ -8,7 +8,7 @@ use softfinger_core::decompose::Method;
 use std::path::Path;
 
 /// The built-in scenes: (name, TOML text). The first is the default.
-pub const BUILT_IN: [(&str, &str); 2] = [
+pub const BUILT_IN: [(&str, &str); 5] = [
     (
         "finger-on-plane",
         include_str!("../scenes/finger-on-plane.toml"),
@@ -16,6 +16,18 @@ pub const BUILT_IN: [(&str, &str); 2] = [
     (
         "finger-on-sphere",
         include_str!("../scenes/finger-on-sphere.toml"),
+    ),
+    (
+        "finger-in-bowl",
+        include_str!("../scenes/finger-in-bowl.toml"),
+    ),
+    (
+        "finger-on-cylinder",
+        include_str!("../scenes/finger-on-cylinder.toml"),
+    ),
+    (
+        "finger-slide-twist",
+        include_str!("../scenes/finger-slide-twist.toml"),
     ),
 ];
 
@@ -25,8 +37,36 @@ pub const BUILT_IN: [(&str, &str); 2] = [
 pub enum SurfaceSpec {
     /// A horizontal plane.
     Plane,
-    /// A fixed sphere of radius `radius_m` (m).
+    /// A fixed sphere of radius `radius_m` (m), the fingertip on top of it.
     Sphere { radius_m: f64 },
+    /// A concave spherical bowl of inner radius `radius_m` (m, larger than the fingertip's), the
+    /// fingertip inside it, first touching its bottom.
+    Bowl { radius_m: f64 },
+    /// A fixed cylinder of radius `radius_m` (m), its axis along the base x axis, the fingertip
+    /// first touching its top.
+    Cylinder { radius_m: f64 },
+}
+
+impl SurfaceSpec {
+    /// The radius of a curved surface; `None` for the plane.
+    pub fn radius_m(&self) -> Option<f64> {
+        match *self {
+            SurfaceSpec::Plane => None,
+            SurfaceSpec::Sphere { radius_m }
+            | SurfaceSpec::Bowl { radius_m }
+            | SurfaceSpec::Cylinder { radius_m } => Some(radius_m),
+        }
+    }
+
+    /// The `kind` key of the scene file.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            SurfaceSpec::Plane => "plane",
+            SurfaceSpec::Sphere { .. } => "sphere",
+            SurfaceSpec::Bowl { .. } => "bowl",
+            SurfaceSpec::Cylinder { .. } => "cylinder",
+        }
+    }
 }
 
 /// Changes to the hand script (see `plant::TouchScript`); absent fields keep its defaults.
@@ -38,6 +78,10 @@ pub struct ScriptSpec {
     pub twist_rad: Option<f64>,
     pub slide_m: Option<f64>,
     pub clearance_m: Option<f64>,
+    /// Direction of the roll and the slide in the base xy plane, rad from +x towards +y.
+    pub heading_rad: Option<f64>,
+    /// Twist and slide at once (one phase) instead of one after the other.
+    pub twist_while_sliding: Option<bool>,
 }
 
 /// Changes to the contact parameters; absent fields keep `ContactParams::DEFAULT`.
@@ -147,6 +191,53 @@ impl Scene {
         })
     }
 
+    /// The scene as TOML text (every field the command line can override, and the rest), for
+    /// re-validation after overrides; [`Scene::parse`] of it gives the same scene.
+    pub fn to_toml(&self) -> String {
+        let mut surface = format!("kind = {:?}\n", self.surface.kind());
+        if let Some(r) = self.surface.radius_m() {
+            surface += &format!("radius_m = {r:?}\n");
+        }
+        let mut t = format!(
+            "name = {:?}\ndescription = {:?}\nmethod = {:?}\nrate_hz = {:?}\nduration_s = {:?}\n[surface]\n{surface}",
+            self.name, self.description, self.method, self.rate_hz, self.duration_s
+        );
+        let sc = &self.script;
+        t += "[script]\n";
+        for (k, v) in [
+            ("press_depth_m", sc.press_depth_m),
+            ("roll_rad", sc.roll_rad),
+            ("twist_rad", sc.twist_rad),
+            ("slide_m", sc.slide_m),
+            ("clearance_m", sc.clearance_m),
+            ("heading_rad", sc.heading_rad),
+        ] {
+            if let Some(v) = v {
+                t += &format!("{k} = {v:?}\n");
+            }
+        }
+        if let Some(b) = sc.twist_while_sliding {
+            t += &format!("twist_while_sliding = {b}\n");
+        }
+        let c = &self.contact;
+        t += "[contact]\n";
+        for (k, v) in [
+            ("fingertip_radius_m", c.fingertip_radius_m),
+            ("normal_stiffness", c.normal_stiffness),
+            ("normal_damping", c.normal_damping),
+            ("tangential_stiffness", c.tangential_stiffness),
+            ("tangential_damping", c.tangential_damping),
+            ("mu_s", c.mu_s),
+            ("mu_k", c.mu_k),
+            ("spin_stiffness", c.spin_stiffness),
+        ] {
+            if let Some(v) = v {
+                t += &format!("{k} = {:?}\n", v as f64);
+            }
+        }
+        t
+    }
+
     fn check(&self) -> Result<(), String> {
         self.method()?;
         if !(self.rate_hz.is_finite() && (1_000.0..=40_000.0).contains(&self.rate_hz)) {
@@ -161,9 +252,14 @@ impl Scene {
                 self.duration_s
             ));
         }
-        if let SurfaceSpec::Sphere { radius_m } = self.surface {
+        if let Some(radius_m) = self.surface.radius_m() {
             if !(radius_m.is_finite() && radius_m > 0.0) {
                 return Err(format!("surface.radius_m must be positive, got {radius_m}"));
+            }
+        }
+        if let Some(h) = self.script.heading_rad {
+            if !(h.is_finite() && h.abs() <= std::f64::consts::TAU) {
+                return Err(format!("script.heading_rad must be within ±2π, got {h}"));
             }
         }
         Ok(())
@@ -181,6 +277,50 @@ mod tests {
             assert_eq!(s.name, name);
         }
         assert_eq!(Scene::default_scene().surface, SurfaceSpec::Plane);
+        let kinds: Vec<&str> = BUILT_IN
+            .iter()
+            .map(|(n, t)| Scene::parse(t, n).unwrap().surface.kind())
+            .collect();
+        for k in ["plane", "sphere", "bowl", "cylinder"] {
+            assert!(kinds.contains(&k), "no built-in {k} scene: {kinds:?}");
+        }
+    }
+
+    #[test]
+    fn curved_surfaces_need_a_positive_radius() {
+        for kind in ["sphere", "bowl", "cylinder"] {
+            let ok = format!("name = \"x\"\n[surface]\nkind = \"{kind}\"\nradius_m = 0.03\n");
+            let s = Scene::parse(&ok, "ok.toml").unwrap();
+            assert_eq!(s.surface.kind(), kind);
+            assert_eq!(s.surface.radius_m(), Some(0.03));
+            for bad in ["0.0", "-0.01", "nan"] {
+                let t = format!("name = \"x\"\n[surface]\nkind = \"{kind}\"\nradius_m = {bad}\n");
+                let e = Scene::parse(&t, "r.toml").unwrap_err();
+                assert!(e.contains("radius_m"), "{kind} {bad}: {e}");
+            }
+            let missing = format!("name = \"x\"\n[surface]\nkind = \"{kind}\"\n");
+            assert!(Scene::parse(&missing, "m.toml").is_err());
+        }
+        // The heading is bounded just above ±2π.
+        let heading = |h: &str| {
+            Scene::parse(
+                &format!(
+                    "name = \"x\"\n[surface]\nkind = \"plane\"\n[script]\nheading_rad = {h}\n"
+                ),
+                "h.toml",
+            )
+        };
+        assert!(heading("6.283").is_ok());
+        assert!(heading("6.284").unwrap_err().contains("heading_rad"));
+        assert!(heading("-6.284").is_err());
+    }
+
+    #[test]
+    fn to_toml_round_trips_every_built_in() {
+        for (name, text) in BUILT_IN {
+            let s = Scene::parse(text, name).unwrap();
+            assert_eq!(Scene::parse(&s.to_toml(), name).unwrap(), s, "{name}");
+        }
     }
 
     #[test]

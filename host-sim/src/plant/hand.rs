@@ -20,6 +20,8 @@ pub enum Phase {
     Roll,
     Twist,
     Slide,
+    /// Slide and twist at once (the hand pushes sideways while it turns about the normal).
+    SlideTwist,
     LiftOff,
     Hold,
 }
@@ -33,6 +35,7 @@ impl Phase {
             Phase::Roll => "roll",
             Phase::Twist => "twist",
             Phase::Slide => "slide",
+            Phase::SlideTwist => "slide-twist",
             Phase::LiftOff => "lift-off",
             Phase::Hold => "hold",
         }
@@ -205,8 +208,13 @@ pub struct TouchScript {
     pub roll_rad: f64,
     /// Twist about the surface normal, rad.
     pub twist_rad: f64,
-    /// Tangential slide along x, m.
+    /// Tangential slide along the heading, m.
     pub slide_m: f64,
+    /// Direction of the roll and the slide in the base xy plane, rad from +x towards +y. The wrist's
+    /// joint 0 (about the base z axis) turns to it during the approach, in free space.
+    pub heading_rad: f64,
+    /// Twist while sliding: one slide-twist phase (1 s) instead of a twist (1 s) then a slide (1 s).
+    pub twist_while_sliding: bool,
 }
 
 impl Default for TouchScript {
@@ -224,19 +232,24 @@ impl Default for TouchScript {
             roll_rad: 0.3,
             twist_rad: 0.5,
             slide_m: 0.020,
+            heading_rad: 0.0,
+            twist_while_sliding: false,
         }
     }
 }
 
 impl TouchScript {
-    /// Approach (0.5 s), press (0.3 s), roll (1 s), twist (1 s), slide (1 s), lift off (0.5 s).
+    /// Approach (0.5 s), press (0.3 s), roll (1 s), twist (1 s), slide (1 s), lift off (0.5 s); with
+    /// `twist_while_sliding`, twist and slide are one 1 s phase (3.3 s in all).
     ///
-    /// Roll turns wrist joint 1 (about y, joint 0 being at zero then) by `roll_rad` and moves the
-    /// reference by ρ·roll_rad along +x, the centre's travel for a sphere rolling without
-    /// slipping (contact displacement ρ·(w_y, −w_x) for a rotation vector w). Twist turns joint
-    /// 0, which is about the base z axis, the surface normal, through the fingertip centre, so
-    /// the position holds. Slide moves along +x at constant orientation. Lift off rises back to
-    /// the clearance height.
+    /// With the heading h = 0: roll turns wrist joint 1 (about y, joint 0 being at zero then) by
+    /// `roll_rad` and moves the reference by ρ·roll_rad along +x, the centre's travel for a sphere
+    /// rolling without slipping (contact displacement ρ·(w_y, −w_x) for a rotation vector w). Twist
+    /// turns joint 0, which is about the base z axis, the surface normal, through the fingertip
+    /// centre, so the position holds. Slide moves along +x at constant orientation. Lift off
+    /// rises back to the clearance height. Any other heading turns joint 0 to h during the
+    /// approach; the wrist is Rz(a₀)·Ry(a₁)·Rx(a₂), so joint 1 then rolls about
+    /// (−sin h, cos h, 0) and everything moves along (cos h, sin h, 0) instead of +x.
     pub fn script(&self) -> HandScript {
         self.script_with_durations(1.0, 1.0)
     }
@@ -248,21 +261,30 @@ impl TouchScript {
         let touch_z = self.surface_z_m + self.fingertip_radius_m;
         let above = touch_z + self.clearance_m;
         let pressed = touch_z - self.press_depth_m;
-        let rolled_x = cx + self.fingertip_radius_m * self.roll_rad;
-        let slid_x = rolled_x + self.slide_m;
-        let w = |x: f64, z: f64, wrist: [f64; 3]| Waypoint {
-            position_m: [x, cy, z],
+        let h = self.heading_rad;
+        let (sin_h, cos_h) = h.sin_cos();
+        // Distance travelled along the heading from the first contact.
+        let rolled_d = self.fingertip_radius_m * self.roll_rad;
+        let slid_d = rolled_d + self.slide_m;
+        let w = |d: f64, z: f64, wrist: [f64; 3]| Waypoint {
+            position_m: [cx + d * cos_h, cy + d * sin_h, z],
             wrist_rad: wrist,
         };
-        let rolled = [0.0, self.roll_rad, 0.0];
-        let twisted = [self.twist_rad, self.roll_rad, 0.0];
-        HandScript::new(w(cx, above, [0.0; 3]))
-            .then(Phase::Approach, 0.5, w(cx, touch_z, [0.0; 3]))
-            .then(Phase::Press, 0.3, w(cx, pressed, [0.0; 3]))
-            .then(Phase::Roll, roll_s, w(rolled_x, pressed, rolled))
-            .then(Phase::Twist, twist_s, w(rolled_x, pressed, twisted))
-            .then(Phase::Slide, 1.0, w(slid_x, pressed, twisted))
-            .then(Phase::LiftOff, 0.5, w(slid_x, above, twisted))
+        let headed = [h, 0.0, 0.0];
+        let rolled = [h, self.roll_rad, 0.0];
+        let twisted = [h + self.twist_rad, self.roll_rad, 0.0];
+        let script = HandScript::new(w(0.0, above, [0.0; 3]))
+            .then(Phase::Approach, 0.5, w(0.0, touch_z, headed))
+            .then(Phase::Press, 0.3, w(0.0, pressed, headed))
+            .then(Phase::Roll, roll_s, w(rolled_d, pressed, rolled));
+        let script = if self.twist_while_sliding {
+            script.then(Phase::SlideTwist, 1.0, w(slid_d, pressed, twisted))
+        } else {
+            script
+                .then(Phase::Twist, twist_s, w(rolled_d, pressed, twisted))
+                .then(Phase::Slide, 1.0, w(slid_d, pressed, twisted))
+        };
+        script.then(Phase::LiftOff, 0.5, w(slid_d, above, twisted))
     }
 }
 
@@ -307,6 +329,32 @@ mod tests {
         assert_eq!(end.velocity_m_s, [0.0; 3]);
         assert!((end.position_m[0] - 0.023).abs() < 1e-12);
         assert_eq!(end.wrist_rad, [0.5, 0.3, 0.0]);
+    }
+
+    #[test]
+    fn heading_and_twist_while_sliding_turn_the_script() {
+        let t = TouchScript {
+            heading_rad: std::f64::consts::FRAC_PI_2,
+            twist_while_sliding: true,
+            ..TouchScript::default()
+        };
+        let s = t.script();
+        assert_eq!(s.validate(), Ok(()));
+        assert!((s.duration_s() - 3.3).abs() < 1e-12);
+        // Joint 0 at the heading on contact, still at the start's x, y.
+        let touch = s.sample(0.5);
+        assert_eq!(touch.wrist_rad, [std::f64::consts::FRAC_PI_2, 0.0, 0.0]);
+        assert!(touch.position_m[0].abs() < 1e-12 && touch.position_m[1].abs() < 1e-12);
+        // Rolled 3 mm along +y (cos 90° rounds to 6e-17, so x stays within 1e-18 m).
+        let rolled = s.sample(1.8);
+        assert!(rolled.position_m[0].abs() < 1e-15 && (rolled.position_m[1] - 0.003).abs() < 1e-12);
+        // Half-way through the slide-twist, moving and turning at once.
+        let mid = s.sample(2.3);
+        assert_eq!(mid.phase, Phase::SlideTwist);
+        assert!(mid.velocity_m_s[1] > 0.0 && mid.wrist_rad[0] > std::f64::consts::FRAC_PI_2);
+        let end = s.sample(10.0);
+        assert!((end.position_m[1] - 0.023).abs() < 1e-12);
+        assert!((end.wrist_rad[0] - std::f64::consts::FRAC_PI_2 - 0.5).abs() < 1e-12);
     }
 
     #[test]

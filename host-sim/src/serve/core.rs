@@ -364,6 +364,13 @@ pub fn scene_model(scene: &crate::scene::Scene) -> Result<(ContactParams, LocalM
             },
             top - radius_m as f32,
         ),
+        other => {
+            return Err(format!(
+                "scene '{}': the virtual device renders plane and sphere local models, not a {}",
+                scene.name,
+                other.kind()
+            ))
+        }
     };
     let spec = LocalModelSpec {
         kind,
