@@ -99,7 +99,7 @@ fn bowl_scene_is_bounded_and_rolls_up_the_wall() {
     assert!(s.time_in_state_s[1] > 2.5, "{:?}", s.time_in_state_s);
     assert!(s.transitions <= 10, "{} transitions", s.transitions);
     // End of the roll: the contact at (R sin β, 0, −R cos β), β = 0.3·r/(R − r) = 0.075 rad.
-    // Measured 8.1 µm off in x and 0.3 µm in z (the wrist's quantisation and the press
+    // Measured 8.2 µm off in x and 0.6 µm in z (the wrist's quantisation and the press
     // settling); bound 3×: 25 µm.
     let big_r = 0.05;
     let beta = rolled_normal_angle(0.01, big_r, true);

@@ -50,7 +50,8 @@ pub fn load_path(rows: &[Row], p: &ContactParams) -> Vec<LoadPoint> {
             let f = r.force_n.map(f64::from);
             let n = r.normal.map(f64::from);
             let f_n = f[0] * n[0] + f[1] * n[1] + f[2] * n[2];
-            if !(f_n > p.force_eps_n as f64) {
+            // Also drops a NaN f_N (every comparison with NaN is false).
+            if f_n.is_nan() || f_n <= p.force_eps_n as f64 {
                 return None;
             }
             let f_t = [0, 1, 2].map(|k| f[k] - f_n * n[k]);

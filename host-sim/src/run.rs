@@ -17,7 +17,8 @@ use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct Args {
-    /// A built-in scene name (finger-on-plane, finger-on-sphere) or a scene TOML file.
+    /// A built-in scene name (finger-on-plane, finger-on-sphere, finger-in-bowl,
+    /// finger-on-cylinder, finger-slide-twist) or a scene TOML file.
     #[arg(long, default_value = "finger-on-plane")]
     pub scene: String,
     /// Control rate, Hz (overrides the scene's).
