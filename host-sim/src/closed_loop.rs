@@ -283,3 +283,25 @@ pub fn simulate<M: Math, S: Surface>(
     }
     in_pipeline
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bowl must be larger than the fingertip (10 mm by default): refused at 10 mm, accepted
+    /// just above.
+    #[test]
+    fn a_bowl_must_hold_the_fingertip() {
+        let scene = Scene::load("finger-in-bowl").unwrap();
+        let contact = contact_params(&scene).unwrap();
+        let r = contact.fingertip_radius_m as f64;
+        let e = bowl_config(&scene, contact, r).unwrap_err();
+        assert!(e.contains("cannot hold"), "{e}");
+        let ok = bowl_config(&scene, contact, r * 1.001).unwrap();
+        // The bowl's centre is its radius above the first contact.
+        let above = ok.object_origin_m.z as f64 - surface_top_z_m();
+        assert!((above - r * 1.001).abs() < 1e-6, "{above}");
+        let cyl = cylinder_config(&scene, contact, 0.05).unwrap();
+        assert!((surface_top_z_m() - cyl.object_origin_m.z as f64 - 0.05).abs() < 1e-6);
+    }
+}

@@ -186,3 +186,15 @@ fn models_are_refused_with_typed_codes() {
     );
     assert_eq!(core.contact_params(), contact);
 }
+
+#[test]
+fn bowl_and_cylinder_scenes_are_refused_with_their_kind() {
+    for (name, kind) in [
+        ("finger-in-bowl", "bowl"),
+        ("finger-on-cylinder", "cylinder"),
+    ] {
+        let e = scene_model(&Scene::load(name).unwrap()).unwrap_err();
+        assert!(e.contains(kind) && e.contains(name), "{e}");
+    }
+    assert!(scene_model(&Scene::load("finger-on-sphere").unwrap()).is_ok());
+}
