@@ -6,6 +6,8 @@ use crate::surface::Plane;
 
 #[path = "scenario_tests.rs"]
 mod scenario_tests;
+#[path = "step_rule_tests.rs"]
+mod step_rule_tests;
 
 const DT: f32 = 1e-4; // 10 kHz
 
