@@ -477,6 +477,33 @@ fn the_stream_follows_the_divisor_and_refuses_one_below_the_minimum() {
 }
 
 #[test]
+fn records_off_the_divisor_give_one_sample_per_window() {
+    let (mut s, mut q) = (session::<4096>(), queue());
+    feed(
+        &mut s,
+        &mut q,
+        &request(
+            1,
+            Request::SetStream {
+                divisor: 2 * MIN_DIVISOR,
+            },
+        ),
+    );
+    // The decimator's records at ticks 99, 199, ...: windows of 200 ticks hold two each.
+    for i in 0..6 {
+        s.record(&record(99 + i * 100, [0; 3]));
+    }
+    let ticks: Vec<u64> = sent(&mut s)
+        .iter()
+        .filter_map(|m| match m {
+            DeviceMsg::State(st) => Some(st.tick),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(ticks, vec![99, 299, 499]);
+}
+
+#[test]
 fn a_host_that_stops_reading_loses_samples_counted_never_blocks() {
     // Room for about two state frames.
     let (mut s, mut q) = (session::<160>(), queue());

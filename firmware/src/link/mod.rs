@@ -16,6 +16,7 @@
 //! - [`state`]: state samples from the tick's telemetry records.
 //! - [`tx`]: the non-blocking byte ring a transport drains.
 //! - [`session`]: one connection: the pieces above around the protocol's endpoint.
+//! - `task`: the low-priority task that polls a byte transport (firmware builds only).
 //!
 //! These files use no HAL, executor or logging type, so host tests check them
 //! (`tests/firmware_link.rs`).
@@ -25,4 +26,7 @@ pub mod info;
 pub mod requests;
 pub mod session;
 pub mod state;
+// The task needs the executor's timer and the tick's types: firmware builds only.
+#[cfg(target_os = "none")]
+pub mod task;
 pub mod tx;

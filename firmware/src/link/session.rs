@@ -6,7 +6,9 @@ use heapless::spsc::Producer;
 use softfinger_core::device::DeviceParams;
 use softfinger_core::params::ContactParams;
 use softfinger_core::pipeline::{Command, CommandError, PipelineRecord};
-use softfinger_protocol::{AckResult, DeviceEndpoint, DeviceMsg, ErrorCode, LinkCounters, Request};
+use softfinger_protocol::{
+    AckResult, DeviceEndpoint, DeviceMsg, ErrorCode, LinkCounters, Request, StateSample,
+};
 
 use super::acks::PendingAcks;
 use super::info::{device_info, InfoSource};
@@ -46,6 +48,10 @@ pub struct LinkSession<const TX: usize> {
     info: InfoSource,
     contact: ContactParams,
     tx: TxRing<TX>,
+    /// The stream window of the last sample offered (`None`: no stream).
+    window: Option<u64>,
+    /// State samples this connection could not send.
+    stream_dropped: u32,
 }
 
 impl<const TX: usize> LinkSession<TX> {
@@ -58,6 +64,8 @@ impl<const TX: usize> LinkSession<TX> {
             info: config.info,
             contact: config.contact,
             tx: TxRing::new(),
+            window: None,
+            stream_dropped: 0,
         }
     }
 
@@ -117,13 +125,30 @@ impl<const TX: usize> LinkSession<TX> {
         }
     }
 
-    /// A telemetry record from the tick: a state sample when the stream's divisor divides its
-    /// tick (a full transmit ring drops it, counted).
+    /// A telemetry record from the tick: a state sample when it is the first record of a
+    /// stream window (ticks `n·divisor .. (n+1)·divisor`; the records' ticks need not be
+    /// multiples of the divisor). A full transmit ring drops the sample, counted, and the next
+    /// sample sent reports how many this connection lost.
     pub fn record(&mut self, record: &PipelineRecord) {
         let sample = self.state.sample(record);
+        let divisor = u64::from(self.endpoint.divisor());
+        if divisor == 0 {
+            self.window = None;
+            return;
+        }
+        let window = sample.tick / divisor;
+        if self.window == Some(window) {
+            return;
+        }
+        self.window = Some(window);
         let tx = &mut self.tx;
-        self.endpoint
-            .offer_state(&sample, &mut |f: &[u8]| tx.push_frame(f));
+        let msg = DeviceMsg::State(StateSample {
+            dropped: self.stream_dropped,
+            ..sample
+        });
+        if !self.endpoint.send(&msg, &mut |f: &[u8]| tx.push_frame(f)) {
+            self.stream_dropped = self.stream_dropped.wrapping_add(1);
+        }
     }
 
     /// The bytes waiting for the transport.

@@ -29,6 +29,11 @@ impl<const N: usize> TxRing<N> {
         true
     }
 
+    /// The next byte to send, left in the ring.
+    pub fn peek(&self) -> Option<u8> {
+        self.bytes.front().copied()
+    }
+
     /// The next byte to send.
     pub fn pop(&mut self) -> Option<u8> {
         self.bytes.pop_front()
