@@ -11,7 +11,7 @@
 use softfinger_core::contact_state::ContactState;
 use softfinger_core::device::DeviceParams;
 use softfinger_core::pipeline::{Mode as CoreMode, PipelineRecord};
-use softfinger_core::Fast;
+use softfinger_core::Libm;
 use softfinger_protocol::{ContactStateWire, Mode, StateSample};
 
 /// The wire mode.
@@ -81,7 +81,9 @@ impl StateBuilder {
             .motor_counts
             .map(|c| self.device.motor_counts_to_arm_angle_rad(c));
         // A singular or non-finite pose comes back as the origin with a flag: report the origin.
-        let (probe, _flags) = self.device.delta.forward::<Fast>(angles);
+        // libm, not the tick's fast math: a separate instance of the kinematics, so the tick's
+        // code (inlined into the controller) is not shared with, or changed by, the link.
+        let (probe, _flags) = self.device.delta.forward::<Libm>(angles);
         let probe = probe.to_array();
         let velocity = match self.previous {
             Some((t0, p0)) if tick > t0 => {

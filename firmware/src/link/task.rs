@@ -3,10 +3,10 @@
 //! priority, polls, never waits for the tick and never makes the tick wait.
 
 use embassy_time::Timer;
-use heapless::spsc::{Consumer, Producer};
-use softfinger_core::pipeline::{Command, PipelineRecord};
+use heapless::spsc::Consumer;
+use softfinger_core::pipeline::PipelineRecord;
 
-use super::session::LinkSession;
+use super::session::{CommandSink, LinkSession};
 use crate::tick::CommandOutcome;
 
 /// A byte-at-a-time transport that never blocks (a UART's holding registers).
@@ -20,34 +20,41 @@ pub trait ByteTransport {
 /// Bytes taken from the transport per poll, at most (the rest wait in the transport).
 const RX_PER_POLL: usize = 512;
 
-/// The queue ends the link task holds.
+/// The queue ends the link task holds (the command queue's end is separate: the link may share
+/// it with the operator).
 pub struct LinkQueues {
-    /// Into the tick's command queue.
-    pub commands: Producer<'static, Command>,
     /// The tick's command outcomes.
     pub outcomes: Consumer<'static, CommandOutcome>,
     /// The tick's telemetry records.
     pub records: Consumer<'static, PipelineRecord>,
 }
 
+impl LinkQueues {
+    /// Hand the tick's outcomes and records to `session`.
+    pub fn forward_news<const TX: usize>(&mut self, session: &mut LinkSession<TX>) {
+        while let Some(o) = self.outcomes.dequeue() {
+            session.outcome(&o.command, o.result);
+        }
+        while let Some(r) = self.records.dequeue() {
+            session.record(&r);
+        }
+    }
+}
+
 /// One poll: receive, then the tick's news, then send what fits.
 pub fn poll<const TX: usize>(
     transport: &mut impl ByteTransport,
     session: &mut LinkSession<TX>,
+    commands: &mut impl CommandSink,
     q: &mut LinkQueues,
 ) {
     for _ in 0..RX_PER_POLL {
         let Some(b) = transport.read_byte() else {
             break;
         };
-        session.receive(b, &mut q.commands);
+        session.receive(b, commands);
     }
-    while let Some(o) = q.outcomes.dequeue() {
-        session.outcome(&o.command, o.result);
-    }
-    while let Some(r) = q.records.dequeue() {
-        session.record(&r);
-    }
+    q.forward_news(session);
     let tx = session.tx();
     while let Some(b) = tx.peek() {
         if !transport.write_byte(b) {
@@ -61,11 +68,12 @@ pub fn poll<const TX: usize>(
 pub async fn run<const TX: usize>(
     mut transport: impl ByteTransport,
     mut session: LinkSession<TX>,
+    mut commands: impl CommandSink,
     mut q: LinkQueues,
     period_us: u64,
 ) -> ! {
     loop {
-        poll(&mut transport, &mut session, &mut q);
+        poll(&mut transport, &mut session, &mut commands, &mut q);
         Timer::after_micros(period_us).await;
     }
 }

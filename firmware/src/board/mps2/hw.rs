@@ -77,18 +77,13 @@ pub static OVERRUNS: AtomicU32 = AtomicU32::new(0);
 pub struct Mps2Control {
     /// Tick period in 170 MHz timer counts.
     period_counts: u32,
-    /// Operator commands from the plant's operator, into the tick's command queue (`None` when
-    /// the host link owns the queue: the plant's operator is then ignored).
-    commands: Option<Producer<'static, Command>>,
+    /// Operator commands from the plant's operator, into the tick's command queue.
+    commands: Producer<'static, Command>,
     fault: Injected,
 }
 
 impl Mps2Control {
-    pub fn new(
-        period_counts: u32,
-        commands: Option<Producer<'static, Command>>,
-        fault: Injected,
-    ) -> Self {
+    pub fn new(period_counts: u32, commands: Producer<'static, Command>, fault: Injected) -> Self {
         Mps2Control {
             period_counts,
             commands,
@@ -141,9 +136,7 @@ impl ControlHw for Mps2Control {
         }
         if let Some(c) = link::command(s.command) {
             // Served at the end of this tick, in effect from the next (as a button press would be).
-            if let Some(q) = self.commands.as_mut() {
-                let _ = q.enqueue(c);
-            }
+            let _ = self.commands.enqueue(c);
         }
         RawSample {
             counts: s.counts,

@@ -26,6 +26,9 @@ mod defmt_sink;
 #[path = "../../failsafe.rs"]
 mod failsafe;
 mod faults;
+#[allow(dead_code)] // items for other transports and for the host tests
+#[path = "../../link/mod.rs"]
+mod host_link;
 mod hw;
 #[allow(dead_code)] // `OperatorButton`: this board's operator is the plant's (commands on the link)
 #[path = "../interface.rs"]
@@ -34,9 +37,6 @@ mod interface;
 #[path = "../../isr_cell.rs"]
 mod isr_cell;
 mod link;
-#[allow(dead_code)] // items for other transports and for the host tests
-#[path = "../../link/mod.rs"]
-mod host_link;
 #[path = "../../logger.rs"]
 mod logger;
 #[path = "../../supervisor.rs"]
@@ -51,7 +51,7 @@ mod vectors;
 use defmt::{error, info, warn};
 use embassy_executor::Spawner;
 use embassy_time::Timer;
-use heapless::spsc::{Consumer, Queue};
+use heapless::spsc::{Consumer, Producer, Queue};
 use softfinger_core::pipeline::{
     BoardTiming, Command, Pipeline, PipelineConfig, PipelineRecord, TimingSummary,
 };
@@ -74,12 +74,12 @@ async fn logger_task(
     records: Consumer<'static, PipelineRecord>,
     summaries: Consumer<'static, TimingSummary>,
 ) {
-    logger::run(records, summaries).await
+    logger::run(records, summaries, |_| {}).await
 }
 
 #[embassy_executor::task]
 async fn supervisor_task(outcomes: Consumer<'static, CommandOutcome>) {
-    supervisor::run(hw::Led, outcomes).await
+    supervisor::run(hw::Led, outcomes, |_| {}).await
 }
 
 /// Bytes of frames the host link holds for UART0 (about 20 state frames).
@@ -89,9 +89,13 @@ const LINK_TX_BYTES: usize = 2048;
 const LINK_POLL_US: u64 = 200;
 
 #[embassy_executor::task]
-async fn host_link_task(config: LinkConfig, queues: LinkQueues) {
+async fn host_link_task(
+    config: LinkConfig,
+    commands: Producer<'static, Command>,
+    queues: LinkQueues,
+) {
     let session = LinkSession::<LINK_TX_BYTES>::new(&config);
-    host_link::task::run(uart::Uart0::open(), session, queues, LINK_POLL_US).await
+    host_link::task::run(uart::Uart0::open(), session, commands, queues, LINK_POLL_US).await
 }
 
 /// What the host link says about this board at `rate_hz`.
@@ -231,15 +235,21 @@ async fn main(spawner: Spawner) {
     // records; the plant's operator, the supervisor and the telemetry log stand aside.
     let command_tx = if host_link {
         let queues = LinkQueues {
-            commands: command_tx,
             outcomes: outcome_rx,
             records: record_rx,
         };
-        match host_link_task(host_link_config(rate_hz, &config), queues) {
+        match host_link_task(host_link_config(rate_hz, &config), command_tx, queues) {
             Ok(t) => spawner.spawn(t),
             Err(e) => error!("host link task not spawned: {}", e),
         }
-        None
+        // The plant operator's commands go to a queue nobody reads (the tick's code stays the
+        // scene runs' code).
+        let Some(discarded) =
+            cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())
+        else {
+            exit(false)
+        };
+        discarded.split().0
     } else {
         match logger_task(record_rx, summary_rx) {
             Ok(t) => spawner.spawn(t),
@@ -249,7 +259,7 @@ async fn main(spawner: Spawner) {
             Ok(t) => spawner.spawn(t),
             Err(e) => error!("supervisor task not spawned: {}", e),
         }
-        Some(command_tx)
+        command_tx
     };
 
     let fault = hw::Injected::from_code(fault_code);
