@@ -346,8 +346,13 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
     let seq = c.request(Request::Home)?;
     let home = c.ack(seq)?;
     r.check("home accepted", home == AckResult::Ok, format!("{home:?}"));
-    let homed = c.wait_mode(Mode::Disarmed, HOMING_TIMEOUT)?;
-    r.check("homing finished", true, format!("tick {}", homed.tick));
+    let homed = c.wait_mode(Mode::Disarmed, HOMING_TIMEOUT);
+    r.check(
+        "homing finished (a disarmed state)",
+        homed.is_ok(),
+        format!("{homed:?}"),
+    );
+    homed?;
     let seq = c.request(Request::Arm)?;
     let arm = c.ack(seq)?;
     r.check("arm accepted", arm == AckResult::Ok, format!("{arm:?}"));
@@ -370,7 +375,7 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
             .all(|v| v.is_finite())
     });
     r.check(
-        "state frames: armed, ticks on the divisor, finite values",
+        "state frames: ticks on the divisor, finite values",
         spaced && finite && ticks.first() <= Some(&armed.tick),
         format!(
             "{} states, ticks {:?}..{:?}",
@@ -378,6 +383,20 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
             ticks.first(),
             ticks.last()
         ),
+    );
+    // The modes in the order the stream showed them, repeats removed.
+    let mut modes: Vec<Mode> = c.states.iter().map(|s| s.mode).collect();
+    modes.dedup();
+    let unarmed_force = c
+        .states
+        .iter()
+        .filter(|s| s.mode != Mode::Armed)
+        .map(|s| s.force_n.iter().map(|f| f.abs()).fold(0.0f32, f32::max))
+        .fold(0.0f32, f32::max);
+    r.check(
+        "the stream shows unhomed, homing, disarmed, armed in order, and no force before armed",
+        modes == [Mode::Unhomed, Mode::Homing, Mode::Disarmed, Mode::Armed] && unarmed_force == 0.0,
+        format!("{modes:?}, largest force before armed {unarmed_force} N"),
     );
     let seq = c.request(Request::GetCounters)?;
     match c.next(ANSWER_TIMEOUT)? {
