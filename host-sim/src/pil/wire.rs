@@ -149,6 +149,18 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_hello_reply_carries_rate_fault_and_the_host_link_bit() {
+        // The board reads byte 8 bit 0 (firmware/src/board/mps2/link.rs, HELLO_HOST_LINK).
+        let on = hello_reply(20_000, 3, true);
+        let off = hello_reply(20_000, 3, false);
+        assert_eq!(on[8], 1);
+        assert_eq!(off[8], 0);
+        assert_eq!(on[..8], off[..8]);
+        assert_eq!(u32::from_le_bytes([on[0], on[1], on[2], on[3]]), 20_000);
+        assert_eq!(u32::from_le_bytes([on[4], on[5], on[6], on[7]]), 3);
+    }
+
+    #[test]
     fn messages_decode() {
         let mut m = [0u8; MSG_LEN];
         m[0] = 3;
