@@ -565,6 +565,28 @@ fn the_probe_position_is_the_kinematics_of_the_homed_counts() {
 }
 
 #[test]
+fn no_velocity_across_the_end_of_homing() {
+    // Raw counts while homing, homed counts after: the jump is the homing offset, not a motion.
+    let mut b = StateBuilder::new(DeviceParams::OMEGA_LIKE, RATE_HZ);
+    let homing = PipelineRecord {
+        mode: CoreMode::Homing,
+        ..record(0, [5000, 5000, 5000])
+    };
+    let disarmed = PipelineRecord {
+        mode: CoreMode::Disarmed,
+        ..record(100, [0, 0, 0])
+    };
+    let _ = b.sample(&homing);
+    assert_eq!(b.sample(&disarmed).probe_vel_m_s, [0.0; 3]);
+    // Within one frame, a change of counts is a velocity.
+    let moved = PipelineRecord {
+        mode: CoreMode::Disarmed,
+        ..record(200, [10, 0, 0])
+    };
+    assert!(Vec3::from_array(b.sample(&moved).probe_vel_m_s).norm::<Libm>() > 0.0);
+}
+
+#[test]
 fn ticks_extend_past_the_32_bit_wrap() {
     let mut t = TickExtender::default();
     assert_eq!(t.extend(u32::MAX - 99), u64::from(u32::MAX - 99));

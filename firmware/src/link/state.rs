@@ -4,7 +4,8 @@
 //! What a record carries becomes the sample: tick, mode, contact state, flags, the rendered
 //! force (mN in the record, N in the sample). The probe position is the forward kinematics of the
 //! record's homed motor counts (the delta's effector, base frame; meaningless before homing, as
-//! the mode says), its velocity the difference over the previous record. The record does not
+//! the mode says), its velocity the difference over the previous record (0 for the first record and when
+//! the counts change frame at the end of homing). The record does not
 //! carry the spin torque, the contact point or tick timing, so those fields are 0 in a sample
 //! from the firmware; `model_seq` is 0 (the firmware renders its compiled-in plane).
 
@@ -59,8 +60,14 @@ pub struct StateBuilder {
     device: DeviceParams,
     rate_hz: f32,
     ticks: TickExtender,
-    /// Tick and probe position of the previous record.
-    previous: Option<(u64, [f32; 3])>,
+    /// Tick, probe position and count frame (`true`: homed) of the previous record.
+    previous: Option<(u64, [f32; 3], bool)>,
+}
+
+/// The record's motor counts are homed (false: raw counts, before or during homing). A velocity
+/// across a change of frame would be the homing offset, not a motion.
+fn homed_counts(mode: CoreMode) -> bool {
+    !matches!(mode, CoreMode::Unhomed | CoreMode::Homing)
 }
 
 impl StateBuilder {
@@ -85,14 +92,15 @@ impl StateBuilder {
         // code (inlined into the controller) is not shared with, or changed by, the link.
         let (probe, _flags) = self.device.delta.forward::<Libm>(angles);
         let probe = probe.to_array();
+        let homed = homed_counts(r.mode);
         let velocity = match self.previous {
-            Some((t0, p0)) if tick > t0 => {
+            Some((t0, p0, h0)) if tick > t0 && h0 == homed => {
                 let dt = (tick - t0) as f32 / self.rate_hz;
                 [0, 1, 2].map(|i| (probe[i] - p0[i]) / dt)
             }
             _ => [0.0; 3],
         };
-        self.previous = Some((tick, probe));
+        self.previous = Some((tick, probe, homed));
         StateSample {
             tick,
             probe_m: probe,
