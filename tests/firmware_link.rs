@@ -549,7 +549,7 @@ fn the_probe_position_is_the_kinematics_of_the_homed_counts() {
     let counts = angles.map(|a| {
         ((a - device.arm_angle_at_zero_count_rad) / device.arm_rad_per_motor_count()).round() as i32
     });
-    let mut b = StateBuilder::new(device, RATE_HZ);
+    let mut b: StateBuilder = StateBuilder::new(device, RATE_HZ);
     let s0 = b.sample(&record(0, counts));
     let err = (Vec3::from_array(s0.probe_m) - centre).norm::<Libm>();
     // Measured 7.6e-6 m (count quantisation and the fast math); bound about 3x.
@@ -567,7 +567,7 @@ fn the_probe_position_is_the_kinematics_of_the_homed_counts() {
 #[test]
 fn no_velocity_across_the_end_of_homing() {
     // Raw counts while homing, homed counts after: the jump is the homing offset, not a motion.
-    let mut b = StateBuilder::new(DeviceParams::OMEGA_LIKE, RATE_HZ);
+    let mut b: StateBuilder = StateBuilder::new(DeviceParams::OMEGA_LIKE, RATE_HZ);
     let homing = PipelineRecord {
         mode: CoreMode::Homing,
         ..record(0, [5000, 5000, 5000])

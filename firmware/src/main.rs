@@ -142,22 +142,23 @@ async fn usb_link_task(
     queues: link::task::LinkQueues,
 ) {
     let pipeline = config::pipeline_config();
-    let session = link::session::LinkSession::<{ usb_link::LINK_TX_BYTES }>::new(
-        &link::session::LinkConfig {
-            info: link::info::InfoSource {
-                name: config::DEVICE.name,
-                firmware_version: env!("CARGO_PKG_VERSION"),
-                control_rate_hz: config::CONTROL_RATE_HZ,
-                max_force_n: pipeline.contact.max_force_n,
-                min_stream_divisor: link::info::min_stream_divisor(
-                    config::CONTROL_RATE_HZ,
-                    config::LOG_RATE_HZ,
-                ),
+    let session =
+        link::session::LinkSession::<{ usb_link::LINK_TX_BYTES }, softfinger_core::Fast>::new(
+            &link::session::LinkConfig {
+                info: link::info::InfoSource {
+                    name: config::DEVICE.name,
+                    firmware_version: env!("CARGO_PKG_VERSION"),
+                    control_rate_hz: config::CONTROL_RATE_HZ,
+                    max_force_n: pipeline.contact.max_force_n,
+                    min_stream_divisor: link::info::min_stream_divisor(
+                        config::CONTROL_RATE_HZ,
+                        config::LOG_RATE_HZ,
+                    ),
+                },
+                device: config::DEVICE.params,
+                contact: pipeline.contact,
             },
-            device: config::DEVICE.params,
-            contact: pipeline.contact,
-        },
-    );
+        );
     usb_link::run(class, session, commands, queues).await
 }
 

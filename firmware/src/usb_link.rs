@@ -21,6 +21,7 @@ use embassy_usb::class::cdc_acm::{CdcAcmClass, State};
 use embassy_usb::{Builder, UsbDevice};
 use heapless::spsc::Producer;
 use softfinger_core::pipeline::Command;
+use softfinger_core::Fast;
 
 use crate::link::session::{CommandSink, LinkSession};
 use crate::link::task::LinkQueues;
@@ -106,7 +107,7 @@ pub fn build(
 /// session's bytes back in short packets. Reconnects forever.
 pub async fn run<const TX: usize>(
     mut class: CdcAcmClass<'static, UsbDriver>,
-    mut session: LinkSession<TX>,
+    mut session: LinkSession<TX, Fast>,
     mut commands: SharedCommands,
     mut q: LinkQueues,
 ) -> ! {

@@ -6,6 +6,7 @@ use heapless::spsc::Producer;
 use softfinger_core::device::DeviceParams;
 use softfinger_core::params::ContactParams;
 use softfinger_core::pipeline::{Command, CommandError, PipelineRecord};
+use softfinger_core::{Libm, Math};
 use softfinger_protocol::{
     AckResult, DeviceEndpoint, DeviceMsg, ErrorCode, LinkCounters, Request, StateSample,
 };
@@ -39,12 +40,13 @@ pub struct LinkConfig {
     pub contact: ContactParams,
 }
 
-/// One connection's state. `TX`: bytes of frames waiting for the transport.
+/// One connection's state. `TX`: bytes of frames waiting for the transport; `M`: the math of the
+/// state stream's kinematics (see [`StateBuilder`]).
 #[derive(Debug)]
-pub struct LinkSession<const TX: usize> {
+pub struct LinkSession<const TX: usize, M: Math = Libm> {
     endpoint: DeviceEndpoint,
     acks: PendingAcks,
-    state: StateBuilder,
+    state: StateBuilder<M>,
     info: InfoSource,
     contact: ContactParams,
     tx: TxRing<TX>,
@@ -54,7 +56,7 @@ pub struct LinkSession<const TX: usize> {
     stream_dropped: u32,
 }
 
-impl<const TX: usize> LinkSession<TX> {
+impl<const TX: usize, M: Math> LinkSession<TX, M> {
     /// A session with nothing received and no stream.
     pub fn new(config: &LinkConfig) -> Self {
         LinkSession {

@@ -9,10 +9,11 @@
 //! carry the spin torque, the contact point or tick timing, so those fields are 0 in a sample
 //! from the firmware; `model_seq` is 0 (the firmware renders its compiled-in plane).
 
+use core::marker::PhantomData;
 use softfinger_core::contact_state::ContactState;
 use softfinger_core::device::DeviceParams;
 use softfinger_core::pipeline::{Mode as CoreMode, PipelineRecord};
-use softfinger_core::Libm;
+use softfinger_core::{Libm, Math};
 use softfinger_protocol::{ContactStateWire, Mode, StateSample};
 
 /// The wire mode.
@@ -54,14 +55,18 @@ impl TickExtender {
     }
 }
 
-/// Builds samples from records.
+/// Builds samples from records. `M`: the math of the kinematics. The emulated board uses libm (a
+/// separate instance of the kinematics, so the tick's measured code is not shared with the link);
+/// the STM32 uses the tick's `Fast` math (libm's code would be placed in CCM SRAM with the tick's,
+/// which has no room for it).
 #[derive(Clone, Copy, Debug)]
-pub struct StateBuilder {
+pub struct StateBuilder<M: Math = Libm> {
     device: DeviceParams,
     rate_hz: f32,
     ticks: TickExtender,
     /// Tick, probe position and count frame (`true`: homed) of the previous record.
     previous: Option<(u64, [f32; 3], bool)>,
+    math: PhantomData<M>,
 }
 
 /// The record's motor counts are homed (false: raw counts, before or during homing). A velocity
@@ -70,7 +75,7 @@ fn homed_counts(mode: CoreMode) -> bool {
     !matches!(mode, CoreMode::Unhomed | CoreMode::Homing)
 }
 
-impl StateBuilder {
+impl<M: Math> StateBuilder<M> {
     /// For `device` at `control_rate_hz`.
     pub fn new(device: DeviceParams, control_rate_hz: u32) -> Self {
         StateBuilder {
@@ -78,6 +83,7 @@ impl StateBuilder {
             rate_hz: control_rate_hz as f32,
             ticks: TickExtender::default(),
             previous: None,
+            math: PhantomData,
         }
     }
 
@@ -88,9 +94,7 @@ impl StateBuilder {
             .motor_counts
             .map(|c| self.device.motor_counts_to_arm_angle_rad(c));
         // A singular or non-finite pose comes back as the origin with a flag: report the origin.
-        // libm, not the tick's fast math: a separate instance of the kinematics, so the tick's
-        // code (inlined into the controller) is not shared with, or changed by, the link.
-        let (probe, _flags) = self.device.delta.forward::<Libm>(angles);
+        let (probe, _flags) = self.device.delta.forward::<M>(angles);
         let probe = probe.to_array();
         let homed = homed_counts(r.mode);
         let velocity = match self.previous {

@@ -5,6 +5,7 @@
 use embassy_time::Timer;
 use heapless::spsc::Consumer;
 use softfinger_core::pipeline::PipelineRecord;
+use softfinger_core::Math;
 
 use super::session::{CommandSink, LinkSession};
 use crate::tick::CommandOutcome;
@@ -31,7 +32,7 @@ pub struct LinkQueues {
 
 impl LinkQueues {
     /// Hand the tick's outcomes and records to `session`.
-    pub fn forward_news<const TX: usize>(&mut self, session: &mut LinkSession<TX>) {
+    pub fn forward_news<const TX: usize, M: Math>(&mut self, session: &mut LinkSession<TX, M>) {
         while let Some(o) = self.outcomes.dequeue() {
             session.outcome(&o.command, o.result);
         }
@@ -42,9 +43,9 @@ impl LinkQueues {
 }
 
 /// One poll: receive, then the tick's news, then send what fits.
-pub fn poll<const TX: usize>(
+pub fn poll<const TX: usize, M: Math>(
     transport: &mut impl ByteTransport,
-    session: &mut LinkSession<TX>,
+    session: &mut LinkSession<TX, M>,
     commands: &mut impl CommandSink,
     q: &mut LinkQueues,
 ) {
@@ -65,9 +66,9 @@ pub fn poll<const TX: usize>(
 }
 
 /// Poll every `period_us` forever.
-pub async fn run<const TX: usize>(
+pub async fn run<const TX: usize, M: Math>(
     mut transport: impl ByteTransport,
-    mut session: LinkSession<TX>,
+    mut session: LinkSession<TX, M>,
     mut commands: impl CommandSink,
     mut q: LinkQueues,
     period_us: u64,

@@ -94,7 +94,7 @@ async fn host_link_task(
     commands: Producer<'static, Command>,
     queues: LinkQueues,
 ) {
-    let session = LinkSession::<LINK_TX_BYTES>::new(&config);
+    let session = LinkSession::<LINK_TX_BYTES, softfinger_core::Libm>::new(&config);
     host_link::task::run(uart::Uart0::open(), session, commands, queues, LINK_POLL_US).await
 }
 
