@@ -22,10 +22,16 @@ mod critical_section_basepri;
 mod failsafe;
 #[allow(unsafe_code)] // the lock-free handoff to the interrupt; each block justified in place
 mod isr_cell;
+#[allow(dead_code)] // items for the emulated board's UART transport and the host tests
+#[cfg(feature = "usb")]
+mod link;
 mod logger;
 mod operator;
 mod supervisor;
+mod tap;
 mod tick;
+#[cfg(feature = "usb")]
+mod usb_link;
 
 use board::stm32g474::{self as bsp, Board};
 use defmt::{error, info};
@@ -34,23 +40,47 @@ use embassy_executor::{Executor, Spawner};
 use heapless::spsc::{Consumer, Producer, Queue};
 use softfinger_core::pipeline::{Command, Pipeline, PipelineRecord, TimingSummary};
 use softfinger_core::Fast;
+use tap::Tap;
 use tick::{CommandOutcome, ControlLoop, TickQueues};
+
+/// The operator's end of the tick's command queue (shared with the USB link when there is one).
+#[cfg(not(feature = "usb"))]
+pub type CommandTx = Producer<'static, Command>;
+/// The operator's end of the tick's command queue (shared with the USB link when there is one).
+#[cfg(feature = "usb")]
+pub type CommandTx = usb_link::SharedCommands;
+
+/// Where the logger forwards records (`NoTap`: nowhere; with USB: the link's queue).
+#[cfg(not(feature = "usb"))]
+type RecordTap = tap::NoTap;
+#[cfg(feature = "usb")]
+type RecordTap = Producer<'static, PipelineRecord>;
+/// Where the supervisor forwards command outcomes (`NoTap`: nowhere; with USB: the link's queue).
+#[cfg(not(feature = "usb"))]
+type OutcomeTap = tap::NoTap;
+#[cfg(feature = "usb")]
+type OutcomeTap = Producer<'static, CommandOutcome>;
 
 #[embassy_executor::task]
 async fn logger_task(
     records: Consumer<'static, PipelineRecord>,
     summaries: Consumer<'static, TimingSummary>,
+    mut tap: RecordTap,
 ) {
-    logger::run(records, summaries).await
+    logger::run(records, summaries, |r| tap.forward(r)).await
 }
 
 #[embassy_executor::task]
-async fn supervisor_task(led: bsp::Led, outcomes: Consumer<'static, CommandOutcome>) {
-    supervisor::run(led, outcomes).await
+async fn supervisor_task(
+    led: bsp::Led,
+    outcomes: Consumer<'static, CommandOutcome>,
+    mut tap: OutcomeTap,
+) {
+    supervisor::run(led, outcomes, |o| tap.forward(o)).await
 }
 
 #[embassy_executor::task]
-async fn operator_task(button: bsp::Button, commands: Producer<'static, Command>) {
+async fn operator_task(button: bsp::Button, commands: CommandTx) {
     operator::run(button, commands).await
 }
 
@@ -69,6 +99,67 @@ fn main() -> ! {
         Ok(task) => spawner.spawn(task),
         Err(_) => failsafe::halt(),
     })
+}
+
+/// The USB device and the link tasks; returns the queues the logger and the supervisor forward
+/// to, and the operator's share of the command queue.
+#[cfg(feature = "usb")]
+fn start_usb_link(
+    spawner: &Spawner,
+    usb: bsp::UsbParts,
+    commands: Producer<'static, Command>,
+) -> Option<((RecordTap, OutcomeTap), CommandTx)> {
+    let link_records =
+        cortex_m::singleton!(: Queue<PipelineRecord, {usb_link::LINK_QUEUE_LEN}> = Queue::new())?;
+    let link_outcomes =
+        cortex_m::singleton!(: Queue<CommandOutcome, {usb_link::LINK_QUEUE_LEN}> = Queue::new())?;
+    let (records_tx, records) = link_records.split();
+    let (outcomes_tx, outcomes) = link_outcomes.split();
+    let (operator, link) = usb_link::SharedCommands::new(commands)?;
+    let (device, class) = usb_link::build(usb.driver())?;
+    match usb_device_task(device) {
+        Ok(t) => spawner.spawn(t),
+        Err(e) => error!("USB task not spawned: {}", e),
+    }
+    match usb_link_task(class, link, link::task::LinkQueues { outcomes, records }) {
+        Ok(t) => spawner.spawn(t),
+        Err(e) => error!("USB link task not spawned: {}", e),
+    }
+    Some(((records_tx, outcomes_tx), operator))
+}
+
+#[cfg(feature = "usb")]
+#[embassy_executor::task]
+async fn usb_device_task(mut device: embassy_usb::UsbDevice<'static, usb_link::UsbDriver>) {
+    device.run().await
+}
+
+#[cfg(feature = "usb")]
+#[embassy_executor::task]
+async fn usb_link_task(
+    class: embassy_usb::class::cdc_acm::CdcAcmClass<'static, usb_link::UsbDriver>,
+    commands: usb_link::SharedCommands,
+    queues: link::task::LinkQueues,
+) {
+    let pipeline = config::pipeline_config();
+    let session =
+        link::session::LinkSession::<{ usb_link::LINK_TX_BYTES }, softfinger_core::Fast>::new(
+            &link::session::LinkConfig {
+                info: link::info::InfoSource {
+                    name: config::DEVICE.name,
+                    firmware_version: env!("CARGO_PKG_VERSION"),
+                    control_rate_hz: config::CONTROL_RATE_HZ,
+                    max_force_n: pipeline.contact.max_force_n,
+                    min_stream_divisor: link::info::min_stream_divisor(
+                        config::CONTROL_RATE_HZ,
+                        config::LOG_RATE_HZ,
+                    ),
+                },
+                device: config::DEVICE.params,
+                contact: pipeline.contact,
+            },
+        );
+    usb_link::run(class, session, commands, queues).await
 }
 
 /// Start-up, as the first task: validate, configure, spawn the tasks, start the tick.
@@ -123,12 +214,21 @@ async fn start(spawner: Spawner) {
         control,
         led,
         button,
+        #[cfg(feature = "usb")]
+        usb,
     } = Board::new(periph);
-    match logger_task(record_rx, summary_rx) {
+    #[cfg(not(feature = "usb"))]
+    let (taps, command_tx): ((RecordTap, OutcomeTap), CommandTx) =
+        ((tap::NoTap, tap::NoTap), command_tx);
+    #[cfg(feature = "usb")]
+    let Some((taps, command_tx)) = start_usb_link(&spawner, usb, command_tx) else {
+        return;
+    };
+    match logger_task(record_rx, summary_rx, taps.0) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("logger task not spawned: {}", e),
     }
-    match supervisor_task(led, outcome_rx) {
+    match supervisor_task(led, outcome_rx, taps.1) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("supervisor task not spawned: {}", e),
     }

@@ -11,7 +11,6 @@
 
 use defmt::{info, warn};
 use embassy_time::{Duration, Timer};
-use heapless::spsc::Producer;
 use softfinger_core::params::ContactParams;
 use softfinger_core::pipeline::{Command, Mode};
 
@@ -70,7 +69,7 @@ fn short_press_command(mode: Mode) -> Option<Command> {
 }
 
 /// Serve the button forever (the board binary spawns this as a task).
-pub async fn run(mut button: impl OperatorButton, mut commands: Producer<'static, Command>) {
+pub async fn run(mut button: impl OperatorButton, mut commands: crate::CommandTx) {
     let mut preset = 1; // the default stiffness
     loop {
         let press = next_press(&mut button).await;

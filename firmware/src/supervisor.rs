@@ -106,8 +106,13 @@ impl Led {
     }
 }
 
-/// Watch the tick's status forever (the board binary spawns this as a task).
-pub async fn run(mut indicator: impl Indicator, mut outcomes: Consumer<'static, CommandOutcome>) {
+/// Watch the tick's status forever (the board binary spawns this as a task); each command
+/// outcome is also handed to `forward` (the host link's acknowledgements, when there is one).
+pub async fn run(
+    mut indicator: impl Indicator,
+    mut outcomes: Consumer<'static, CommandOutcome>,
+    mut forward: impl FnMut(&CommandOutcome),
+) {
     let mut ticker = Ticker::every(Duration::from_millis(config::SUPERVISOR_POLL_MS));
     let mut previous_mode = Mode::Unhomed;
     let mut previous = Flags::NONE;
@@ -118,6 +123,7 @@ pub async fn run(mut indicator: impl Indicator, mut outcomes: Consumer<'static, 
                 Ok(()) => info!("command {} applied", o.command),
                 Err(e) => warn!("command {} REFUSED: {}", o.command, e),
             }
+            forward(&o);
         }
         let mode = published_mode();
         let latched = Flags(STATUS.latched.load(Ordering::Relaxed));

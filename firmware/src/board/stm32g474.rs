@@ -28,6 +28,28 @@ bind_interrupts!(struct Irqs {
     EXTI15_10 => exti::InterruptHandler<interrupt::typelevel::EXTI15_10>;
 });
 
+#[cfg(feature = "usb")]
+bind_interrupts!(struct UsbIrqs {
+    USB_LP => embassy_stm32::usb::InterruptHandler<embassy_stm32::peripherals::USB>;
+});
+
+/// The USB peripheral and its pins (PA12 = D+, PA11 = D−), for the host link (feature `usb`).
+#[cfg(feature = "usb")]
+pub struct UsbParts {
+    usb: embassy_stm32::Peri<'static, embassy_stm32::peripherals::USB>,
+    dp: embassy_stm32::Peri<'static, embassy_stm32::peripherals::PA12>,
+    dm: embassy_stm32::Peri<'static, embassy_stm32::peripherals::PA11>,
+}
+
+#[cfg(feature = "usb")]
+impl UsbParts {
+    /// The full-speed device driver. Its interrupt (USB_LP) keeps the lowest priority that
+    /// [`prepare_core`] gave every device interrupt: below the tick and everything else.
+    pub fn driver(self) -> embassy_stm32::usb::Driver<'static, embassy_stm32::peripherals::USB> {
+        embassy_stm32::usb::Driver::new(self.usb, UsbIrqs, self.dp, self.dm)
+    }
+}
+
 /// BASEPRI value that masks every interrupt priority except 0: the STM32G4 NVIC implements the
 /// top 4 priority bits (`NVIC_PRIO_BITS`), so priority 1 is 0x10.
 pub const BASEPRI_BELOW_TICK: u8 = 1 << (8 - pac::NVIC_PRIO_BITS);
@@ -65,6 +87,15 @@ pub fn hal_config() -> Config {
     c.rcc.sys = rcc::Sysclk::PLL1_R;
     c.rcc.boost = true;
     c.bdma_interrupt_priority = interrupt::Priority::P4;
+    // USB's 48 MHz from the internal HSI48, trimmed by the clock recovery system (CRS) to the
+    // host's start-of-frame packets: no crystal needed for USB.
+    #[cfg(feature = "usb")]
+    {
+        c.rcc.hsi48 = Some(rcc::Hsi48Config {
+            sync_from_usb: true,
+        });
+        c.rcc.mux.clk48sel = rcc::mux::Clk48sel::HSI48;
+    }
     c
 }
 
@@ -220,6 +251,8 @@ pub struct Board {
     pub control: Stm32Control,
     pub led: Led,
     pub button: Button,
+    #[cfg(feature = "usb")]
+    pub usb: UsbParts,
 }
 
 impl Board {
@@ -291,6 +324,12 @@ impl Board {
             },
             led: Led(Output::new(p.PA5, Level::Low, Speed::Low)),
             button: Button(ExtiInput::new(p.PC13, p.EXTI13, Pull::Down, Irqs)),
+            #[cfg(feature = "usb")]
+            usb: UsbParts {
+                usb: p.USB,
+                dp: p.PA12,
+                dm: p.PA11,
+            },
         }
     }
 }

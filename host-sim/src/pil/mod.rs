@@ -6,6 +6,7 @@
 //! `scripts/pil` builds the firmware and this tool and runs it; see that script for the options.
 
 pub mod faults;
+pub mod link_check;
 pub mod operator;
 pub mod qemu;
 pub mod reference;
@@ -64,6 +65,11 @@ pub struct Args {
     /// handled, or a tick over the budget.
     #[arg(long)]
     pub check: bool,
+    /// Instead of the scene run: the firmware's host link over the board's UART0 (hello, device
+    /// info, stream, bad frames, home, arm; see `pil::link_check`). Fails (exit 2) on any failed
+    /// check.
+    #[arg(long)]
+    pub link_check: bool,
     /// Instruction budget file (JSON: tolerance_percent, baseline {rate: {name: instructions}}).
     #[arg(long)]
     pub budget: Option<PathBuf>,
@@ -281,8 +287,48 @@ fn last_log_lines(elf: &Path, raw: &Path) -> String {
     }
 }
 
+/// `host-sim pil --link-check`: the host link on the emulated board; the report on stdout.
+fn link_main(args: &Args) -> Result<(), String> {
+    let (scene, contact) = load_scene(&args.scene)?;
+    let s = settings(args, &scene)?;
+    let plant = closed_loop::plant(&scene, &contact).map_err(|e| format!("plant: {e:?}"))?;
+    let elf = args
+        .elf
+        .canonicalize()
+        .map_err(|e| format!("{}: {e}", args.elf.display()))?;
+    let dir = work_dir()?;
+    let limit = Duration::from_secs(args.timeout_s);
+    let (trace, report) = link_check::run(&args.qemu, &elf, &dir, limit, plant, &s)
+        .map_err(|e| format!("{e} (work directory kept: {})", dir.display()))?;
+    let _ = std::fs::remove_dir_all(&dir);
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?
+        );
+    } else {
+        for (what, ok, detail) in &report.checks {
+            println!("{} {what}: {detail}", if *ok { "ok  " } else { "FAIL" });
+        }
+        println!(
+            "{} state frames decoded, {} undecodable here; board served {} samples",
+            report.states, report.rx_errors_here, trace.samples
+        );
+    }
+    if !trace.done {
+        return Err("the board did not finish the run".into());
+    }
+    if !report.passed() || report.rx_errors_here != 0 {
+        return Err("host link check failed".into());
+    }
+    Ok(())
+}
+
 /// `host-sim pil`.
 pub fn main(args: &Args) -> Result<(), String> {
+    if args.link_check {
+        return link_main(args);
+    }
     let (scene, contact) = load_scene(&args.scene)?;
     let s = settings(args, &scene)?;
     let plant = closed_loop::plant(&scene, &contact).map_err(|e| format!("plant: {e:?}"))?;

@@ -61,6 +61,18 @@ fn open_rw(path: &Path) -> Result<File, String> {
 impl Emulator {
     /// Create the FIFOs in `dir` (which must exist and be empty) and start QEMU on `elf`.
     pub fn start(qemu: &str, elf: &Path, dir: &Path, limit: Duration) -> Result<Emulator, String> {
+        Emulator::start_with_serial(qemu, elf, dir, limit, "none")
+    }
+
+    /// [`Emulator::start`] with UART0 connected to `serial` (a QEMU `-serial` argument, e.g.
+    /// `unix:PATH,server=on,wait=off`).
+    pub fn start_with_serial(
+        qemu: &str,
+        elf: &Path,
+        dir: &Path,
+        limit: Duration,
+        serial: &str,
+    ) -> Result<Emulator, String> {
         mkfifo(&dir.join(TO_PLANT))?;
         mkfifo(&dir.join(FROM_PLANT))?;
         File::create(dir.join(DEFMT_LOG)).map_err(|e| format!("{DEFMT_LOG}: {e}"))?;
@@ -71,7 +83,7 @@ impl Emulator {
             .args(["-machine", "mps2-an386", "-cpu", "cortex-m4"])
             .args(["-icount", &format!("shift={ICOUNT_SHIFT},sleep=off")])
             .args(["-semihosting-config", "enable=on,target=native"])
-            .args(["-nographic", "-monitor", "none", "-serial", "none"])
+            .args(["-nographic", "-monitor", "none", "-serial", serial])
             .arg("-kernel")
             .arg(elf)
             .current_dir(dir)

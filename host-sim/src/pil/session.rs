@@ -18,6 +18,7 @@ use super::wire::{self, Message};
 use crate::plant::Plant;
 use softfinger_core::pipeline::{BoardTiming, BridgeCommands, Mode, RawInput};
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What the plant saw over the run.
 #[derive(Clone, Debug, Default)]
@@ -76,6 +77,8 @@ fn period_counts(rate_hz: u32) -> u64 {
 struct Lockstep<'a> {
     plant: Plant,
     s: &'a Settings,
+    /// Set by another thread to end the run (the host-link check when it is done).
+    stop: &'a AtomicBool,
     op: Operator,
     /// Plant steps done = the current period.
     period: u64,
@@ -114,7 +117,10 @@ impl Lockstep<'_> {
         let fault_tick = self.s.fault_tick(start);
         self.s.fault.edit_sample(k, fault_tick, &mut raw);
         let mut control = 0;
-        if self.s.finished(k, start) || self.op.homing_timed_out(k) {
+        if self.s.finished(k, start)
+            || self.op.homing_timed_out(k)
+            || self.stop.load(Ordering::Relaxed)
+        {
             control |= wire::CONTROL_STOP;
             self.trace.homing_timed_out = self.op.homing_timed_out(k);
         }
@@ -131,9 +137,22 @@ impl Lockstep<'_> {
 
 /// Serve the board until it says `Done` (or QEMU exits). Returns the trace.
 pub fn run(emu: &mut Emulator, plant: Plant, s: &Settings) -> Result<Trace, String> {
+    run_with_link(emu, plant, s, false, &AtomicBool::new(false))
+}
+
+/// [`run`], with the board's host link on UART0 when `host_link` (it then owns the board's
+/// command queue), ended early when `stop` is set.
+pub fn run_with_link(
+    emu: &mut Emulator,
+    plant: Plant,
+    s: &Settings,
+    host_link: bool,
+    stop: &AtomicBool,
+) -> Result<Trace, String> {
     let mut l = Lockstep {
         plant,
         s,
+        stop,
         op: Operator::new(s.rate_hz()),
         period: 0,
         next_tick: 0,
@@ -155,7 +174,7 @@ pub fn run(emu: &mut Emulator, plant: Plant, s: &Settings) -> Result<Trace, Stri
             // A fault is injected once: a rebooted board's test hook stays disarmed.
             let code = if booted { 0 } else { s.fault.board_code() };
             booted = true;
-            emu.reply(&wire::hello_reply(s.rate_hz(), code))?;
+            emu.reply(&wire::hello_reply(s.rate_hz(), code, host_link))?;
             continue;
         }
         l.advance_to((l.base + st.time_counts) / period_counts(s.rate_hz()));

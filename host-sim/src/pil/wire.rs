@@ -132,16 +132,33 @@ pub fn sense_reply(counts: [u16; 6], n_fault: bool, control: u8, command: u8) ->
 }
 
 /// Reply to `Hello`: control rate, the fault the board's test hook injects when asked.
-pub fn hello_reply(rate_hz: u32, fault_code: u32) -> [u8; REPLY_LEN] {
+pub fn hello_reply(rate_hz: u32, fault_code: u32, host_link: bool) -> [u8; REPLY_LEN] {
     let mut r = [0u8; REPLY_LEN];
     r[0..4].copy_from_slice(&rate_hz.to_le_bytes());
     r[4..8].copy_from_slice(&fault_code.to_le_bytes());
+    r[8] = if host_link { HELLO_HOST_LINK } else { 0 };
     r
 }
+
+/// Hello reply byte 8: the board runs the host link on UART0, which owns its command queue (the
+/// operator's commands in the sense replies are then ignored).
+pub const HELLO_HOST_LINK: u8 = 1 << 0;
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_hello_reply_carries_rate_fault_and_the_host_link_bit() {
+        // The board reads byte 8 bit 0 (firmware/src/board/mps2/link.rs, HELLO_HOST_LINK).
+        let on = hello_reply(20_000, 3, true);
+        let off = hello_reply(20_000, 3, false);
+        assert_eq!(on[8], 1);
+        assert_eq!(off[8], 0);
+        assert_eq!(on[..8], off[..8]);
+        assert_eq!(u32::from_le_bytes([on[0], on[1], on[2], on[3]]), 20_000);
+        assert_eq!(u32::from_le_bytes([on[4], on[5], on[6], on[7]]), 3);
+    }
 
     #[test]
     fn messages_decode() {

@@ -13,7 +13,8 @@
 //! Reply (plant -> board): `[0..12]` raw encoder counts\[6\] (u16), `[12]` bit 0 nFAULT asserted,
 //! `[13]` control bits ([`CONTROL_STOP`], [`CONTROL_LOG_STALL`], [`CONTROL_INJECT`]), `[14]` an
 //! operator command ([`command`]); to `Hello`: `[0..4]` control rate (Hz), `[4..8]` the fault the
-//! test hook injects when asked.
+//! test hook injects when asked, `[8]` bit 0: the host link on UART0 owns the command queue
+//! ([`HELLO_HOST_LINK`]; the plant's operator commands are then ignored).
 //! The host side is host-sim/src/pil/wire.rs; both sides must change together.
 #![allow(unsafe_code)]
 
@@ -145,12 +146,30 @@ fn receive() -> Option<[u8; REPLY_LEN]> {
     Some(r)
 }
 
-/// Announce a boot; returns (control rate Hz, the fault the test hook injects when asked).
-pub fn hello(reset_cause: u32) -> Option<(u32, u32)> {
+/// Hello reply byte 8: the host link on UART0 owns the command queue.
+pub const HELLO_HOST_LINK: u8 = 1 << 0;
+
+/// How the plant configures a run.
+#[derive(Clone, Copy, Debug)]
+pub struct RunConfig {
+    /// Control rate, Hz.
+    pub rate_hz: u32,
+    /// The fault the test hook injects when asked.
+    pub fault_code: u32,
+    /// The host link on UART0 runs and owns the command queue.
+    pub host_link: bool,
+}
+
+/// Announce a boot; returns the run's configuration.
+pub fn hello(reset_cause: u32) -> Option<RunConfig> {
     send(Kind::Hello, 0, 0, [0; 3], [reset_cause, 0, 0]);
     let r = receive()?;
     let word = |i: usize| u32::from_le_bytes([r[i], r[i + 1], r[i + 2], r[i + 3]]);
-    Some((word(0), word(4)))
+    Some(RunConfig {
+        rate_hz: word(0),
+        fault_code: word(4),
+        host_link: r[8] & HELLO_HOST_LINK != 0,
+    })
 }
 
 /// Sample the inputs (the encoder timers and the nFAULT pin).

@@ -26,6 +26,9 @@ mod defmt_sink;
 #[path = "../../failsafe.rs"]
 mod failsafe;
 mod faults;
+#[allow(dead_code)] // items for other transports and for the host tests
+#[path = "../../link/mod.rs"]
+mod host_link;
 mod hw;
 #[allow(dead_code)] // `OperatorButton`: this board's operator is the plant's (commands on the link)
 #[path = "../interface.rs"]
@@ -42,18 +45,22 @@ mod supervisor;
 #[path = "../../tick.rs"]
 mod tick;
 mod time_driver;
+mod uart;
 mod vectors;
 
 use defmt::{error, info, warn};
 use embassy_executor::Spawner;
 use embassy_time::Timer;
-use heapless::spsc::{Consumer, Queue};
+use heapless::spsc::{Consumer, Producer, Queue};
 use softfinger_core::pipeline::{
     BoardTiming, Command, Pipeline, PipelineConfig, PipelineRecord, TimingSummary,
 };
 use softfinger_core::Fast;
 
 use cmsdk::{FreeRunning, Irq, PCLK_HZ};
+use host_link::info::{min_stream_divisor, InfoSource};
+use host_link::session::{LinkConfig, LinkSession};
+use host_link::task::LinkQueues;
 use tick::{CommandOutcome, ControlLoop, TickQueues};
 
 /// Watchdog timeout in 25 MHz counts (the STM32 build's timeout).
@@ -67,12 +74,43 @@ async fn logger_task(
     records: Consumer<'static, PipelineRecord>,
     summaries: Consumer<'static, TimingSummary>,
 ) {
-    logger::run(records, summaries).await
+    logger::run(records, summaries, |_| {}).await
 }
 
 #[embassy_executor::task]
 async fn supervisor_task(outcomes: Consumer<'static, CommandOutcome>) {
-    supervisor::run(hw::Led, outcomes).await
+    supervisor::run(hw::Led, outcomes, |_| {}).await
+}
+
+/// Bytes of frames the host link holds for UART0 (about 20 state frames).
+const LINK_TX_BYTES: usize = 2048;
+
+/// How often the host link polls UART0 and the tick's queues, µs.
+const LINK_POLL_US: u64 = 200;
+
+#[embassy_executor::task]
+async fn host_link_task(
+    config: LinkConfig,
+    commands: Producer<'static, Command>,
+    queues: LinkQueues,
+) {
+    let session = LinkSession::<LINK_TX_BYTES, softfinger_core::Libm>::new(&config);
+    host_link::task::run(uart::Uart0::open(), session, commands, queues, LINK_POLL_US).await
+}
+
+/// What the host link says about this board at `rate_hz`.
+fn host_link_config(rate_hz: u32, pipeline: &PipelineConfig) -> LinkConfig {
+    LinkConfig {
+        info: InfoSource {
+            name: config::DEVICE.name,
+            firmware_version: env!("CARGO_PKG_VERSION"),
+            control_rate_hz: rate_hz,
+            max_force_n: pipeline.contact.max_force_n,
+            min_stream_divisor: min_stream_divisor(rate_hz, pipeline.log_rate_hz),
+        },
+        device: pipeline.device.params,
+        contact: pipeline.contact,
+    }
 }
 
 /// End the emulation (semihosting exit), after writing out the log.
@@ -140,7 +178,12 @@ async fn main(spawner: Spawner) {
         error!("no plant link (run under scripts/pil)");
         exit(false);
     }
-    let Some((rate_hz, fault_code)) = link::hello(reset_cause) else {
+    let Some(link::RunConfig {
+        rate_hz,
+        fault_code,
+        host_link,
+    }) = link::hello(reset_cause)
+    else {
         exit(false)
     };
     if reset_cause != faults::CAUSE_POWER_ON {
@@ -188,14 +231,36 @@ async fn main(spawner: Spawner) {
     let (outcome_tx, outcome_rx) = outcomes.split();
     let (record_tx, record_rx) = records.split();
     let (summary_tx, summary_rx) = summaries.split();
-    match logger_task(record_rx, summary_rx) {
-        Ok(t) => spawner.spawn(t),
-        Err(e) => error!("logger task not spawned: {}", e),
-    }
-    match supervisor_task(outcome_rx) {
-        Ok(t) => spawner.spawn(t),
-        Err(e) => error!("supervisor task not spawned: {}", e),
-    }
+    // With the host link, its task takes the commands, their outcomes and the telemetry
+    // records; the plant's operator, the supervisor and the telemetry log stand aside.
+    let command_tx = if host_link {
+        let queues = LinkQueues {
+            outcomes: outcome_rx,
+            records: record_rx,
+        };
+        match host_link_task(host_link_config(rate_hz, &config), command_tx, queues) {
+            Ok(t) => spawner.spawn(t),
+            Err(e) => error!("host link task not spawned: {}", e),
+        }
+        // The plant operator's commands go to a queue nobody reads (the tick's code stays the
+        // scene runs' code).
+        let Some(discarded) =
+            cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())
+        else {
+            exit(false)
+        };
+        discarded.split().0
+    } else {
+        match logger_task(record_rx, summary_rx) {
+            Ok(t) => spawner.spawn(t),
+            Err(e) => error!("logger task not spawned: {}", e),
+        }
+        match supervisor_task(outcome_rx) {
+            Ok(t) => spawner.spawn(t),
+            Err(e) => error!("supervisor task not spawned: {}", e),
+        }
+        command_tx
+    };
 
     let fault = hw::Injected::from_code(fault_code);
     if fault != hw::Injected::None {

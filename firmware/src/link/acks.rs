@@ -1,0 +1,83 @@
+//! Requests waiting for the tick: a command goes through the tick's command queue and its outcome
+//! comes back through the outcome queue, in order. The link keeps the sequence numbers of the
+//! commands it queued, oldest first, and answers each when the tick reports that command's
+//! outcome.
+//!
+//! The tick's outcome queue also carries commands from elsewhere (the operator's button on the
+//! STM32, the plant's operator on the emulated board). An outcome answers the oldest waiting
+//! request only when it is the same command; other outcomes answer nothing.
+
+use heapless::Deque;
+use softfinger_core::pipeline::{Command, CommandError};
+use softfinger_protocol::{AckResult, ErrorCode};
+
+/// Commands the link may have in flight (the tick's command queue holds as many).
+pub const MAX_PENDING: usize = 4;
+
+/// The typed error code of a command the pipeline refused.
+pub fn error_code(e: CommandError) -> ErrorCode {
+    match e {
+        CommandError::NotHomed | CommandError::Armed | CommandError::Homing => ErrorCode::WrongMode,
+        CommandError::Faulted => ErrorCode::Faulted,
+        CommandError::InvalidParams(_) => ErrorCode::InvalidValue,
+    }
+}
+
+/// The acknowledgement of a pipeline outcome.
+pub fn ack_result(result: Result<(), CommandError>) -> AckResult {
+    match result {
+        Ok(()) => AckResult::Ok,
+        Err(e) => AckResult::Err(error_code(e)),
+    }
+}
+
+/// Sequence numbers of queued commands, oldest first.
+#[derive(Debug, Default)]
+pub struct PendingAcks {
+    waiting: Deque<(u16, Command), MAX_PENDING>,
+}
+
+impl PendingAcks {
+    /// None waiting.
+    pub const fn new() -> Self {
+        PendingAcks {
+            waiting: Deque::new(),
+        }
+    }
+
+    /// Room for one more (else the request is answered `Busy` and not queued).
+    pub fn has_room(&self) -> bool {
+        !self.waiting.is_full()
+    }
+
+    /// Remember that `command` of request `seq` was queued. False (nothing remembered) when full.
+    pub fn push(&mut self, seq: u16, command: Command) -> bool {
+        self.waiting.push_back((seq, command)).is_ok()
+    }
+
+    /// The tick applied (or refused) `command`: the request it answers, with its result, if it is
+    /// the oldest waiting one.
+    pub fn resolve(
+        &mut self,
+        command: &Command,
+        result: Result<(), CommandError>,
+    ) -> Option<(u16, AckResult)> {
+        match self.waiting.front() {
+            Some((_, c)) if c == command => {
+                let (seq, _) = self.waiting.pop_front()?;
+                Some((seq, ack_result(result)))
+            }
+            _ => None,
+        }
+    }
+
+    /// Requests waiting.
+    pub fn len(&self) -> usize {
+        self.waiting.len()
+    }
+
+    /// None waiting.
+    pub fn is_empty(&self) -> bool {
+        self.waiting.is_empty()
+    }
+}

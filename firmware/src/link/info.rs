@@ -1,0 +1,55 @@
+//! The device description answered to `GetInfo`.
+
+use softfinger_protocol::info::Text;
+use softfinger_protocol::{DeviceInfo, SurfaceKind, PROTOCOL_VERSION};
+
+/// What the link says about the device.
+#[derive(Clone, Copy, Debug)]
+pub struct InfoSource {
+    /// Device name (`DeviceDefinition::name`); cut to 24 bytes.
+    pub name: &'static str,
+    /// Firmware version (the crate version); cut to 16 bytes.
+    pub firmware_version: &'static str,
+    /// Control rate, Hz.
+    pub control_rate_hz: u32,
+    /// Largest force rendered (the contact parameters' `max_force_n`), N.
+    pub max_force_n: f32,
+    /// Smallest stream divisor (see [`min_stream_divisor`]).
+    pub min_stream_divisor: u16,
+}
+
+/// The smallest stream divisor: the stream is built from the tick's telemetry records, one every
+/// `control_rate_hz / record_rate_hz` ticks, so no faster stream exists. At least 1.
+pub fn min_stream_divisor(control_rate_hz: u32, record_rate_hz: u32) -> u16 {
+    let d = control_rate_hz / record_rate_hz.max(1);
+    d.clamp(1, u32::from(u16::MAX)) as u16
+}
+
+/// `s` cut at a character boundary to fit `N` bytes.
+fn text<const N: usize>(s: &str) -> Text<N> {
+    let mut t = Text::new();
+    for c in s.chars() {
+        if t.push(c).is_err() {
+            break;
+        }
+    }
+    t
+}
+
+/// The description. The firmware renders the plane only and has no communication watchdog yet.
+pub fn device_info(src: &InfoSource) -> DeviceInfo {
+    let mut surfaces = heapless::Vec::new();
+    // Cannot fail: capacity 8.
+    let _ = surfaces.push(SurfaceKind::Plane);
+    DeviceInfo {
+        protocol_version: PROTOCOL_VERSION,
+        name: text(src.name),
+        firmware_version: text(src.firmware_version),
+        virtual_device: false,
+        control_rate_hz: src.control_rate_hz,
+        max_force_n: src.max_force_n,
+        min_stream_divisor: src.min_stream_divisor,
+        surfaces,
+        watchdog_ms: 0,
+    }
+}

@@ -1,0 +1,170 @@
+//! One connection: the protocol endpoint (framing, hello, counters, stream divisor) with the
+//! firmware's answers around it. The link task feeds it received bytes, the tick's command
+//! outcomes and telemetry records, and drains [`LinkSession::tx`] into its transport.
+
+use heapless::spsc::Producer;
+use softfinger_core::device::DeviceParams;
+use softfinger_core::params::ContactParams;
+use softfinger_core::pipeline::{Command, CommandError, PipelineRecord};
+use softfinger_core::{Libm, Math};
+use softfinger_protocol::{
+    AckResult, DeviceEndpoint, DeviceMsg, ErrorCode, LinkCounters, Request, StateSample,
+};
+
+use super::acks::PendingAcks;
+use super::info::{device_info, InfoSource};
+use super::requests::{contact_params_wire, route, Route};
+use super::state::StateBuilder;
+use super::tx::TxRing;
+
+/// Where the link's pipeline commands go: the tick's command queue, never waiting.
+pub trait CommandSink {
+    /// Queue `command` for the tick; false when the queue is full (nothing queued).
+    fn try_submit(&mut self, command: Command) -> bool;
+}
+
+impl CommandSink for Producer<'_, Command> {
+    fn try_submit(&mut self, command: Command) -> bool {
+        self.enqueue(command).is_ok()
+    }
+}
+
+/// What a session needs to know about the device.
+#[derive(Clone, Copy, Debug)]
+pub struct LinkConfig {
+    /// The description answered to `GetInfo` (`max_force_n` is the contact parameters').
+    pub info: InfoSource,
+    /// The device's kinematics (probe position in the state stream).
+    pub device: DeviceParams,
+    /// The contact parameters the pipeline starts with.
+    pub contact: ContactParams,
+}
+
+/// One connection's state. `TX`: bytes of frames waiting for the transport; `M`: the math of the
+/// state stream's kinematics (see [`StateBuilder`]).
+#[derive(Debug)]
+pub struct LinkSession<const TX: usize, M: Math = Libm> {
+    endpoint: DeviceEndpoint,
+    acks: PendingAcks,
+    state: StateBuilder<M>,
+    info: InfoSource,
+    contact: ContactParams,
+    tx: TxRing<TX>,
+    /// The stream window of the last sample offered (`None`: no stream).
+    window: Option<u64>,
+    /// State samples this connection could not send.
+    stream_dropped: u32,
+}
+
+impl<const TX: usize, M: Math> LinkSession<TX, M> {
+    /// A session with nothing received and no stream.
+    pub fn new(config: &LinkConfig) -> Self {
+        LinkSession {
+            endpoint: DeviceEndpoint::new(config.info.min_stream_divisor),
+            acks: PendingAcks::new(),
+            state: StateBuilder::new(config.device, config.info.control_rate_hz),
+            info: config.info,
+            contact: config.contact,
+            tx: TxRing::new(),
+            window: None,
+            stream_dropped: 0,
+        }
+    }
+
+    /// Take one received byte; requests for the pipeline go to `sink`.
+    pub fn receive(&mut self, byte: u8, sink: &mut impl CommandSink) {
+        let tx = &mut self.tx;
+        let mut send = |f: &[u8]| tx.push_frame(f);
+        let Some((seq, req)) = self.endpoint.receive(byte, &mut send) else {
+            return;
+        };
+        self.request(seq, &req, sink);
+    }
+
+    /// Answer or forward request `seq`.
+    fn request(&mut self, seq: u16, req: &Request, sink: &mut impl CommandSink) {
+        let tx = &mut self.tx;
+        let mut send = |f: &[u8]| tx.push_frame(f);
+        match route(req, &self.contact) {
+            Route::Pipeline(command) => {
+                let queued = self.acks.has_room() && sink.try_submit(command);
+                if queued {
+                    // Cannot fail: room was checked.
+                    let _ = self.acks.push(seq, command);
+                } else {
+                    self.endpoint
+                        .reply(seq, AckResult::Err(ErrorCode::Busy), &mut send);
+                }
+            }
+            Route::Info => {
+                let info = device_info(&InfoSource {
+                    max_force_n: self.contact.max_force_n,
+                    ..self.info
+                });
+                self.endpoint
+                    .send(&DeviceMsg::Info { seq, info }, &mut send);
+            }
+            Route::ContactParams => {
+                let params = contact_params_wire(&self.contact);
+                self.endpoint
+                    .send(&DeviceMsg::ContactParams { seq, params }, &mut send);
+            }
+            Route::Ping => self.endpoint.reply(seq, AckResult::Ok, &mut send),
+            Route::Refuse(code) => self.endpoint.reply(seq, AckResult::Err(code), &mut send),
+        }
+    }
+
+    /// The tick applied (or refused) `command`: acknowledge the request it came from, if it came
+    /// from this link, and keep the contact parameters in force up to date.
+    pub fn outcome(&mut self, command: &Command, result: Result<(), CommandError>) {
+        if let (Command::SetContactParams(p), Ok(())) = (command, result) {
+            self.contact = *p;
+        }
+        if let Some((seq, ack)) = self.acks.resolve(command, result) {
+            let tx = &mut self.tx;
+            self.endpoint
+                .reply(seq, ack, &mut |f: &[u8]| tx.push_frame(f));
+        }
+    }
+
+    /// A telemetry record from the tick: a state sample when it is the first record of a
+    /// stream window (ticks `n·divisor .. (n+1)·divisor`; the records' ticks need not be
+    /// multiples of the divisor). A full transmit ring drops the sample, counted, and the next
+    /// sample sent reports how many this connection lost.
+    pub fn record(&mut self, record: &PipelineRecord) {
+        let sample = self.state.sample(record);
+        let divisor = u64::from(self.endpoint.divisor());
+        if divisor == 0 {
+            self.window = None;
+            return;
+        }
+        let window = sample.tick / divisor;
+        if self.window == Some(window) {
+            return;
+        }
+        self.window = Some(window);
+        let tx = &mut self.tx;
+        let msg = DeviceMsg::State(StateSample {
+            dropped: self.stream_dropped,
+            ..sample
+        });
+        if !self.endpoint.send(&msg, &mut |f: &[u8]| tx.push_frame(f)) {
+            self.stream_dropped = self.stream_dropped.wrapping_add(1);
+        }
+    }
+
+    /// The bytes waiting for the transport.
+    pub fn tx(&mut self) -> &mut TxRing<TX> {
+        &mut self.tx
+    }
+
+    /// The link counters (frames, errors by kind, frames dropped).
+    pub fn counters(&self) -> LinkCounters {
+        self.endpoint.counters()
+    }
+
+    /// Requests waiting for the tick's outcome.
+    pub fn pending(&self) -> usize {
+        self.acks.len()
+    }
+}

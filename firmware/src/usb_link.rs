@@ -1,0 +1,144 @@
+//! The host link over USB (feature `usb`): a full-speed CDC-ACM function (embassy-usb) whose
+//! bytes feed the board-independent [`crate::link`] session, in two low-priority tasks: the USB
+//! device task and the link task. The USB interrupt (USB_LP) stays at the lowest priority set by
+//! `board::stm32g474::prepare_core`; the tick (TIM6, priority 0) preempts all of it.
+//!
+//! Nothing here can stall the tick: commands reach it through its lock-free command queue (shared
+//! with the operator task through a thread-mode mutex, never touched by the tick), outcomes and
+//! telemetry come back through queues the logger and the supervisor forward (full: dropped and
+//! counted), and a host that stops reading makes a write time out, which drops the bytes waiting
+//! (the host's decoder counts the one cut frame and resynchronises at the next delimiter).
+
+use core::cell::RefCell;
+
+use embassy_futures::select::{select, Either};
+use embassy_stm32::peripherals::USB;
+use embassy_stm32::usb::Driver;
+use embassy_sync::blocking_mutex::raw::ThreadModeRawMutex;
+use embassy_sync::blocking_mutex::Mutex;
+use embassy_time::{with_timeout, Duration, Timer};
+use embassy_usb::class::cdc_acm::{CdcAcmClass, State};
+use embassy_usb::{Builder, UsbDevice};
+use heapless::spsc::Producer;
+use softfinger_core::pipeline::Command;
+use softfinger_core::Fast;
+
+use crate::link::session::{CommandSink, LinkSession};
+use crate::link::task::LinkQueues;
+
+/// USB vendor id: pid.codes' open-source vendor id (host/src/usb.rs finds the device by it).
+pub const USB_VID: u16 = 0x1209;
+/// USB product id (host/src/usb.rs).
+pub const USB_PID: u16 = 0x5F10;
+/// Telemetry records and command outcomes queued for the link.
+pub const LINK_QUEUE_LEN: usize = 8;
+/// Bytes of frames the link holds for the host (about ten state frames).
+pub const LINK_TX_BYTES: usize = 1024;
+/// Full-speed bulk packet size, bytes.
+const PACKET: usize = 64;
+/// Bytes per IN packet: one less than a full packet, so every packet is short and ends a transfer
+/// without a zero-length packet.
+const TX_CHUNK: usize = PACKET - 1;
+/// A write the host does not take within this long is abandoned, ms.
+const WRITE_TIMEOUT_MS: u64 = 20;
+/// How often the link looks at the tick's queues when nothing arrives, ms.
+const POLL_MS: u64 = 1;
+
+/// The STM32G474's USB driver.
+pub type UsbDriver = Driver<'static, USB>;
+
+/// The tick's command queue, shared by the operator task and the link task (both thread mode).
+pub struct SharedCommands(&'static Mutex<ThreadModeRawMutex, RefCell<Producer<'static, Command>>>);
+
+impl SharedCommands {
+    /// Share `producer`; `None` if called twice.
+    pub fn new(producer: Producer<'static, Command>) -> Option<(SharedCommands, SharedCommands)> {
+        let m = cortex_m::singleton!(
+            : Mutex<ThreadModeRawMutex, RefCell<Producer<'static, Command>>> =
+                Mutex::new(RefCell::new(producer))
+        )?;
+        let m: &'static _ = m;
+        Some((SharedCommands(m), SharedCommands(m)))
+    }
+
+    /// Queue `command` for the tick (the operator's interface: `Err` when the queue is full).
+    pub fn enqueue(&mut self, command: Command) -> Result<(), Command> {
+        self.0.lock(|p| p.borrow_mut().enqueue(command))
+    }
+}
+
+impl CommandSink for SharedCommands {
+    fn try_submit(&mut self, command: Command) -> bool {
+        self.enqueue(command).is_ok()
+    }
+}
+
+/// The USB device and its CDC-ACM function: VID/PID above, product "softfinger", bus-powered
+/// 100 mA. `None` if called twice.
+pub fn build(
+    driver: UsbDriver,
+) -> Option<(
+    UsbDevice<'static, UsbDriver>,
+    CdcAcmClass<'static, UsbDriver>,
+)> {
+    let mut config = embassy_usb::Config::new(USB_VID, USB_PID);
+    config.manufacturer = Some("softfinger");
+    config.product = Some("softfinger");
+    config.serial_number = Some("1");
+    config.max_power = 100;
+    config.max_packet_size_0 = PACKET as u8;
+    let config_descriptor = cortex_m::singleton!(: [u8; 128] = [0; 128])?;
+    let bos_descriptor = cortex_m::singleton!(: [u8; 32] = [0; 32])?;
+    let control = cortex_m::singleton!(: [u8; 64] = [0; 64])?;
+    let state = cortex_m::singleton!(: State<'static> = State::new())?;
+    let mut builder = Builder::new(
+        driver,
+        config,
+        config_descriptor,
+        bos_descriptor,
+        &mut [],
+        control,
+    );
+    let class = CdcAcmClass::new(&mut builder, state, PACKET as u16);
+    Some((builder.build(), class))
+}
+
+/// The link over `class`: read packets into the session, forward the tick's news, write the
+/// session's bytes back in short packets. Reconnects forever.
+pub async fn run<const TX: usize>(
+    mut class: CdcAcmClass<'static, UsbDriver>,
+    mut session: LinkSession<TX, Fast>,
+    mut commands: SharedCommands,
+    mut q: LinkQueues,
+) -> ! {
+    let mut rx = [0u8; PACKET];
+    let mut tx = [0u8; TX_CHUNK];
+    loop {
+        class.wait_connection().await;
+        loop {
+            match select(class.read_packet(&mut rx), Timer::after_millis(POLL_MS)).await {
+                Either::First(Ok(n)) => {
+                    for &b in &rx[..n] {
+                        session.receive(b, &mut commands);
+                    }
+                }
+                // Disconnected (or the host reset the endpoint): wait for the next connection.
+                Either::First(Err(_)) => break,
+                Either::Second(()) => {}
+            }
+            q.forward_news(&mut session);
+            while !session.tx().is_empty() {
+                let n = session.tx().pop_into(&mut tx);
+                let sent = with_timeout(
+                    Duration::from_millis(WRITE_TIMEOUT_MS),
+                    class.write_packet(&tx[..n]),
+                )
+                .await;
+                if !matches!(sent, Ok(Ok(()))) {
+                    while session.tx().pop().is_some() {}
+                    break;
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,455 @@
+//! `host-sim pil --link-check`: the firmware's host link exercised on the emulated board. QEMU's
+//! UART0 is a Unix socket; this side connects and sends real frames while the plant runs in lock
+//! step: hello, device info, a stream request (one below the minimum divisor, then the minimum),
+//! garbage, wrong-CRC, truncated and wrong-version frames, the two requests the firmware does not
+//! support yet, arming before homing, home, arm; it decodes the state frames and checks each
+//! answer, the link counters, and that the link stays usable after every bad frame.
+//!
+//! A separate run from the scene runs: the host link owns the board's command queue (the plant's
+//! operator is ignored) and the link's timing depends on the host, so this run is not compared
+//! with the in-process pipeline and its instruction counts are not budgeted.
+
+use super::qemu;
+use super::session;
+use softfinger_protocol::frame::encode_frame_with_version;
+use softfinger_protocol::{
+    encode_frame, AckResult, DeviceMsg, ErrorCode, FrameDecoder, FrameErrorKind, HostMsg,
+    LinkCounters, LocalModel, Mode, Request, StateSample, SurfaceKind, SurfaceShape, MAX_FRAME_LEN,
+    PROTOCOL_VERSION,
+};
+use std::io::{Read, Write};
+use std::os::unix::net::UnixStream;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// The socket QEMU's UART0 listens on, in the run's work directory.
+pub const UART_SOCKET: &str = "uart0.sock";
+
+/// Longest wait for one answer or state, wall clock (the emulated board runs about 6x slower
+/// than real time under the lock-step plant, measured on the 10 kHz default scene).
+const ANSWER_TIMEOUT: Duration = Duration::from_secs(30);
+
+/// Longest wait for homing to finish (2.4 s of board time in the default scene), wall clock.
+const HOMING_TIMEOUT: Duration = Duration::from_secs(120);
+
+/// What the check saw.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct LinkReport {
+    /// Each check, in order: (what, passed, detail).
+    pub checks: Vec<(String, bool, String)>,
+    /// State frames decoded.
+    pub states: u32,
+    /// Frames from the device this side could not decode.
+    pub rx_errors_here: u32,
+    /// The device's counters at the end.
+    pub counters: Option<LinkCounters>,
+}
+
+impl LinkReport {
+    fn check(&mut self, what: &str, ok: bool, detail: String) {
+        self.checks.push((what.to_string(), ok, detail));
+    }
+
+    /// Every check passed (and there were some).
+    pub fn passed(&self) -> bool {
+        !self.checks.is_empty() && self.checks.iter().all(|(_, ok, _)| *ok)
+    }
+}
+
+/// One connection to the board's UART0.
+struct Client {
+    stream: UnixStream,
+    decoder: FrameDecoder,
+    /// Decoded messages not yet looked at.
+    inbox: std::collections::VecDeque<DeviceMsg>,
+    states: Vec<StateSample>,
+    seq: u16,
+}
+
+impl Client {
+    fn connect(path: &Path) -> Result<Client, String> {
+        let deadline = Instant::now() + Duration::from_secs(20);
+        loop {
+            match UnixStream::connect(path) {
+                Ok(stream) => {
+                    stream
+                        .set_read_timeout(Some(Duration::from_millis(50)))
+                        .map_err(|e| e.to_string())?;
+                    return Ok(Client {
+                        stream,
+                        decoder: FrameDecoder::new(),
+                        inbox: Default::default(),
+                        states: Vec::new(),
+                        seq: 0,
+                    });
+                }
+                Err(_) if Instant::now() < deadline => {
+                    std::thread::sleep(Duration::from_millis(20))
+                }
+                Err(e) => return Err(format!("{}: {e}", path.display())),
+            }
+        }
+    }
+
+    fn send_raw(&mut self, bytes: &[u8]) -> Result<(), String> {
+        self.stream
+            .write_all(bytes)
+            .map_err(|e| format!("UART write: {e}"))
+    }
+
+    fn send(&mut self, msg: &HostMsg) -> Result<(), String> {
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let n = encode_frame(msg, &mut buf).map_err(|e| format!("{e:?}"))?;
+        self.send_raw(&buf[..n])
+    }
+
+    /// Send request `req`; returns its sequence number.
+    fn request(&mut self, req: Request) -> Result<u16, String> {
+        self.seq = self.seq.wrapping_add(1);
+        let seq = self.seq;
+        self.send(&HostMsg::Request { seq, req })?;
+        Ok(seq)
+    }
+
+    /// Read what arrived; state frames are kept aside.
+    fn pump(&mut self) -> Result<(), String> {
+        let mut buf = [0u8; 1024];
+        let n = match self.stream.read(&mut buf) {
+            Ok(0) => return Err("UART closed".into()),
+            Ok(n) => n,
+            Err(e)
+                if e.kind() == std::io::ErrorKind::WouldBlock
+                    || e.kind() == std::io::ErrorKind::TimedOut =>
+            {
+                return Ok(())
+            }
+            Err(e) => return Err(format!("UART read: {e}")),
+        };
+        for &b in &buf[..n] {
+            match self.decoder.push::<DeviceMsg>(b) {
+                Some(Ok(DeviceMsg::State(s))) => self.states.push(s),
+                Some(Ok(m)) => self.inbox.push_back(m),
+                Some(Err(_)) | None => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// The next non-state message, waiting up to `timeout`.
+    fn next(&mut self, timeout: Duration) -> Result<DeviceMsg, String> {
+        let deadline = Instant::now() + timeout;
+        loop {
+            if let Some(m) = self.inbox.pop_front() {
+                return Ok(m);
+            }
+            if Instant::now() > deadline {
+                return Err(format!("no answer within {} s", timeout.as_secs()));
+            }
+            self.pump()?;
+        }
+    }
+
+    /// Wait for the acknowledgement of `seq`.
+    fn ack(&mut self, seq: u16) -> Result<AckResult, String> {
+        match self.next(ANSWER_TIMEOUT)? {
+            DeviceMsg::Ack { seq: s, result } if s == seq => Ok(result),
+            other => Err(format!("expected the ack of {seq}, got {other:?}")),
+        }
+    }
+
+    /// Wait for a state sample in `mode`, up to `timeout`.
+    fn wait_mode(&mut self, mode: Mode, timeout: Duration) -> Result<StateSample, String> {
+        let deadline = Instant::now() + timeout;
+        let mut seen = 0;
+        loop {
+            if let Some(s) = self.states[seen..].iter().find(|s| s.mode == mode) {
+                return Ok(*s);
+            }
+            seen = self.states.len();
+            if Instant::now() > deadline {
+                let last = self.states.last().map(|s| s.mode);
+                return Err(format!(
+                    "no {mode:?} state in {} s (last {last:?})",
+                    timeout.as_secs()
+                ));
+            }
+            self.pump()?;
+        }
+    }
+}
+
+/// A frame with its CRC broken (one body byte changed; still valid COBS).
+fn wrong_crc_frame() -> Result<Vec<u8>, String> {
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let n = encode_frame(
+        &HostMsg::Request {
+            seq: 900,
+            req: Request::Ping,
+        },
+        &mut buf,
+    )
+    .map_err(|e| format!("{e:?}"))?;
+    let mut f = buf[..n].to_vec();
+    // Byte 3 is inside the body and not zero; flipping bit 6 keeps it non-zero.
+    f[3] ^= 0x40;
+    Ok(f)
+}
+
+/// The frame error the device answers next.
+fn frame_error(c: &mut Client) -> Result<FrameErrorKind, String> {
+    match c.next(ANSWER_TIMEOUT)? {
+        DeviceMsg::FrameError { kind, .. } => Ok(kind),
+        other => Err(format!("expected a frame error, got {other:?}")),
+    }
+}
+
+/// The conversation; each step's outcome goes into `r`.
+fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), String> {
+    c.send(&HostMsg::Hello {
+        min_version: 1,
+        max_version: PROTOCOL_VERSION,
+    })?;
+    let hello = c.next(ANSWER_TIMEOUT)?;
+    r.check(
+        "hello agrees on the version",
+        hello
+            == DeviceMsg::HelloReply {
+                version: Some(PROTOCOL_VERSION),
+                device_version: PROTOCOL_VERSION,
+            },
+        format!("{hello:?}"),
+    );
+
+    let seq = c.request(Request::GetInfo)?;
+    let min_divisor = match c.next(ANSWER_TIMEOUT)? {
+        DeviceMsg::Info { seq: s, info } if s == seq => {
+            let ok = info.control_rate_hz == rate_hz
+                && !info.virtual_device
+                && info.surfaces.as_slice() == [SurfaceKind::Plane]
+                && info.min_stream_divisor >= 1
+                && !info.name.is_empty()
+                && !info.firmware_version.is_empty();
+            r.check("device info", ok, format!("{info:?}"));
+            info.min_stream_divisor
+        }
+        other => return Err(format!("expected device info, got {other:?}")),
+    };
+
+    let seq = c.request(Request::SetStream {
+        divisor: min_divisor - 1,
+    })?;
+    let too_fast = c.ack(seq)?;
+    r.check(
+        "a stream below the minimum divisor is refused",
+        too_fast == AckResult::Err(ErrorCode::StreamTooFast),
+        format!("{too_fast:?}"),
+    );
+    let seq = c.request(Request::SetStream {
+        divisor: min_divisor,
+    })?;
+    let ok = c.ack(seq)?;
+    r.check("the stream starts", ok == AckResult::Ok, format!("{ok:?}"));
+
+    // Bad frames: each answered with its kind, the link usable after each.
+    let mut kinds = Vec::new();
+    c.send_raw(&[0x05, 0x11, 0x00])?;
+    kinds.push(frame_error(c)?);
+    c.send_raw(&wrong_crc_frame()?)?;
+    kinds.push(frame_error(c)?);
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let n = encode_frame(
+        &HostMsg::Request {
+            seq: 901,
+            req: Request::Ping,
+        },
+        &mut buf,
+    )
+    .map_err(|e| format!("{e:?}"))?;
+    let mut truncated = buf[..n / 2].to_vec();
+    truncated.push(0);
+    c.send_raw(&truncated)?;
+    kinds.push(frame_error(c)?);
+    let n = encode_frame_with_version(
+        &HostMsg::Request {
+            seq: 902,
+            req: Request::Ping,
+        },
+        9,
+        &mut buf,
+    )
+    .map_err(|e| format!("{e:?}"))?;
+    c.send_raw(&buf[..n])?;
+    kinds.push(frame_error(c)?);
+    r.check(
+        "garbage, wrong-CRC, truncated and wrong-version frames are answered with their kind",
+        kinds[1] == FrameErrorKind::Crc
+            && kinds[3] == FrameErrorKind::Version
+            && kinds[..3].iter().all(|k| {
+                matches!(
+                    k,
+                    FrameErrorKind::Cobs | FrameErrorKind::Crc | FrameErrorKind::Decode
+                )
+            }),
+        format!("{kinds:?}"),
+    );
+    let seq = c.request(Request::Ping)?;
+    let ping = c.ack(seq)?;
+    r.check(
+        "the link is usable after bad frames",
+        ping == AckResult::Ok,
+        format!("{ping:?}"),
+    );
+    let seq = c.request(Request::GetCounters)?;
+    match c.next(ANSWER_TIMEOUT)? {
+        DeviceMsg::Counters { seq: s, counters } if s == seq => r.check(
+            "the device counted each bad frame by kind",
+            counters.rx_errors == 4
+                && counters.rx_version == 1
+                && counters.rx_crc >= 1
+                && counters.rx_cobs + counters.rx_crc + counters.rx_decode == 3,
+            format!("{counters:?}"),
+        ),
+        other => return Err(format!("expected counters, got {other:?}")),
+    }
+
+    let model = LocalModel {
+        seq: 1,
+        shape: SurfaceShape::Plane,
+        position_m: [0.0, 0.0, -0.175],
+        orientation: [1.0, 0.0, 0.0, 0.0],
+        stiffness_n_per_m: 1000.0,
+        damping_n_s_per_m: 1.0,
+        mu_s: 0.8,
+        mu_k: 0.6,
+        spin_stiffness_nm_per_rad: 0.01,
+        max_age_ms: 100,
+    };
+    let seq = c.request(Request::SetLocalModel(model))?;
+    let lm = c.ack(seq)?;
+    let seq = c.request(Request::SetWatchdog { timeout_ms: 100 })?;
+    let wd = c.ack(seq)?;
+    let unsupported = AckResult::Err(ErrorCode::Unsupported);
+    r.check(
+        "local model and watchdog: unsupported (not in the core pipeline yet)",
+        lm == unsupported && wd == unsupported,
+        format!("{lm:?} {wd:?}"),
+    );
+
+    let seq = c.request(Request::Arm)?;
+    let early = c.ack(seq)?;
+    r.check(
+        "arming before homing is refused by the pipeline",
+        early == AckResult::Err(ErrorCode::WrongMode),
+        format!("{early:?}"),
+    );
+    let seq = c.request(Request::Home)?;
+    let home = c.ack(seq)?;
+    r.check("home accepted", home == AckResult::Ok, format!("{home:?}"));
+    let homed = c.wait_mode(Mode::Disarmed, HOMING_TIMEOUT);
+    r.check(
+        "homing finished (a disarmed state)",
+        homed.is_ok(),
+        format!("{homed:?}"),
+    );
+    homed?;
+    let seq = c.request(Request::Arm)?;
+    let arm = c.ack(seq)?;
+    r.check("arm accepted", arm == AckResult::Ok, format!("{arm:?}"));
+    let armed = c.wait_mode(Mode::Armed, ANSWER_TIMEOUT)?;
+    // A few more samples while armed.
+    let want = c.states.len() + 5;
+    let deadline = Instant::now() + ANSWER_TIMEOUT;
+    while c.states.len() < want && Instant::now() < deadline {
+        c.pump()?;
+    }
+    let ticks: Vec<u64> = c.states.iter().map(|s| s.tick).collect();
+    let spaced = ticks
+        .windows(2)
+        .all(|w| w[1] > w[0] && (w[1] - w[0]) % u64::from(min_divisor) == 0);
+    let finite = c.states.iter().all(|s| {
+        s.probe_m
+            .iter()
+            .chain(&s.probe_vel_m_s)
+            .chain(&s.force_n)
+            .all(|v| v.is_finite())
+    });
+    r.check(
+        "state frames: ticks on the divisor, finite values",
+        spaced && finite && ticks.first() <= Some(&armed.tick),
+        format!(
+            "{} states, ticks {:?}..{:?}",
+            ticks.len(),
+            ticks.first(),
+            ticks.last()
+        ),
+    );
+    // The modes in the order the stream showed them, repeats removed.
+    let mut modes: Vec<Mode> = c.states.iter().map(|s| s.mode).collect();
+    modes.dedup();
+    let unarmed_force = c
+        .states
+        .iter()
+        .filter(|s| s.mode != Mode::Armed)
+        .map(|s| s.force_n.iter().map(|f| f.abs()).fold(0.0f32, f32::max))
+        .fold(0.0f32, f32::max);
+    r.check(
+        "the stream shows unhomed, homing, disarmed, armed in order, and no force before armed",
+        modes == [Mode::Unhomed, Mode::Homing, Mode::Disarmed, Mode::Armed] && unarmed_force == 0.0,
+        format!("{modes:?}, largest force before armed {unarmed_force} N"),
+    );
+    let seq = c.request(Request::GetCounters)?;
+    match c.next(ANSWER_TIMEOUT)? {
+        DeviceMsg::Counters { seq: s, counters } if s == seq => {
+            r.check(
+                "final counters: errors unchanged, frames sent",
+                counters.rx_errors == 4 && counters.tx_frames >= ticks.len() as u32,
+                format!("{counters:?}"),
+            );
+            r.counters = Some(counters);
+        }
+        other => return Err(format!("expected counters, got {other:?}")),
+    }
+    Ok(())
+}
+
+/// Run the board with its host link on a socket in `dir` and the conversation against it.
+pub fn run(
+    qemu_exe: &str,
+    elf: &Path,
+    dir: &Path,
+    limit: Duration,
+    plant: crate::plant::Plant,
+    s: &session::Settings,
+) -> Result<(session::Trace, LinkReport), String> {
+    let sock = dir.join(UART_SOCKET);
+    let serial = format!("unix:{},server=on,wait=off", sock.display());
+    let mut emu = qemu::Emulator::start_with_serial(qemu_exe, elf, dir, limit, &serial)?;
+    let stop = AtomicBool::new(false);
+    let rate_hz = s.rate_hz();
+    let (trace, report) = std::thread::scope(|scope| {
+        let client = scope.spawn(|| {
+            let mut report = LinkReport::default();
+            let result = Client::connect(&sock).and_then(|mut c| {
+                let r = converse(&mut c, rate_hz, &mut report);
+                report.states = c.states.len() as u32;
+                report.rx_errors_here = c.decoder.errors().total();
+                r
+            });
+            if let Err(e) = result {
+                report.check("conversation completed", false, e);
+            }
+            stop.store(true, Ordering::Relaxed);
+            report
+        });
+        let trace = session::run_with_link(&mut emu, plant, s, true, &stop);
+        // The board stopped (or failed): make sure the client does not wait on.
+        stop.store(true, Ordering::Relaxed);
+        (trace, client.join())
+    });
+    let status = emu.finish();
+    let trace = trace?;
+    let report = report.map_err(|_| "the link client panicked".to_string())?;
+    status?;
+    Ok((trace, report))
+}

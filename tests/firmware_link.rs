@@ -1,0 +1,616 @@
+//! The firmware's host link (`firmware/src/link`, no_std, board-independent) compiled for the
+//! host: real frames in, the device's frames out, the command queue and the tick's outcomes
+//! played by the test.
+
+#[allow(dead_code)] // items the firmware's link task uses and these tests do not
+#[path = "../firmware/src/link/mod.rs"]
+mod link;
+
+use link::info::{min_stream_divisor, InfoSource};
+use link::session::{CommandSink, LinkConfig, LinkSession};
+use link::state::{StateBuilder, TickExtender};
+use link::tx::TxRing;
+use softfinger_core::contact_state::ContactState;
+use softfinger_core::device::DeviceParams;
+use softfinger_core::devices::OMEGA_LIKE;
+use softfinger_core::params::ContactParams;
+use softfinger_core::pipeline::{Command, CommandError, Mode as CoreMode, PipelineRecord};
+use softfinger_core::{Flags, Libm, Vec3};
+use softfinger_protocol::frame::encode_frame_with_version;
+use softfinger_protocol::{
+    encode_frame, AckResult, ContactStateWire, DeviceMsg, ErrorCode, FrameDecoder, FrameErrorKind,
+    HostMsg, LocalModel, Mode, Request, SurfaceKind, SurfaceShape, MAX_FRAME_LEN, PROTOCOL_VERSION,
+};
+
+const RATE_HZ: u32 = 10_000;
+const MIN_DIVISOR: u16 = 100;
+
+/// The tick's command queue, as a list (`capacity`: how many it takes).
+#[derive(Default)]
+struct Queue {
+    commands: Vec<Command>,
+    capacity: usize,
+}
+
+impl CommandSink for Queue {
+    fn try_submit(&mut self, command: Command) -> bool {
+        if self.commands.len() >= self.capacity {
+            return false;
+        }
+        self.commands.push(command);
+        true
+    }
+}
+
+fn queue() -> Queue {
+    Queue {
+        commands: Vec::new(),
+        capacity: 4,
+    }
+}
+
+fn session<const TX: usize>() -> LinkSession<TX> {
+    LinkSession::new(&LinkConfig {
+        info: InfoSource {
+            name: OMEGA_LIKE.name,
+            firmware_version: "0.1.0",
+            control_rate_hz: RATE_HZ,
+            max_force_n: ContactParams::DEFAULT.max_force_n,
+            min_stream_divisor: MIN_DIVISOR,
+        },
+        device: DeviceParams::OMEGA_LIKE,
+        contact: ContactParams::DEFAULT,
+    })
+}
+
+fn frame(msg: &HostMsg) -> Vec<u8> {
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let n = encode_frame(msg, &mut buf).unwrap();
+    buf[..n].to_vec()
+}
+
+fn request(seq: u16, req: Request) -> Vec<u8> {
+    frame(&HostMsg::Request { seq, req })
+}
+
+fn feed<const TX: usize>(s: &mut LinkSession<TX>, q: &mut Queue, bytes: &[u8]) {
+    for &b in bytes {
+        s.receive(b, q);
+    }
+}
+
+/// Every frame the device queued for the host, decoded.
+fn sent<const TX: usize>(s: &mut LinkSession<TX>) -> Vec<DeviceMsg> {
+    let mut dec = FrameDecoder::new();
+    let mut out = Vec::new();
+    while let Some(b) = s.tx().pop() {
+        if let Some(m) = dec.push::<DeviceMsg>(b) {
+            out.push(m.expect("the device's frames decode"));
+        }
+    }
+    assert_eq!(dec.errors().total(), 0);
+    out
+}
+
+fn record(tick: u32, motor_counts: [i32; 3]) -> PipelineRecord {
+    PipelineRecord {
+        tick,
+        mode: CoreMode::Armed,
+        state: ContactState::Rolling,
+        flags: Flags::OUTPUT_LIMITED,
+        motor_counts,
+        wrist_counts: [0; 3],
+        force_mn: [100, -2500, 12000],
+        compare: [0; 3],
+        latency_counts: 0,
+        write_counts: 0,
+        dropped_before: 0,
+    }
+}
+
+#[test]
+fn hello_agrees_on_the_version_or_says_which_it_speaks() {
+    let (mut s, mut q) = (session::<1024>(), queue());
+    feed(
+        &mut s,
+        &mut q,
+        &frame(&HostMsg::Hello {
+            min_version: 1,
+            max_version: 3,
+        }),
+    );
+    feed(
+        &mut s,
+        &mut q,
+        &frame(&HostMsg::Hello {
+            min_version: 2,
+            max_version: 3,
+        }),
+    );
+    assert_eq!(
+        sent(&mut s),
+        vec![
+            DeviceMsg::HelloReply {
+                version: Some(PROTOCOL_VERSION),
+                device_version: 1
+            },
+            DeviceMsg::HelloReply {
+                version: None,
+                device_version: 1
+            },
+        ]
+    );
+}
+
+#[test]
+fn device_info_names_the_device_rate_limits_and_surfaces() {
+    let (mut s, mut q) = (session::<1024>(), queue());
+    feed(&mut s, &mut q, &request(7, Request::GetInfo));
+    let msgs = sent(&mut s);
+    let [DeviceMsg::Info { seq: 7, info }] = msgs.as_slice() else {
+        panic!("{msgs:?}");
+    };
+    assert_eq!(info.name.as_str(), OMEGA_LIKE.name);
+    assert_eq!(info.firmware_version.as_str(), "0.1.0");
+    assert_eq!(info.control_rate_hz, RATE_HZ);
+    assert_eq!(info.min_stream_divisor, MIN_DIVISOR);
+    assert_eq!(info.max_force_n, ContactParams::DEFAULT.max_force_n);
+    assert_eq!(info.surfaces.as_slice(), &[SurfaceKind::Plane]);
+    assert!(!info.virtual_device);
+    assert!(q.commands.is_empty());
+}
+
+#[test]
+fn a_command_is_acknowledged_with_the_ticks_outcome_not_before() {
+    let (mut s, mut q) = (session::<1024>(), queue());
+    feed(&mut s, &mut q, &request(1, Request::Home));
+    feed(&mut s, &mut q, &request(2, Request::Arm));
+    assert_eq!(q.commands, vec![Command::Home, Command::Arm]);
+    assert!(
+        sent(&mut s).is_empty(),
+        "no answer before the tick applied it"
+    );
+    assert_eq!(s.pending(), 2);
+    s.outcome(&Command::Home, Ok(()));
+    s.outcome(&Command::Arm, Err(CommandError::NotHomed));
+    assert_eq!(
+        sent(&mut s),
+        vec![
+            DeviceMsg::Ack {
+                seq: 1,
+                result: AckResult::Ok
+            },
+            DeviceMsg::Ack {
+                seq: 2,
+                result: AckResult::Err(ErrorCode::WrongMode)
+            },
+        ]
+    );
+    assert_eq!(s.pending(), 0);
+}
+
+#[test]
+fn each_refusal_of_the_pipeline_has_its_error_code() {
+    use link::acks::error_code;
+    assert_eq!(error_code(CommandError::NotHomed), ErrorCode::WrongMode);
+    assert_eq!(error_code(CommandError::Armed), ErrorCode::WrongMode);
+    assert_eq!(error_code(CommandError::Homing), ErrorCode::WrongMode);
+    assert_eq!(error_code(CommandError::Faulted), ErrorCode::Faulted);
+    let bad = ContactParams {
+        normal_stiffness: f32::NAN,
+        ..ContactParams::DEFAULT
+    };
+    let Err(e) = bad.validate() else {
+        panic!("NaN stiffness validates")
+    };
+    assert_eq!(
+        error_code(CommandError::InvalidParams(e)),
+        ErrorCode::InvalidValue
+    );
+}
+
+#[test]
+fn another_sources_outcome_answers_nothing() {
+    let (mut s, mut q) = (session::<1024>(), queue());
+    feed(&mut s, &mut q, &request(5, Request::Disarm));
+    // The operator's button pressed Home meanwhile.
+    s.outcome(&Command::Home, Ok(()));
+    assert!(sent(&mut s).is_empty());
+    s.outcome(&Command::Disarm, Ok(()));
+    assert_eq!(
+        sent(&mut s),
+        vec![DeviceMsg::Ack {
+            seq: 5,
+            result: AckResult::Ok
+        }]
+    );
+}
+
+#[test]
+fn a_full_command_queue_is_answered_busy_and_nothing_is_queued() {
+    let (mut s, mut q) = (session::<1024>(), queue());
+    q.capacity = 1;
+    feed(&mut s, &mut q, &request(1, Request::Home));
+    feed(&mut s, &mut q, &request(2, Request::Arm));
+    assert_eq!(q.commands, vec![Command::Home]);
+    assert_eq!(
+        sent(&mut s),
+        vec![DeviceMsg::Ack {
+            seq: 2,
+            result: AckResult::Err(ErrorCode::Busy)
+        }]
+    );
+    // At most MAX_PENDING (4) waiting for outcomes, even when the queue would take more: 4 taken,
+    // the 5th busy.
+    let (mut s, mut q) = (session::<1024>(), queue());
+    q.capacity = 10;
+    for seq in 1..=5 {
+        feed(&mut s, &mut q, &request(seq, Request::Disarm));
+    }
+    assert_eq!(q.commands.len(), 4);
+    assert_eq!(
+        sent(&mut s),
+        vec![DeviceMsg::Ack {
+            seq: 5,
+            result: AckResult::Err(ErrorCode::Busy)
+        }]
+    );
+}
+
+#[test]
+fn local_model_watchdog_and_the_simulated_hand_are_unsupported_here() {
+    let (mut s, mut q) = (session::<1024>(), queue());
+    let model = LocalModel {
+        seq: 1,
+        shape: SurfaceShape::Plane,
+        position_m: [0.0, 0.0, -0.17],
+        orientation: [1.0, 0.0, 0.0, 0.0],
+        stiffness_n_per_m: 1000.0,
+        damping_n_s_per_m: 1.0,
+        mu_s: 0.8,
+        mu_k: 0.6,
+        spin_stiffness_nm_per_rad: 0.01,
+        max_age_ms: 100,
+    };
+    feed(&mut s, &mut q, &request(1, Request::SetLocalModel(model)));
+    feed(
+        &mut s,
+        &mut q,
+        &request(2, Request::SetWatchdog { timeout_ms: 100 }),
+    );
+    feed(&mut s, &mut q, &request(3, Request::ReleaseHand));
+    let unsupported = AckResult::Err(ErrorCode::Unsupported);
+    assert_eq!(
+        sent(&mut s),
+        vec![
+            DeviceMsg::Ack {
+                seq: 1,
+                result: unsupported
+            },
+            DeviceMsg::Ack {
+                seq: 2,
+                result: unsupported
+            },
+            DeviceMsg::Ack {
+                seq: 3,
+                result: unsupported
+            },
+        ]
+    );
+    assert!(q.commands.is_empty());
+}
+
+#[test]
+fn contact_parameters_change_only_when_the_tick_accepts_them() {
+    let (mut s, mut q) = (session::<1024>(), queue());
+    let mut wire = link::requests::contact_params_wire(&ContactParams::DEFAULT);
+    wire.normal_stiffness = 1234.0;
+    feed(&mut s, &mut q, &request(1, Request::SetContactParams(wire)));
+    let [Command::SetContactParams(p)] = q.commands.as_slice() else {
+        panic!("{:?}", q.commands);
+    };
+    let p = *p;
+    assert_eq!(
+        p,
+        ContactParams {
+            normal_stiffness: 1234.0,
+            ..ContactParams::DEFAULT
+        }
+    );
+    // Still the old ones until the outcome.
+    feed(&mut s, &mut q, &request(2, Request::GetContactParams));
+    s.outcome(&Command::SetContactParams(p), Ok(()));
+    feed(&mut s, &mut q, &request(3, Request::GetContactParams));
+    let msgs = sent(&mut s);
+    let stiffness: Vec<f32> = msgs
+        .iter()
+        .filter_map(|m| match m {
+            DeviceMsg::ContactParams { params, .. } => Some(params.normal_stiffness),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        stiffness,
+        vec![ContactParams::DEFAULT.normal_stiffness, 1234.0]
+    );
+    assert!(msgs.contains(&DeviceMsg::Ack {
+        seq: 1,
+        result: AckResult::Ok
+    }));
+}
+
+#[test]
+fn bad_frames_are_counted_by_kind_answered_and_the_link_stays_usable() {
+    let (mut s, mut q) = (session::<4096>(), queue());
+    // Garbage: a 0x00-delimited run that is not COBS (a code byte pointing past the end).
+    feed(&mut s, &mut q, &[0x05, 0x11, 0x00]);
+    // Wrong CRC: a valid frame with one body byte changed (COBS re-encoded by flipping a
+    // non-zero byte to another non-zero value keeps the framing).
+    let mut bad_crc = request(1, Request::Ping);
+    bad_crc[3] ^= 0x40;
+    assert_ne!(bad_crc[3], 0);
+    feed(&mut s, &mut q, &bad_crc);
+    // Truncated: the first half of a frame, then the delimiter.
+    let good = request(2, Request::Ping);
+    let mut truncated = good[..good.len() / 2].to_vec();
+    truncated.push(0);
+    feed(&mut s, &mut q, &truncated);
+    // Another protocol version.
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let n = encode_frame_with_version(
+        &HostMsg::Request {
+            seq: 3,
+            req: Request::Ping,
+        },
+        9,
+        &mut buf,
+    )
+    .unwrap();
+    feed(&mut s, &mut q, &buf[..n]);
+    // Oversized: more bytes than a frame holds before the delimiter.
+    let mut long = vec![0x01; MAX_FRAME_LEN + 10];
+    long.push(0);
+    feed(&mut s, &mut q, &long);
+    // Still usable.
+    feed(&mut s, &mut q, &request(4, Request::Ping));
+    feed(&mut s, &mut q, &request(5, Request::GetCounters));
+    let msgs = sent(&mut s);
+    let kinds: Vec<FrameErrorKind> = msgs
+        .iter()
+        .filter_map(|m| match m {
+            DeviceMsg::FrameError {
+                kind,
+                device_version: 1,
+            } => Some(*kind),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(kinds.len(), 5, "{msgs:?}");
+    assert!(kinds.contains(&FrameErrorKind::Crc));
+    assert!(kinds.contains(&FrameErrorKind::Version));
+    assert!(kinds.contains(&FrameErrorKind::Oversized));
+    assert!(msgs.contains(&DeviceMsg::Ack {
+        seq: 4,
+        result: AckResult::Ok
+    }));
+    let Some(DeviceMsg::Counters { seq: 5, counters }) = msgs.last() else {
+        panic!("{msgs:?}");
+    };
+    assert_eq!(counters.rx_errors, 5);
+    assert_eq!(counters.rx_version, 1);
+    assert_eq!(counters.rx_oversized, 1);
+    assert_eq!(counters.rx_cobs + counters.rx_crc + counters.rx_decode, 3);
+    assert_eq!(counters.rx_frames, 2, "the ping and the counters request");
+    assert_eq!(s.counters().rx_errors, 5);
+}
+
+#[test]
+fn the_stream_follows_the_divisor_and_refuses_one_below_the_minimum() {
+    let (mut s, mut q) = (session::<4096>(), queue());
+    feed(
+        &mut s,
+        &mut q,
+        &request(
+            1,
+            Request::SetStream {
+                divisor: MIN_DIVISOR - 1,
+            },
+        ),
+    );
+    feed(
+        &mut s,
+        &mut q,
+        &request(
+            2,
+            Request::SetStream {
+                divisor: 2 * MIN_DIVISOR,
+            },
+        ),
+    );
+    // Records every 100 ticks: ticks 0, 100, ..., 500; divisor 200 keeps 0, 200, 400.
+    for i in 0..6 {
+        s.record(&record(i * 100, [0; 3]));
+    }
+    let msgs = sent(&mut s);
+    assert_eq!(
+        &msgs[..2],
+        &[
+            DeviceMsg::Ack {
+                seq: 1,
+                result: AckResult::Err(ErrorCode::StreamTooFast)
+            },
+            DeviceMsg::Ack {
+                seq: 2,
+                result: AckResult::Ok
+            },
+        ]
+    );
+    let ticks: Vec<u64> = msgs
+        .iter()
+        .filter_map(|m| match m {
+            DeviceMsg::State(st) => Some(st.tick),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(ticks, vec![0, 200, 400]);
+    let DeviceMsg::State(st) = &msgs[2] else {
+        panic!()
+    };
+    assert_eq!(st.mode, Mode::Armed);
+    assert_eq!(st.contact, ContactStateWire::Rolling);
+    assert_eq!(st.flags, Flags::OUTPUT_LIMITED.0);
+    assert_eq!(st.force_n, [0.1, -2.5, 12.0]);
+    // Divisor 0 stops it.
+    feed(
+        &mut s,
+        &mut q,
+        &request(3, Request::SetStream { divisor: 0 }),
+    );
+    s.record(&record(600, [0; 3]));
+    assert_eq!(
+        sent(&mut s),
+        vec![DeviceMsg::Ack {
+            seq: 3,
+            result: AckResult::Ok
+        }]
+    );
+}
+
+#[test]
+fn records_off_the_divisor_give_one_sample_per_window() {
+    let (mut s, mut q) = (session::<4096>(), queue());
+    feed(
+        &mut s,
+        &mut q,
+        &request(
+            1,
+            Request::SetStream {
+                divisor: 2 * MIN_DIVISOR,
+            },
+        ),
+    );
+    // The decimator's records at ticks 99, 199, ...: windows of 200 ticks hold two each.
+    for i in 0..6 {
+        s.record(&record(99 + i * 100, [0; 3]));
+    }
+    let ticks: Vec<u64> = sent(&mut s)
+        .iter()
+        .filter_map(|m| match m {
+            DeviceMsg::State(st) => Some(st.tick),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(ticks, vec![99, 299, 499]);
+}
+
+#[test]
+fn a_host_that_stops_reading_loses_samples_counted_never_blocks() {
+    // Room for about two state frames.
+    let (mut s, mut q) = (session::<160>(), queue());
+    feed(
+        &mut s,
+        &mut q,
+        &request(
+            1,
+            Request::SetStream {
+                divisor: MIN_DIVISOR,
+            },
+        ),
+    );
+    assert_eq!(sent(&mut s).len(), 1);
+    for i in 0..10 {
+        s.record(&record(i * 100, [0; 3]));
+    }
+    let states: Vec<_> = sent(&mut s)
+        .into_iter()
+        .filter_map(|m| match m {
+            DeviceMsg::State(st) => Some(st),
+            _ => None,
+        })
+        .collect();
+    assert!(!states.is_empty() && states.len() < 10, "{}", states.len());
+    let lost = 10 - states.len() as u32;
+    assert_eq!(s.counters().tx_dropped, lost);
+    // The host reads again: the next sample reports the samples it lost.
+    s.record(&record(1000, [0; 3]));
+    let Some(DeviceMsg::State(next)) = sent(&mut s).pop() else {
+        panic!()
+    };
+    assert_eq!(next.dropped, lost);
+}
+
+#[test]
+fn the_probe_position_is_the_kinematics_of_the_homed_counts() {
+    // Reference: the workspace centre through the inverse kinematics (libm backend) to counts.
+    let device = DeviceParams::OMEGA_LIKE;
+    let centre = softfinger_core::delta::DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
+    let (angles, flags) = device.delta.inverse::<Libm>(centre);
+    assert!(flags.is_empty());
+    let counts = angles.map(|a| {
+        ((a - device.arm_angle_at_zero_count_rad) / device.arm_rad_per_motor_count()).round() as i32
+    });
+    let mut b: StateBuilder = StateBuilder::new(device, RATE_HZ);
+    let s0 = b.sample(&record(0, counts));
+    let err = (Vec3::from_array(s0.probe_m) - centre).norm::<Libm>();
+    // Measured 7.6e-6 m (count quantisation and the fast math); bound about 3x.
+    assert!(err < 2.5e-5, "{err}");
+    assert_eq!(s0.probe_vel_m_s, [0.0; 3], "no previous record");
+    // One motor count later, 100 ticks (10 ms) on: velocity = displacement / 10 ms.
+    let s1 = b.sample(&record(100, [counts[0] + 1, counts[1], counts[2]]));
+    for i in 0..3 {
+        let expected = (s1.probe_m[i] - s0.probe_m[i]) / 0.01;
+        assert!((s1.probe_vel_m_s[i] - expected).abs() <= 1e-6 * expected.abs().max(1.0));
+    }
+    assert!(Vec3::from_array(s1.probe_vel_m_s).norm::<Libm>() > 0.0);
+}
+
+#[test]
+fn no_velocity_across_the_end_of_homing() {
+    // Raw counts while homing, homed counts after: the jump is the homing offset, not a motion.
+    let mut b: StateBuilder = StateBuilder::new(DeviceParams::OMEGA_LIKE, RATE_HZ);
+    let homing = PipelineRecord {
+        mode: CoreMode::Homing,
+        ..record(0, [5000, 5000, 5000])
+    };
+    let disarmed = PipelineRecord {
+        mode: CoreMode::Disarmed,
+        ..record(100, [0, 0, 0])
+    };
+    let _ = b.sample(&homing);
+    assert_eq!(b.sample(&disarmed).probe_vel_m_s, [0.0; 3]);
+    // Within one frame, a change of counts is a velocity.
+    let moved = PipelineRecord {
+        mode: CoreMode::Disarmed,
+        ..record(200, [10, 0, 0])
+    };
+    assert!(Vec3::from_array(b.sample(&moved).probe_vel_m_s).norm::<Libm>() > 0.0);
+}
+
+#[test]
+fn ticks_extend_past_the_32_bit_wrap() {
+    let mut t = TickExtender::default();
+    assert_eq!(t.extend(u32::MAX - 99), u64::from(u32::MAX - 99));
+    assert_eq!(t.extend(0), 1 << 32);
+    assert_eq!(t.extend(100), (1 << 32) + 100);
+}
+
+#[test]
+fn the_minimum_divisor_is_the_record_interval() {
+    assert_eq!(min_stream_divisor(10_000, 100), 100);
+    assert_eq!(min_stream_divisor(20_000, 100), 200);
+    assert_eq!(min_stream_divisor(50, 100), 1);
+    assert_eq!(min_stream_divisor(10_000, 0), 10_000);
+}
+
+#[test]
+fn the_transmit_ring_takes_whole_frames_or_nothing() {
+    let mut r = TxRing::<8>::new();
+    assert!(r.push_frame(&[1, 2, 3, 4, 5]));
+    assert!(!r.push_frame(&[6, 7, 8, 9]), "4 bytes into 3 free");
+    assert_eq!(r.len(), 5);
+    assert!(r.push_frame(&[6, 7, 8]), "3 bytes into 3 free");
+    let mut out = [0u8; 16];
+    assert_eq!(r.pop_into(&mut out), 8);
+    assert_eq!(&out[..8], &[1, 2, 3, 4, 5, 6, 7, 8]);
+    assert!(r.is_empty());
+}
