@@ -54,7 +54,7 @@ pub struct LocalModelSpec {
 }
 
 /// Why a model was rejected. Nothing changes when one is.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum ModelError {
     /// The sequence number is not newer than the one in force.

@@ -11,6 +11,7 @@
 //! No force is ever rendered outside `Armed`; the bridges are driven only in `Homing` (the homing
 //! procedure's bounded torque) and `Armed`.
 
+use crate::local_model::{LocalModelSpec, ModelError};
 use crate::params::{ContactParams, ParamError};
 
 /// Operating mode.
@@ -71,6 +72,15 @@ pub enum Command {
     ClearFaults,
     /// New contact parameters (validated; invalid ones are rejected and the old ones stay).
     SetContactParams(ContactParams),
+    /// A new local model, switched to at a tick boundary without a force step (local-model
+    /// scene only; see [`crate::local_model::renderer`]). Any mode: it changes no mode.
+    SetLocalModel(LocalModelSpec),
+    /// The communication watchdog's timeout, s, in [0, 60]; 0 turns it off (local-model scene
+    /// only). Setting it counts as link activity.
+    SetWatchdog {
+        /// Timeout, s.
+        timeout_s: f32,
+    },
 }
 
 /// Why a command was refused. A refused command changes nothing.
@@ -87,4 +97,8 @@ pub enum CommandError {
     Homing,
     /// Contact parameters rejected.
     InvalidParams(ParamError),
+    /// A local model rejected (old sequence number, bad pose, size, age or material).
+    InvalidModel(ModelError),
+    /// The scene cannot do this (a local model or watchdog command on a fixed scene).
+    Unsupported,
 }
