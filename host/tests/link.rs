@@ -19,6 +19,7 @@ fn server_at(listen: &str) -> Server {
         listen: listen.into(),
         scene: "finger-on-plane".into(),
         blend_ms: 2.0,
+        watchdog_ms: 200.0,
         auto_arm: false,
         duration_s: None,
     })
@@ -245,5 +246,53 @@ fn the_binary_streams_to_csv_and_rejects_bad_arguments() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["link"]["rx_errors"], 0);
     std::fs::remove_dir_all(&dir).unwrap();
+    s.stop();
+}
+
+/// The virtual device's watchdog is on (200 ms) and the library's heartbeat keeps a connection
+/// that only reads the stream alive; without the heartbeat the device latches COMM_TIMEOUT, and
+/// arming with the heartbeat back clears it.
+#[test]
+fn the_heartbeat_keeps_the_default_watchdog_fed() {
+    use softfinger_core::Flags;
+    let s = server_at("127.0.0.1:0");
+    let mut d = Device::connect(&target(&s)).unwrap();
+    assert_eq!(d.info().unwrap().watchdog_ms, 200);
+    d.home().unwrap();
+    d.set_stream(10).unwrap();
+    let timed_out =
+        |x: &softfinger_host::protocol::StateSample| x.flags & Flags::COMM_TIMEOUT.0 != 0;
+    let next = |d: &Device| {
+        d.next_state(Duration::from_secs(5))
+            .unwrap()
+            .expect("a sample")
+    };
+    // Homing against the plant, then 1 s of device time reading only.
+    let mut x = next(&d);
+    while x.mode != Mode::Disarmed {
+        x = next(&d);
+    }
+    let t0 = x.tick;
+    while x.tick < t0 + 10_000 {
+        assert!(!timed_out(&x), "fed by the heartbeat: {x:?}");
+        x = next(&d);
+    }
+    d.set_heartbeat(false);
+    let t1 = x.tick;
+    while !timed_out(&x) {
+        assert!(
+            x.tick < t1 + 20_000,
+            "no timeout 2 s after the heartbeat stopped"
+        );
+        x = next(&d);
+    }
+    d.set_heartbeat(true);
+    d.arm().unwrap();
+    let t2 = x.tick;
+    while timed_out(&x) {
+        assert!(x.tick < t2 + 10_000, "re-arming did not clear the timeout");
+        x = next(&d);
+    }
+    assert_eq!(x.mode, Mode::Armed);
     s.stop();
 }
