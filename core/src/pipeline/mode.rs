@@ -57,7 +57,6 @@ impl Mode {
 
 /// An operator command, applied at a tick boundary by [`super::Pipeline::command`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Command {
     /// Start homing. The handle must be held in the wrist calibration pose when this is given:
     /// the wrist zero is taken from the wrist encoders at this instant. From `Unhomed` or
@@ -81,6 +80,25 @@ pub enum Command {
         /// Timeout, s.
         timeout_s: f32,
     },
+}
+
+/// Logged by name (a local model by its sequence number): the firmware's flash holds no
+/// formatter of a whole model.
+#[cfg(feature = "defmt")]
+impl defmt::Format for Command {
+    fn format(&self, f: defmt::Formatter) {
+        match self {
+            Command::Home => defmt::write!(f, "Home"),
+            Command::Arm => defmt::write!(f, "Arm"),
+            Command::Disarm => defmt::write!(f, "Disarm"),
+            Command::ClearFaults => defmt::write!(f, "ClearFaults"),
+            Command::SetContactParams(p) => defmt::write!(f, "SetContactParams({})", p),
+            Command::SetLocalModel(m) => defmt::write!(f, "SetLocalModel(seq {})", m.seq),
+            Command::SetWatchdog { timeout_s } => {
+                defmt::write!(f, "SetWatchdog({} s)", timeout_s)
+            }
+        }
+    }
 }
 
 /// Why a command was refused. A refused command changes nothing.
