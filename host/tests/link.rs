@@ -8,6 +8,7 @@ use host_sim::serve::{Args, Server};
 use softfinger_host::bench::{self, BenchConfig};
 use softfinger_host::protocol::{
     encode_frame, DeviceMsg, ErrorCode, FrameDecoder, HostMsg, Mode, MAX_FRAME_LEN,
+    PROTOCOL_VERSION,
 };
 use softfinger_host::{Device, LinkError, Target};
 use std::io::{Read, Write};
@@ -37,7 +38,7 @@ fn info_counters_and_typed_refusals() {
     let info = d.info().unwrap();
     assert_eq!(info.control_rate_hz, 10_000);
     assert!(info.virtual_device);
-    assert_eq!(info.surfaces.len(), 2);
+    assert_eq!(info.surfaces.len(), 4);
     // No force before homing: arming is refused with a typed code.
     assert!(matches!(
         d.arm(),
@@ -58,7 +59,7 @@ fn info_counters_and_typed_refusals() {
     s.stop();
 }
 
-/// A host that speaks only versions 2..3 is told the device's version and no agreement.
+/// A host that speaks only the next two versions is told the device's version and no agreement.
 #[test]
 fn version_negotiation_refuses_other_versions() {
     let s = server_at("127.0.0.1:0");
@@ -67,8 +68,8 @@ fn version_negotiation_refuses_other_versions() {
     let mut buf = [0u8; MAX_FRAME_LEN];
     let n = encode_frame(
         &HostMsg::Hello {
-            min_version: 2,
-            max_version: 3,
+            min_version: PROTOCOL_VERSION + 1,
+            max_version: PROTOCOL_VERSION + 2,
         },
         &mut buf,
     )
@@ -86,7 +87,7 @@ fn version_negotiation_refuses_other_versions() {
         reply,
         DeviceMsg::HelloReply {
             version: None,
-            device_version: 1
+            device_version: PROTOCOL_VERSION
         }
     );
     s.stop();

@@ -270,3 +270,35 @@ fn the_fixed_scene_refuses_local_model_commands() {
         .intersects(Flags::MODEL_REJECTED | Flags::COMM_TIMEOUT));
     assert_eq!(*p.controller().config(), before);
 }
+
+/// The bowl and the cylinder render through the pipeline: each placed 3 mm into the held
+/// fingertip pushes it out (up, +z) as the plane does (2 N/mm · 3 mm = 6 N less the arms'
+/// yield: the plane measures 4.7 N here; a curved surface a little less).
+#[test]
+fn bowls_and_cylinders_render() {
+    let r = ContactParams::DEFAULT.fingertip_radius_m;
+    let bottom = probe_at_hold() - Vec3::new(0.0, 0.0, r - 0.003);
+    let big = 0.05;
+    let bowl = LocalModelSpec {
+        kind: ModelKind::Bowl { radius_m: big },
+        pose: ModelPose::at(bottom + Vec3::new(0.0, 0.0, big)),
+        ..plane(2, 0.003)
+    };
+    let cylinder = LocalModelSpec {
+        kind: ModelKind::Cylinder { radius_m: big },
+        pose: ModelPose::at(bottom - Vec3::new(0.0, 0.0, big)),
+        ..plane(3, 0.003)
+    };
+    for m in [bowl, cylinder] {
+        let (mut p, mut arms) = armed(LocalModelScene::new(plane(1, 0.0005)));
+        assert_eq!(p.command(Command::SetLocalModel(m)), Ok(()));
+        let mut out = tick(&mut p, &mut arms, |_| {});
+        for _ in 0..2_000 {
+            out = tick(&mut p, &mut arms, |_| {});
+        }
+        let f = out.control.force_n;
+        assert!(f.z > 3.0 && f.z < 6.0, "{:?}: {f:?}", m.kind);
+        assert_eq!(p.controller().contact().model_seq(), m.seq);
+        assert!(out.latched.is_empty());
+    }
+}

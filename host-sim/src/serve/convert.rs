@@ -15,6 +15,8 @@ pub fn model_spec(m: &LocalModel) -> LocalModelSpec {
     let kind = match m.shape {
         SurfaceShape::Plane => ModelKind::Plane,
         SurfaceShape::Sphere { radius_m } => ModelKind::Sphere { radius_m },
+        SurfaceShape::Bowl { radius_m } => ModelKind::Bowl { radius_m },
+        SurfaceShape::Cylinder { radius_m } => ModelKind::Cylinder { radius_m },
     };
     let [w, x, y, z] = m.orientation;
     LocalModelSpec {
@@ -74,7 +76,12 @@ pub fn contact_state(s: ContactState) -> ContactStateWire {
 }
 
 /// The surfaces the virtual device renders.
-pub const SURFACES: [SurfaceKind; 2] = [SurfaceKind::Plane, SurfaceKind::Sphere];
+pub const SURFACES: [SurfaceKind; 4] = [
+    SurfaceKind::Plane,
+    SurfaceKind::Sphere,
+    SurfaceKind::Bowl,
+    SurfaceKind::Cylinder,
+];
 
 /// The pipeline command of a request, if it is one (`base`: the contact parameters in force).
 pub fn core_request(req: &Request, base: &ContactParams) -> Option<Command> {
