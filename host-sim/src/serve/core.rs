@@ -95,8 +95,9 @@ impl PipelineCore {
         let mut pipe = Pipeline::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
         // The passivity stage observes only: a moving or switching local model is an active
         // environment, and the observer's damper answers the energy it puts into the hand with
-        // force steps (measured 2.4 N per tick for a plane moving ±1 mm at 5 Hz, 1.5 N for a
-        // blended 1 mm jump, against 0.05-0.1 N without it). Counting the model's own motion in
+        // force steps (with it on, `cargo test -p softfinger-host --test link` measured 2.4 N per
+        // tick for a plane moving ±1 mm at 5 Hz and 1.5 N for a blended 1 mm jump, against
+        // 0.08 and 0.12 N without it in `softfinger bench`). Counting the model's own motion in
         // the observer's energy balance is not done yet.
         let observe_only = PassivityConfig {
             enabled: false,
