@@ -14,7 +14,14 @@
 //! The firmware's interrupt is: read the counters, nFAULT and the tick timer → `tick` → write the
 //! hardware in the order of [`bridge`]'s contract → hand the telemetry record to a non-blocking
 //! log and report whether it was queued ([`Pipeline::telemetry_sent`]). Operator commands go
-//! through [`Pipeline::command`] between ticks.
+//! through [`Pipeline::command`] between ticks; a link task also calls
+//! [`Pipeline::note_link_activity`] for every message it decodes (the communication watchdog's
+//! food).
+//!
+//! The scene `S` decides the controller's contact stage ([`crate::controller::stage`]): a fixed
+//! surface (the firmware's plane), or [`crate::local_model::LocalModelScene`], the application's
+//! local model with the communication watchdog, which also accepts [`Command::SetLocalModel`]
+//! and [`Command::SetWatchdog`] (a fixed scene refuses them: [`CommandError::Unsupported`]).
 //!
 //! Frames: motor counts handed to the controller are *homed*: 0 ↔ the device's zero-count arm
 //! angle; wrist counts are relative to the calibration pose held at `Home`.
