@@ -138,6 +138,11 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         &self.params
     }
 
+    /// The step period, s.
+    pub fn dt_s(&self) -> f32 {
+        self.dt_s
+    }
+
     /// (patch radius a in m, static torsion limit τ_max in N·m) at the normal force `f_n` (N): a
     /// pure function of `f_n` and the fixed parameters, evaluated again only when `f_n` changes
     /// (a held contact keeps its force bit for bit, and the power law is the dearest term of the

@@ -15,7 +15,7 @@
 //! from that tick on, until [`Controller::clear_faults`]. The latching set and the thresholds are
 //! defined once, in [`crate::output_guard`] and [`Limits`].
 
-use crate::contact::{ContactInput, ContactModel, ContactOutput};
+use crate::contact::{ContactInput, ContactOutput};
 use crate::contact_state::ContactState;
 use crate::device::DeviceParams;
 use crate::flags::Flags;
@@ -24,9 +24,11 @@ use crate::output_guard::{GuardConfig, Guarded, OutputGuard};
 pub use crate::params::ParamError;
 use crate::params::{positive, ContactParams};
 use crate::pipeline::passivity::{Passivity, PassivityConfig};
-use crate::quat::Quat;
-use crate::surface::{Plane, Surface};
+use crate::surface::Plane;
 use crate::vec3::Vec3;
+
+pub mod stage;
+pub use stage::{ContactStage, Scene};
 
 /// What the firmware (or the host plant) hands the controller each tick.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -172,14 +174,14 @@ fn round_at_least_one(x: f32) -> u32 {
 /// Everything the controller needs to know about the device and the scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ControllerConfig<S: Surface = Plane> {
+pub struct ControllerConfig<S: Scene = Plane> {
     /// Control rate, Hz (1 kHz to 40 kHz).
     pub rate_hz: f32,
     /// The device: kinematics, motors, encoders.
     pub device: DeviceParams,
     /// The contact model.
     pub contact: ContactParams,
-    /// The object surface of the scene.
+    /// The scene: a fixed surface, or the local model (see [`stage`]).
     pub surface: S,
     /// Origin of the object frame in the device base frame, m.
     pub object_origin_m: Vec3,
@@ -204,7 +206,7 @@ impl ControllerConfig<Plane> {
     }
 }
 
-impl<S: Surface> ControllerConfig<S> {
+impl<S: Scene> ControllerConfig<S> {
     /// Check every part.
     pub fn validate(&self) -> Result<(), ParamError> {
         positive("rate_hz", self.rate_hz)?;
@@ -221,16 +223,17 @@ impl<S: Surface> ControllerConfig<S> {
     }
 }
 
-/// The controller with its state. `M`: math backend; `S`: scene surface.
+/// The controller with its state. `M`: math backend; `S`: the scene (a fixed surface or the
+/// local model), whose [`ContactStage`] the control law calls.
 ///
 /// [`Controller::compute`] is the control law alone (no fault latch); [`Controller::tick`] runs it
 /// through the controller's own [`OutputGuard`], the one implementation of the latching set and
 /// its thresholds, for callers that use the controller without the
 /// [`Pipeline`](crate::pipeline::Pipeline) (which has its own guard instance and calls `compute`).
 #[derive(Clone, Copy, Debug)]
-pub struct Controller<M: Math, S: Surface = Plane> {
+pub struct Controller<M: Math, S: Scene = Plane> {
     config: ControllerConfig<S>,
-    contact: ContactModel<M, S>,
+    contact: S::Stage<M>,
     guard: OutputGuard,
     dt_s: f32,
     /// Low-pass coefficient α of the velocity filters: v ← v + α·(v_raw − v).
@@ -250,12 +253,12 @@ pub struct Controller<M: Math, S: Surface = Plane> {
 /// with the guard that enforces it).
 pub use crate::output_guard::LATCHING;
 
-impl<M: Math, S: Surface> Controller<M, S> {
+impl<M: Math, S: Scene> Controller<M, S> {
     /// Build a controller; an invalid configuration is rejected, never clamped.
     pub fn new(config: ControllerConfig<S>) -> Result<Self, ParamError> {
         config.validate()?;
         let dt_s = 1.0 / config.rate_hz;
-        let contact = ContactModel::new(config.contact, config.surface, Quat::IDENTITY, dt_s)?;
+        let contact = config.surface.stage::<M>(config.contact, dt_s)?;
         let guard = OutputGuard::new(GuardConfig::from_limits(&config.limits, config.rate_hz))?;
         // α = 1 − exp(−2π·f_c·T) ≈ 2π·f_c·T/(1 + 2π·f_c·T) (bilinear-free, no exp on the MCU).
         let wt = 2.0 * core::f32::consts::PI * config.limits.velocity_cutoff_hz * dt_s;
@@ -286,9 +289,24 @@ impl<M: Math, S: Surface> Controller<M, S> {
         &self.config
     }
 
-    /// The contact model (read-only view for logs and charts).
-    pub fn contact(&self) -> &ContactModel<M, S> {
+    /// The contact stage (read-only view for logs and charts).
+    pub fn contact(&self) -> &S::Stage<M> {
         &self.contact
+    }
+
+    /// The contact stage, for the commands it understands (local model, watchdog, link).
+    pub fn contact_mut(&mut self) -> &mut S::Stage<M> {
+        &mut self.contact
+    }
+
+    /// The filtered probe velocity of the last tick, base frame, m/s.
+    pub fn probe_velocity(&self) -> Vec3 {
+        self.probe_vel
+    }
+
+    /// The contact point after the last tick, base frame, m.
+    pub fn contact_point_m(&self) -> Vec3 {
+        self.contact.contact_point_m() + self.config.object_origin_m
     }
 
     /// Latched faults of [`Self::tick`]'s guard (empty when the outputs are allowed).
@@ -307,14 +325,7 @@ impl<M: Math, S: Surface> Controller<M, S> {
     pub fn restart(&mut self) {
         self.started = false;
         self.passivity.restart();
-        if let Ok(c) = ContactModel::new(
-            self.config.contact,
-            self.config.surface,
-            Quat::IDENTITY,
-            self.dt_s,
-        ) {
-            self.contact = c;
-        }
+        self.contact.restart();
     }
 
     /// The passivity stage (read-only, for logs and charts).
@@ -345,10 +356,9 @@ impl<M: Math, S: Surface> Controller<M, S> {
     /// Change the contact parameters at run time. Invalid values are rejected (the old ones stay)
     /// and [`Flags::PARAM_REJECTED`] is raised on the next tick. A valid change restarts the contact.
     pub fn set_contact_params(&mut self, p: ContactParams) -> Result<(), ParamError> {
-        match ContactModel::new(p, self.config.surface, Quat::IDENTITY, self.dt_s) {
-            Ok(c) => {
+        match self.contact.set_contact_params(p) {
+            Ok(()) => {
                 self.config.contact = p;
-                self.contact = c;
                 self.passivity.set_contact(stored_spring(&p), p.max_force_n);
                 self.passivity.restart();
                 Ok(())
@@ -428,7 +438,7 @@ impl<M: Math, S: Surface> Controller<M, S> {
                 ..ContactOutput::default()
             }
         } else {
-            self.contact.contact_step(&ContactInput {
+            self.contact.step(&ContactInput {
                 q,
                 probe_m: probe_dev - self.config.object_origin_m,
                 probe_vel: self.probe_vel,

@@ -11,7 +11,9 @@
 //!   force step (pose changes are slewed, other changes cross-faded), keeps the contact state
 //!   consistent across the switch, and fades the force of a stale model;
 //! - [`watchdog`]: [`CommWatchdog`], no message for T fades the force to zero and latches
-//!   [`Flags::COMM_TIMEOUT`](crate::Flags::COMM_TIMEOUT) until re-armed.
+//!   [`Flags::COMM_TIMEOUT`](crate::Flags::COMM_TIMEOUT) until re-armed;
+//! - [`stage`]: [`LocalModelScene`] / [`LocalModelStage`], the renderer and the watchdog as the
+//!   control pipeline's contact stage.
 //!
 //! Frames: the device **base frame** of [`crate::delta`]; each model has its own object frame
 //! (the plane z = 0, or a sphere centred at the origin), placed in the base frame by its pose.
@@ -20,6 +22,7 @@ pub mod pose;
 pub mod ramp;
 pub mod renderer;
 pub mod spec;
+pub mod stage;
 pub mod surface;
 pub mod watchdog;
 
@@ -27,5 +30,6 @@ pub use pose::{ModelPose, ProbeSample};
 pub use ramp::Ramp;
 pub use renderer::{LocalModelRenderer, RenderOutput, RendererConfig};
 pub use spec::{LocalModelSpec, ModelError, ModelKind};
+pub use stage::{LocalModelScene, LocalModelStage};
 pub use surface::ModelSurface;
 pub use watchdog::CommWatchdog;

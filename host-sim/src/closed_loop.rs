@@ -9,6 +9,7 @@
 
 use crate::plant::{HandScript, Plant, PlantError, PlantParams, TouchScript};
 use crate::scene::{Scene, SurfaceSpec};
+use softfinger_core::controller::Scene as PipelineScene;
 use softfinger_core::delta::DeltaGeometry;
 use softfinger_core::devices::OMEGA_LIKE;
 use softfinger_core::params::ContactParams;
@@ -169,7 +170,7 @@ pub fn surface_of(scene: &Scene) -> SurfaceSpec {
 }
 
 /// One closed-loop tick: sample the counters, `inject`, run the pipeline, drive the plant.
-pub fn step<M: Math, S: Surface>(
+pub fn step<M: Math, S: PipelineScene>(
     pipe: &mut Pipeline<M, S>,
     plant: &mut Plant,
     inject: impl FnOnce(&mut RawInput),
@@ -209,7 +210,7 @@ const HOMING_WAIT_S: f64 = 10.0;
 
 /// Tick with the script held at its start for up to `n` ticks or until `done`; a fault is an
 /// error. Returns the ticks run and the last output.
-fn hold<M: Math, S: Surface>(
+fn hold<M: Math, S: PipelineScene>(
     pipe: &mut Pipeline<M, S>,
     plant: &mut Plant,
     n: u64,
@@ -233,7 +234,7 @@ fn hold<M: Math, S: Surface>(
 /// The operator's session: power-up, `Home` with the handle let go (held in the wrist's
 /// calibration pose: the script's start), the hand takes the handle and brings it to the script's
 /// start, `Arm`. The script is held at its start throughout and restarts when armed.
-pub fn prepare<M: Math, S: Surface>(
+pub fn prepare<M: Math, S: PipelineScene>(
     pipe: &mut Pipeline<M, S>,
     plant: &mut Plant,
 ) -> Result<Prepared, String> {
@@ -268,7 +269,7 @@ pub fn prepare<M: Math, S: Surface>(
 /// Run `ticks` closed-loop ticks. `inject(k, &mut raw)` may edit each tick's raw input;
 /// `observe(k, &raw, &output, &pipeline, &plant)` sees every tick after the plant has stepped.
 /// Returns the wall time spent inside `Pipeline::tick`.
-pub fn simulate<M: Math, S: Surface>(
+pub fn simulate<M: Math, S: PipelineScene>(
     pipe: &mut Pipeline<M, S>,
     plant: &mut Plant,
     ticks: u64,

@@ -5,6 +5,11 @@
 //! (when the application does not keep up, the oldest samples are kept and the newest counted as
 //! dropped here), everything else to the reply queue. Requests carry a sequence number and wait
 //! for the reply with that number, skipping late replies to earlier requests.
+//!
+//! Heartbeat: while a `Device` is open, a thread sends a `Ping` every [`HEARTBEAT`] with the
+//! reserved sequence number [`HEARTBEAT_SEQ`] (requests never use it; the reader drops its
+//! acknowledgements), so the device's communication watchdog stays fed while the application
+//! only reads the stream or thinks.
 
 use crate::error::LinkError;
 use crate::target::{self, Target};
@@ -14,7 +19,7 @@ use softfinger_protocol::{
     StateSample, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 use std::io::{Read, Write};
-use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering::Relaxed};
 use std::sync::mpsc::{channel, sync_channel, Receiver, RecvTimeoutError, Sender, SyncSender};
 use std::sync::{Arc, Mutex};
 use std::thread;
@@ -22,6 +27,15 @@ use std::time::{Duration, Instant};
 
 /// State samples queued before the newest are dropped (65 s of a 1 kHz stream).
 pub const STATE_QUEUE: usize = 65_536;
+
+/// Period of the heartbeat, 20 ms: a tenth of the virtual device's default 200 ms watchdog, so
+/// several heartbeats can be late or lost before it fires.
+pub const HEARTBEAT: Duration = Duration::from_millis(20);
+
+/// Sequence number of the heartbeat's pings (requests skip it).
+pub const HEARTBEAT_SEQ: u16 = 0;
+
+type SharedWriter = Arc<Mutex<Box<dyn Write + Send>>>;
 
 /// What the reader thread counted.
 #[derive(Debug, Default)]
@@ -33,7 +47,11 @@ struct ReaderCounts {
 /// A connection to a device.
 pub struct Device {
     target: Option<Target>,
-    writer: Box<dyn Write + Send>,
+    writer: SharedWriter,
+    /// Cleared when the connection is dropped: stops the heartbeat.
+    alive: Arc<AtomicBool>,
+    /// The heartbeat sends while set (see [`Device::set_heartbeat`]).
+    beating: Arc<AtomicBool>,
     replies: Receiver<DeviceMsg>,
     states: Receiver<StateSample>,
     counts: Arc<ReaderCounts>,
@@ -75,6 +93,9 @@ fn spawn_reader(
                             counts.states_dropped.fetch_add(1, Relaxed);
                         });
                     }
+                    Some(Ok(DeviceMsg::Ack {
+                        seq: HEARTBEAT_SEQ, ..
+                    })) => {}
                     Some(Ok(m)) => {
                         // The device went on talking after the application dropped us.
                         let Ok(()) = replies.send(m) else { return };
@@ -89,6 +110,41 @@ fn spawn_reader(
             }
         }
     });
+}
+
+/// Write a whole frame under the lock (frames of the heartbeat and of requests never interleave).
+fn write_all(writer: &SharedWriter, bytes: &[u8]) -> Result<(), LinkError> {
+    let mut w = writer.lock().map_err(|_| LinkError::Disconnected)?;
+    w.write_all(bytes)?;
+    w.flush()?;
+    Ok(())
+}
+
+/// Ping every [`HEARTBEAT`] while `beating`, until `alive` is cleared or the stream fails.
+fn spawn_heartbeat(writer: SharedWriter, alive: Arc<AtomicBool>, beating: Arc<AtomicBool>) {
+    let mut frame = [0u8; MAX_FRAME_LEN];
+    let ping = HostMsg::Request {
+        seq: HEARTBEAT_SEQ,
+        req: Request::Ping,
+    };
+    let Ok(n) = encode_frame(&ping, &mut frame) else {
+        return;
+    };
+    thread::spawn(move || loop {
+        thread::sleep(HEARTBEAT);
+        if !alive.load(Relaxed) {
+            return;
+        }
+        if beating.load(Relaxed) && write_all(&writer, &frame[..n]).is_err() {
+            return;
+        }
+    });
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        self.alive.store(false, Relaxed);
+    }
 }
 
 impl Device {
@@ -109,9 +165,15 @@ impl Device {
         let (stx, srx) = sync_channel(STATE_QUEUE);
         let counts = Arc::new(ReaderCounts::default());
         spawn_reader(reader, rtx, stx, counts.clone());
+        let writer: SharedWriter = Arc::new(Mutex::new(writer));
+        let alive = Arc::new(AtomicBool::new(true));
+        let beating = Arc::new(AtomicBool::new(true));
+        spawn_heartbeat(writer.clone(), alive.clone(), beating.clone());
         let mut d = Device {
             target: None,
             writer,
+            alive,
+            beating,
             replies: rrx,
             states: srx,
             counts,
@@ -141,6 +203,12 @@ impl Device {
         Ok(())
     }
 
+    /// Keep the device's watchdog fed with a ping every [`HEARTBEAT`] (on by default). Off, the
+    /// device hears only this connection's own requests (a test of its watchdog).
+    pub fn set_heartbeat(&mut self, on: bool) {
+        self.beating.store(on, Relaxed);
+    }
+
     /// How long a request waits for its reply.
     pub fn set_timeout(&mut self, t: Duration) {
         self.timeout = t;
@@ -148,9 +216,7 @@ impl Device {
 
     /// Send raw bytes (tests of the device's handling of bad input).
     pub fn send_raw(&mut self, bytes: &[u8]) -> Result<(), LinkError> {
-        self.writer.write_all(bytes)?;
-        self.writer.flush()?;
-        Ok(())
+        write_all(&self.writer, bytes)
     }
 
     fn send(&mut self, msg: &HostMsg) -> Result<(), LinkError> {
@@ -204,6 +270,9 @@ impl Device {
     pub fn request(&mut self, req: Request) -> Result<DeviceMsg, LinkError> {
         let seq = self.next_seq;
         self.next_seq = self.next_seq.wrapping_add(1);
+        if self.next_seq == HEARTBEAT_SEQ {
+            self.next_seq = HEARTBEAT_SEQ.wrapping_add(1);
+        }
         self.send(&HostMsg::Request { seq, req })?;
         let reply = self.wait_for(|m| match m {
             DeviceMsg::Ack { seq: s, .. }

@@ -11,6 +11,8 @@ pub fn to_wire(s: &LocalModelSpec) -> Result<LocalModel, String> {
     let shape = match s.kind {
         ModelKind::Plane => SurfaceShape::Plane,
         ModelKind::Sphere { radius_m } => SurfaceShape::Sphere { radius_m },
+        ModelKind::Bowl { radius_m } => SurfaceShape::Bowl { radius_m },
+        ModelKind::Cylinder { radius_m } => SurfaceShape::Cylinder { radius_m },
         other => return Err(format!("surface {other:?} has no wire form yet")),
     };
     let q = s.pose.orientation;

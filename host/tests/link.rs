@@ -8,6 +8,7 @@ use host_sim::serve::{Args, Server};
 use softfinger_host::bench::{self, BenchConfig};
 use softfinger_host::protocol::{
     encode_frame, DeviceMsg, ErrorCode, FrameDecoder, HostMsg, Mode, MAX_FRAME_LEN,
+    PROTOCOL_VERSION,
 };
 use softfinger_host::{Device, LinkError, Target};
 use std::io::{Read, Write};
@@ -19,6 +20,7 @@ fn server_at(listen: &str) -> Server {
         listen: listen.into(),
         scene: "finger-on-plane".into(),
         blend_ms: 2.0,
+        watchdog_ms: 200.0,
         auto_arm: false,
         duration_s: None,
     })
@@ -36,7 +38,7 @@ fn info_counters_and_typed_refusals() {
     let info = d.info().unwrap();
     assert_eq!(info.control_rate_hz, 10_000);
     assert!(info.virtual_device);
-    assert_eq!(info.surfaces.len(), 2);
+    assert_eq!(info.surfaces.len(), 4);
     // No force before homing: arming is refused with a typed code.
     assert!(matches!(
         d.arm(),
@@ -57,7 +59,7 @@ fn info_counters_and_typed_refusals() {
     s.stop();
 }
 
-/// A host that speaks only versions 2..3 is told the device's version and no agreement.
+/// A host that speaks only the next two versions is told the device's version and no agreement.
 #[test]
 fn version_negotiation_refuses_other_versions() {
     let s = server_at("127.0.0.1:0");
@@ -66,8 +68,8 @@ fn version_negotiation_refuses_other_versions() {
     let mut buf = [0u8; MAX_FRAME_LEN];
     let n = encode_frame(
         &HostMsg::Hello {
-            min_version: 2,
-            max_version: 3,
+            min_version: PROTOCOL_VERSION + 1,
+            max_version: PROTOCOL_VERSION + 2,
         },
         &mut buf,
     )
@@ -85,7 +87,7 @@ fn version_negotiation_refuses_other_versions() {
         reply,
         DeviceMsg::HelloReply {
             version: None,
-            device_version: 1
+            device_version: PROTOCOL_VERSION
         }
     );
     s.stop();
@@ -245,5 +247,53 @@ fn the_binary_streams_to_csv_and_rejects_bad_arguments() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["link"]["rx_errors"], 0);
     std::fs::remove_dir_all(&dir).unwrap();
+    s.stop();
+}
+
+/// The virtual device's watchdog is on (200 ms) and the library's heartbeat keeps a connection
+/// that only reads the stream alive; without the heartbeat the device latches COMM_TIMEOUT, and
+/// arming with the heartbeat back clears it.
+#[test]
+fn the_heartbeat_keeps_the_default_watchdog_fed() {
+    use softfinger_core::Flags;
+    let s = server_at("127.0.0.1:0");
+    let mut d = Device::connect(&target(&s)).unwrap();
+    assert_eq!(d.info().unwrap().watchdog_ms, 200);
+    d.home().unwrap();
+    d.set_stream(10).unwrap();
+    let timed_out =
+        |x: &softfinger_host::protocol::StateSample| x.flags & Flags::COMM_TIMEOUT.0 != 0;
+    let next = |d: &Device| {
+        d.next_state(Duration::from_secs(5))
+            .unwrap()
+            .expect("a sample")
+    };
+    // Homing against the plant, then 1 s of device time reading only.
+    let mut x = next(&d);
+    while x.mode != Mode::Disarmed {
+        x = next(&d);
+    }
+    let t0 = x.tick;
+    while x.tick < t0 + 10_000 {
+        assert!(!timed_out(&x), "fed by the heartbeat: {x:?}");
+        x = next(&d);
+    }
+    d.set_heartbeat(false);
+    let t1 = x.tick;
+    while !timed_out(&x) {
+        assert!(
+            x.tick < t1 + 20_000,
+            "no timeout 2 s after the heartbeat stopped"
+        );
+        x = next(&d);
+    }
+    d.set_heartbeat(true);
+    d.arm().unwrap();
+    let t2 = x.tick;
+    while timed_out(&x) {
+        assert!(x.tick < t2 + 10_000, "re-arming did not clear the timeout");
+        x = next(&d);
+    }
+    assert_eq!(x.mode, Mode::Armed);
     s.stop();
 }

@@ -51,6 +51,11 @@ pub use model::{ContactParamsWire, HandTarget, LocalModel, SurfaceKind, SurfaceS
 pub use state::{ContactStateWire, Mode, StateSample, TickStatsWire};
 
 /// The protocol version this crate speaks. A change of any message layout increments it.
+///
+/// Extended compatibly within version 1: bowl and cylinder local models were appended to
+/// [`SurfaceKind`] and [`SurfaceShape`] (postcard encodes the variant index, so every earlier
+/// message encodes as before). A peer built before that decodes a message carrying a new kind
+/// (a model, or a device info listing one) as a counted decode error, never as another kind.
 pub const PROTOCOL_VERSION: u8 = 1;
 
 /// Largest frame on the wire, delimiter included, bytes.

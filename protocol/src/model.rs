@@ -17,12 +17,19 @@ pub enum SurfaceKind {
     Plane,
     /// A sphere.
     Sphere,
+    /// The inside of a sphere (appended, see [`crate::PROTOCOL_VERSION`]).
+    Bowl,
+    /// A cylinder (appended).
+    Cylinder,
 }
 
 /// A surface with its size, in its own object frame.
 ///
 /// - `Plane`: the plane z = 0, outward normal +z.
 /// - `Sphere`: centred at the object frame's origin.
+/// - `Bowl`: the inside of a sphere centred at the object frame's origin (bottom at (0, 0, −R));
+///   its radius must exceed the fingertip's.
+/// - `Cylinder`: its axis along the object frame's x axis through the origin.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum SurfaceShape {
@@ -30,6 +37,16 @@ pub enum SurfaceShape {
     Plane,
     /// A sphere of radius `radius_m` (m) centred at the object frame's origin.
     Sphere {
+        /// Radius, m.
+        radius_m: f32,
+    },
+    /// The inside of a sphere of radius `radius_m` (m) centred at the object frame's origin.
+    Bowl {
+        /// Radius, m.
+        radius_m: f32,
+    },
+    /// A cylinder of radius `radius_m` (m) along the object frame's x axis.
+    Cylinder {
         /// Radius, m.
         radius_m: f32,
     },
@@ -41,6 +58,8 @@ impl SurfaceShape {
         match self {
             SurfaceShape::Plane => SurfaceKind::Plane,
             SurfaceShape::Sphere { .. } => SurfaceKind::Sphere,
+            SurfaceShape::Bowl { .. } => SurfaceKind::Bowl,
+            SurfaceShape::Cylinder { .. } => SurfaceKind::Cylinder,
         }
     }
 }

@@ -239,6 +239,16 @@ impl<M: Math> LocalModelRenderer<M> {
         Ok(())
     }
 
+    /// Break the contact: the model in force starts again untouched (a queued model stays queued,
+    /// a cross-fade in progress is completed at once, the age and staleness carry on).
+    pub fn restart(&mut self) {
+        let spec = *self.model();
+        if let Ok(slot) = Slot::new(spec, &self.base, &self.config) {
+            self.active = slot;
+            self.incoming = None;
+        }
+    }
+
     /// The highest sequence number accepted so far.
     pub fn latest_seq(&self) -> u32 {
         self.latest_seq

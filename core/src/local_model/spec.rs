@@ -7,7 +7,7 @@ use crate::quat::{Quat, UNIT_TOLERANCE};
 
 /// The kind of surface and its size, in the model's object frame.
 ///
-/// Non-exhaustive: more kinds (a bowl, a cylinder) are added as the core learns to render them.
+/// Non-exhaustive: more kinds are added as the core learns to render them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
@@ -19,11 +19,35 @@ pub enum ModelKind {
         /// Radius, m.
         radius_m: f32,
     },
+    /// The inside of a sphere of radius `radius_m` (m) centred at the origin (a concave bowl,
+    /// bottom at (0, 0, −R)); the radius must exceed the fingertip's.
+    Bowl {
+        /// Radius, m.
+        radius_m: f32,
+    },
+    /// A cylinder of radius `radius_m` (m) along the object x axis.
+    Cylinder {
+        /// Radius, m.
+        radius_m: f32,
+    },
 }
 
-/// Smallest sphere radius accepted, m (1 mm: a tenth of the fingertip).
+impl ModelKind {
+    /// The radius of a curved kind, m (None for the plane).
+    pub fn radius_m(&self) -> Option<f32> {
+        match *self {
+            ModelKind::Plane => None,
+            ModelKind::Sphere { radius_m }
+            | ModelKind::Bowl { radius_m }
+            | ModelKind::Cylinder { radius_m } => Some(radius_m),
+        }
+    }
+}
+
+/// Smallest sphere or cylinder radius accepted, m (1 mm: a tenth of the fingertip).
 pub const MIN_SPHERE_RADIUS_M: f32 = 1.0e-3;
-/// Largest sphere radius accepted, m (beyond this a plane renders the same contact).
+/// Largest sphere, bowl or cylinder radius accepted, m (beyond this a plane renders the same
+/// contact).
 pub const MAX_SPHERE_RADIUS_M: f32 = 100.0;
 /// Longest declared maximum age, s.
 pub const MAX_AGE_S: f32 = 60.0;
@@ -54,7 +78,7 @@ pub struct LocalModelSpec {
 }
 
 /// Why a model was rejected. Nothing changes when one is.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum ModelError {
     /// The sequence number is not newer than the one in force.
@@ -111,8 +135,13 @@ impl LocalModelSpec {
         if !pose_ok {
             return Err(ModelError::BadPose);
         }
-        if let ModelKind::Sphere { radius_m } = self.kind {
+        if let Some(radius_m) = self.kind.radius_m() {
             if !(MIN_SPHERE_RADIUS_M..=MAX_SPHERE_RADIUS_M).contains(&radius_m) {
+                return Err(ModelError::BadSize);
+            }
+            // The fingertip must fit inside a bowl.
+            let bowl = matches!(self.kind, ModelKind::Bowl { .. });
+            if bowl && radius_m <= base.fingertip_radius_m {
                 return Err(ModelError::BadSize);
             }
         }
@@ -176,6 +205,21 @@ mod tests {
         assert_eq!(sphere(100.0).validate(&b), Ok(()));
         assert_eq!(sphere(100.01).validate(&b), Err(ModelError::BadSize));
         assert_eq!(sphere(f32::NAN).validate(&b), Err(ModelError::BadSize));
+        // A bowl holds the 10 mm fingertip only if its radius is larger.
+        let bowl = |r| LocalModelSpec {
+            kind: ModelKind::Bowl { radius_m: r },
+            ..spec()
+        };
+        let rho = b.fingertip_radius_m;
+        assert_eq!(bowl(rho * 1.001).validate(&b), Ok(()));
+        assert_eq!(bowl(rho).validate(&b), Err(ModelError::BadSize));
+        assert_eq!(bowl(100.01).validate(&b), Err(ModelError::BadSize));
+        let cyl = |r| LocalModelSpec {
+            kind: ModelKind::Cylinder { radius_m: r },
+            ..spec()
+        };
+        assert_eq!(cyl(1.0e-3).validate(&b), Ok(()));
+        assert_eq!(cyl(0.99e-3).validate(&b), Err(ModelError::BadSize));
         let q = |s: f32| LocalModelSpec {
             pose: ModelPose {
                 orientation: Quat::new(s, 0.0, 0.0, 0.0),

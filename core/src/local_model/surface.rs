@@ -3,10 +3,10 @@
 
 use crate::local_model::spec::ModelKind;
 use crate::math::Math;
-use crate::surface::{Plane, Sphere, Surface};
+use crate::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use crate::vec3::Vec3;
 
-/// A plane or a sphere, in the model's object frame.
+/// A plane, sphere, bowl or cylinder, in the model's object frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum ModelSurface {
@@ -14,14 +14,21 @@ pub enum ModelSurface {
     Plane(Plane),
     /// A sphere centred at the origin.
     Sphere(Sphere),
+    /// The inside of a sphere centred at the origin.
+    Bowl(Bowl),
+    /// A cylinder along the x axis.
+    Cylinder(Cylinder),
 }
 
 impl ModelSurface {
-    /// The surface of a model kind, contact point at its top (plane origin, sphere pole).
+    /// The surface of a model kind, contact point at its start (plane origin, sphere top, bowl
+    /// bottom, cylinder top).
     pub fn of(kind: ModelKind) -> ModelSurface {
         match kind {
             ModelKind::Plane => ModelSurface::Plane(Plane::default()),
             ModelKind::Sphere { radius_m } => ModelSurface::Sphere(Sphere::new(radius_m)),
+            ModelKind::Bowl { radius_m } => ModelSurface::Bowl(Bowl::new(radius_m)),
+            ModelKind::Cylinder { radius_m } => ModelSurface::Cylinder(Cylinder::new(radius_m)),
         }
     }
 }
@@ -31,6 +38,8 @@ macro_rules! forward {
         match $self {
             ModelSurface::Plane($s) => $e,
             ModelSurface::Sphere($s) => $e,
+            ModelSurface::Bowl($s) => $e,
+            ModelSurface::Cylinder($s) => $e,
         }
     };
 }
@@ -103,6 +112,26 @@ mod tests {
         let w = Vec3::new(0.001, 0.002, 0.0);
         assert_eq!(m.roll::<Libm>(w, 0.01), s.roll::<Libm>(w, 0.01));
         assert_eq!(m.curvature(), 20.0);
+        let mut mb = ModelSurface::of(ModelKind::Bowl { radius_m: 0.05 });
+        let mut bo = Bowl::new(0.05);
+        mb.place_under::<Libm>(c);
+        bo.place_under::<Libm>(c);
+        assert_eq!(mb.normal(), bo.normal());
+        assert_eq!(
+            mb.penetration::<Libm>(c, 0.01),
+            bo.penetration::<Libm>(c, 0.01)
+        );
+        assert_eq!(mb.curvature(), bo.curvature());
+        let mut mc = ModelSurface::of(ModelKind::Cylinder { radius_m: 0.05 });
+        let mut cy = Cylinder::new(0.05);
+        mc.place_under::<Libm>(c);
+        cy.place_under::<Libm>(c);
+        assert_eq!(mc.normal(), cy.normal());
+        assert_eq!(
+            mc.penetration::<Libm>(c, 0.01),
+            cy.penetration::<Libm>(c, 0.01)
+        );
+        assert_eq!(mc.roll::<Libm>(w, 0.01), cy.roll::<Libm>(w, 0.01));
         let p = ModelSurface::of(ModelKind::Plane);
         assert_eq!(p.penetration::<Libm>(c, 0.01), 0.01 - 0.055);
         assert_eq!(p.split(c), Plane::default().split(c));

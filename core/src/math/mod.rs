@@ -52,7 +52,7 @@ pub use micromath_backend::Micromath;
 /// - `sqrt`: output finite and ≥ 0; 0 for x ≤ 0 (including -0 and -∞) and NaN; `f32::MAX` for +∞.
 ///
 /// Accuracy is per backend; each function's doc comment states its measured maximum error.
-pub trait Math: Copy + Default + 'static {
+pub trait Math: Copy + Default + core::fmt::Debug + 'static {
     /// Short name used in benchmark tables and charts.
     const NAME: &'static str;
     /// sin(x), x in radians; 0 for non-finite x.

@@ -1,9 +1,9 @@
 //! What a [`super::Pipeline`] is built from: a named device, the board timing, and the scene.
 
-use crate::controller::ControllerConfig;
+use crate::controller::{ControllerConfig, Scene};
 use crate::devices::DeviceDefinition;
 use crate::params::{ContactParams, ParamError};
-use crate::surface::{Plane, Surface};
+use crate::surface::Plane;
 use crate::vec3::Vec3;
 
 use super::board::{BoardTiming, TimingError};
@@ -11,14 +11,15 @@ use super::board::{BoardTiming, TimingError};
 /// Everything the pipeline needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct PipelineConfig<S: Surface = Plane> {
+pub struct PipelineConfig<S: Scene = Plane> {
     /// The device (named explicitly, e.g. [`crate::devices::OMEGA_LIKE`]).
     pub device: DeviceDefinition,
     /// Timer clock, PWM and control rates (the control rate is the controller's).
     pub timing: BoardTiming,
     /// The contact model.
     pub contact: ContactParams,
-    /// The object surface of the scene.
+    /// The scene: a fixed surface, or the local model
+    /// ([`LocalModelScene`](crate::local_model::LocalModelScene)).
     pub surface: S,
     /// Origin of the object frame in the device base frame, m.
     pub object_origin_m: Vec3,
@@ -36,7 +37,7 @@ pub enum PipelineError {
     Params(ParamError),
 }
 
-impl<S: Surface> PipelineConfig<S> {
+impl<S: Scene> PipelineConfig<S> {
     /// The controller configuration this pipeline runs.
     pub fn controller_config(&self) -> ControllerConfig<S> {
         ControllerConfig {

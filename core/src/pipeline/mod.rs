@@ -14,7 +14,14 @@
 //! The firmware's interrupt is: read the counters, nFAULT and the tick timer → `tick` → write the
 //! hardware in the order of [`bridge`]'s contract → hand the telemetry record to a non-blocking
 //! log and report whether it was queued ([`Pipeline::telemetry_sent`]). Operator commands go
-//! through [`Pipeline::command`] between ticks.
+//! through [`Pipeline::command`] between ticks; a link task also calls
+//! [`Pipeline::note_link_activity`] for every message it decodes (the communication watchdog's
+//! food).
+//!
+//! The scene `S` decides the controller's contact stage ([`crate::controller::stage`]): a fixed
+//! surface (the firmware's plane), or [`crate::local_model::LocalModelScene`], the application's
+//! local model with the communication watchdog, which also accepts [`Command::SetLocalModel`]
+//! and [`Command::SetWatchdog`] (a fixed scene refuses them: [`CommandError::Unsupported`]).
 //!
 //! Frames: motor counts handed to the controller are *homed*: 0 ↔ the device's zero-count arm
 //! angle; wrist counts are relative to the calibration pose held at `Home`.
@@ -39,12 +46,12 @@ pub use mode::{Command, CommandError, Mode};
 pub use record::PipelineRecord;
 pub use timing::TimingSummary;
 
-use crate::controller::{guarded_output, Controller, TickOutput};
+use crate::controller::{guarded_output, ContactStage, Controller, Scene, TickOutput};
 use crate::encoder::EncoderBank;
 use crate::flags::Flags;
 use crate::math::Math;
 use crate::output_guard::{GuardConfig, OutputGuard};
-use crate::surface::{Plane, Surface};
+use crate::surface::Plane;
 use crate::telemetry::{Decimator, DropCounter};
 
 use driver::DriverPower;
@@ -91,9 +98,10 @@ pub struct PipelineOutput {
     pub summary: Option<TimingSummary>,
 }
 
-/// The pipeline. `M`: math backend; `S`: scene surface.
+/// The pipeline. `M`: math backend; `S`: the scene (a fixed surface, or
+/// [`LocalModelScene`](crate::local_model::LocalModelScene) for the application's local model).
 #[derive(Clone, Copy, Debug)]
-pub struct Pipeline<M: Math, S: Surface = Plane> {
+pub struct Pipeline<M: Math, S: Scene = Plane> {
     config: PipelineConfig<S>,
     controller: Controller<M, S>,
     guard: OutputGuard,
@@ -113,7 +121,7 @@ pub struct Pipeline<M: Math, S: Surface = Plane> {
     tick: u32,
 }
 
-impl<M: Math, S: Surface> Pipeline<M, S> {
+impl<M: Math, S: Scene> Pipeline<M, S> {
     /// Build a pipeline at power-up (Unhomed, drivers asleep). An invalid configuration is
     /// rejected, never clamped.
     pub fn new(config: PipelineConfig<S>) -> Result<Self, PipelineError> {
@@ -203,6 +211,12 @@ impl<M: Math, S: Surface> Pipeline<M, S> {
         self.drops.note(queued);
     }
 
+    /// A valid message arrived on the link: feeds the communication watchdog of a local-model
+    /// scene (nothing on a fixed scene). The link task calls it for every message it decodes.
+    pub fn note_link_activity(&mut self) {
+        self.controller.contact_mut().note_link_activity();
+    }
+
     /// Apply an operator command at a tick boundary. See [`Mode`] for the transitions.
     pub fn command(&mut self, command: Command) -> Result<(), CommandError> {
         match command {
@@ -224,12 +238,17 @@ impl<M: Math, S: Surface> Pipeline<M, S> {
             },
             Command::Arm => match self.mode {
                 Mode::Disarmed => {
+                    self.controller.contact_mut().rearm();
                     self.ramp.restart();
                     self.controller.set_force_scale(0.0);
                     self.mode = Mode::Armed;
                     Ok(())
                 }
-                Mode::Armed => Ok(()),
+                Mode::Armed => {
+                    // Re-arming clears a latched communication timeout (the force ramps back).
+                    self.controller.contact_mut().rearm();
+                    Ok(())
+                }
                 Mode::Unhomed => Err(CommandError::NotHomed),
                 Mode::Homing => Err(CommandError::Homing),
                 Mode::Faulted => Err(CommandError::Faulted),
@@ -262,6 +281,10 @@ impl<M: Math, S: Surface> Pipeline<M, S> {
                 // A new contact starts from zero force; ramp it in again when armed.
                 self.ramp.restart();
                 Ok(())
+            }
+            Command::SetLocalModel(spec) => self.controller.contact_mut().set_local_model(spec),
+            Command::SetWatchdog { timeout_s } => {
+                self.controller.contact_mut().set_watchdog(timeout_s)
             }
         }
     }

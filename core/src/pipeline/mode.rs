@@ -11,6 +11,7 @@
 //! No force is ever rendered outside `Armed`; the bridges are driven only in `Homing` (the homing
 //! procedure's bounded torque) and `Armed`.
 
+use crate::local_model::{LocalModelSpec, ModelError};
 use crate::params::{ContactParams, ParamError};
 
 /// Operating mode.
@@ -56,7 +57,6 @@ impl Mode {
 
 /// An operator command, applied at a tick boundary by [`super::Pipeline::command`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Command {
     /// Start homing. The handle must be held in the wrist calibration pose when this is given:
     /// the wrist zero is taken from the wrist encoders at this instant. From `Unhomed` or
@@ -71,6 +71,34 @@ pub enum Command {
     ClearFaults,
     /// New contact parameters (validated; invalid ones are rejected and the old ones stay).
     SetContactParams(ContactParams),
+    /// A new local model, switched to at a tick boundary without a force step (local-model
+    /// scene only; see [`crate::local_model::renderer`]). Any mode: it changes no mode.
+    SetLocalModel(LocalModelSpec),
+    /// The communication watchdog's timeout, s, in [0, 60]; 0 turns it off (local-model scene
+    /// only). Setting it counts as link activity.
+    SetWatchdog {
+        /// Timeout, s.
+        timeout_s: f32,
+    },
+}
+
+/// Logged by name (a local model by its sequence number): the firmware's flash holds no
+/// formatter of a whole model.
+#[cfg(feature = "defmt")]
+impl defmt::Format for Command {
+    fn format(&self, f: defmt::Formatter) {
+        match self {
+            Command::Home => defmt::write!(f, "Home"),
+            Command::Arm => defmt::write!(f, "Arm"),
+            Command::Disarm => defmt::write!(f, "Disarm"),
+            Command::ClearFaults => defmt::write!(f, "ClearFaults"),
+            Command::SetContactParams(p) => defmt::write!(f, "SetContactParams({})", p),
+            Command::SetLocalModel(m) => defmt::write!(f, "SetLocalModel(seq {})", m.seq),
+            Command::SetWatchdog { timeout_s } => {
+                defmt::write!(f, "SetWatchdog({} s)", timeout_s)
+            }
+        }
+    }
 }
 
 /// Why a command was refused. A refused command changes nothing.
@@ -87,4 +115,8 @@ pub enum CommandError {
     Homing,
     /// Contact parameters rejected.
     InvalidParams(ParamError),
+    /// A local model rejected (old sequence number, bad pose, size, age or material).
+    InvalidModel(ModelError),
+    /// The scene cannot do this (a local model or watchdog command on a fixed scene).
+    Unsupported,
 }

@@ -122,8 +122,8 @@ impl Arms {
 }
 
 /// One closed-loop tick with an optional input edit.
-fn tick(
-    p: &mut Pipeline<Libm>,
+fn tick<S: Scene>(
+    p: &mut Pipeline<Libm, S>,
     arms: &mut Arms,
     edit: impl FnOnce(&mut RawInput),
 ) -> PipelineOutput {
@@ -138,7 +138,7 @@ fn tick(
 }
 
 /// Home from arms hanging at 0.3 rad; returns the ticks homing took.
-fn home(p: &mut Pipeline<Libm>, arms: &mut Arms) -> u32 {
+fn home<S: Scene>(p: &mut Pipeline<Libm, S>, arms: &mut Arms) -> u32 {
     let _ = tick(p, arms, |_| {});
     assert_eq!(p.command(Command::Home), Ok(()));
     for k in 1..60_000 {
@@ -664,3 +664,6 @@ proptest! {
         }
     }
 }
+
+#[path = "local_model_tests.rs"]
+mod local_model_tests;

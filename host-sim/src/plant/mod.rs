@@ -173,6 +173,16 @@ impl Plant {
     /// The six 16-bit hardware counters as the firmware reads them: they read 0 at power-up (the
     /// plant's construction) wherever the arms were, count with the motion and wrap.
     pub fn raw_counts(&self) -> [u16; 6] {
+        self.raw_counts_inner()
+    }
+
+    /// Keep the hardware counters of `previous` running: a plant rebuilt where `previous` was
+    /// (a new hand script) then reads the same raw counts, as the same hardware would.
+    pub fn continue_counters_from(&mut self, previous: &Plant) {
+        self.counter_origin = previous.counter_origin;
+    }
+
+    fn raw_counts_inner(&self) -> [u16; 6] {
         let c = self.counts();
         std::array::from_fn(|i| c[i].wrapping_sub(self.counter_origin[i]) as u16)
     }

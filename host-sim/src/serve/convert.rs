@@ -1,12 +1,13 @@
 //! Conversions between the wire types of `softfinger-protocol` and the core's types.
 
-use crate::serve::core::CoreRequest;
 use softfinger_core::contact_state::ContactState;
 use softfinger_core::local_model::{LocalModelSpec, ModelKind, ModelPose};
 use softfinger_core::params::ContactParams;
+use softfinger_core::pipeline::{Command, CommandError};
 use softfinger_core::{Quat, Vec3};
 use softfinger_protocol::{
-    ContactParamsWire, ContactStateWire, LocalModel, Request, SurfaceKind, SurfaceShape,
+    ContactParamsWire, ContactStateWire, ErrorCode, LocalModel, Mode, Request, SurfaceKind,
+    SurfaceShape,
 };
 
 /// A wire model as the core's spec (validated later by the renderer).
@@ -14,6 +15,8 @@ pub fn model_spec(m: &LocalModel) -> LocalModelSpec {
     let kind = match m.shape {
         SurfaceShape::Plane => ModelKind::Plane,
         SurfaceShape::Sphere { radius_m } => ModelKind::Sphere { radius_m },
+        SurfaceShape::Bowl { radius_m } => ModelKind::Bowl { radius_m },
+        SurfaceShape::Cylinder { radius_m } => ModelKind::Cylinder { radius_m },
     };
     let [w, x, y, z] = m.orientation;
     LocalModelSpec {
@@ -73,27 +76,66 @@ pub fn contact_state(s: ContactState) -> ContactStateWire {
 }
 
 /// The surfaces the virtual device renders.
-pub const SURFACES: [SurfaceKind; 2] = [SurfaceKind::Plane, SurfaceKind::Sphere];
+pub const SURFACES: [SurfaceKind; 4] = [
+    SurfaceKind::Plane,
+    SurfaceKind::Sphere,
+    SurfaceKind::Bowl,
+    SurfaceKind::Cylinder,
+];
 
-/// The core's part of a request, if it has one (`base`: the contact parameters in force).
-pub fn core_request(req: &Request, base: &ContactParams) -> Option<CoreRequest> {
+/// The pipeline command of a request, if it is one (`base`: the contact parameters in force).
+pub fn core_request(req: &Request, base: &ContactParams) -> Option<Command> {
     Some(match req {
-        Request::Home => CoreRequest::Home,
-        Request::Arm => CoreRequest::Arm,
-        Request::Disarm => CoreRequest::Disarm,
-        Request::ClearFaults => CoreRequest::ClearFaults,
-        Request::SetContactParams(w) => CoreRequest::SetContactParams(contact_params(w, base)),
-        Request::SetLocalModel(m) => CoreRequest::SetLocalModel(model_spec(m)),
-        Request::SetWatchdog { timeout_ms } => CoreRequest::SetWatchdog {
+        Request::Home => Command::Home,
+        Request::Arm => Command::Arm,
+        Request::Disarm => Command::Disarm,
+        Request::ClearFaults => Command::ClearFaults,
+        Request::SetContactParams(w) => Command::SetContactParams(contact_params(w, base)),
+        Request::SetLocalModel(m) => Command::SetLocalModel(model_spec(m)),
+        Request::SetWatchdog { timeout_ms } => Command::SetWatchdog {
             timeout_s: *timeout_ms as f32 * 1e-3,
         },
         _ => return None,
     })
 }
 
+/// The protocol's mode of the pipeline's: the one place the two meet (same five modes, same
+/// order; `mode_codes_agree` checks every one).
+pub fn mode(m: softfinger_core::pipeline::Mode) -> Mode {
+    use softfinger_core::pipeline::Mode as P;
+    match m {
+        P::Unhomed => Mode::Unhomed,
+        P::Homing => Mode::Homing,
+        P::Disarmed => Mode::Disarmed,
+        P::Armed => Mode::Armed,
+        P::Faulted => Mode::Faulted,
+    }
+}
+
+/// The wire code of a refused pipeline command.
+pub fn error_code(e: CommandError) -> ErrorCode {
+    use softfinger_core::local_model::ModelError;
+    match e {
+        CommandError::NotHomed | CommandError::Armed | CommandError::Homing => ErrorCode::WrongMode,
+        CommandError::Faulted => ErrorCode::Faulted,
+        CommandError::InvalidParams(_) => ErrorCode::InvalidValue,
+        CommandError::InvalidModel(ModelError::StaleSequence) => ErrorCode::StaleSequence,
+        CommandError::InvalidModel(_) => ErrorCode::InvalidValue,
+        CommandError::Unsupported => ErrorCode::Unsupported,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn mode_codes_agree() {
+        use softfinger_core::pipeline::Mode as P;
+        for m in [P::Unhomed, P::Homing, P::Disarmed, P::Armed, P::Faulted] {
+            assert_eq!(mode(m).name(), m.name());
+        }
+    }
 
     #[test]
     fn contact_params_round_trip_through_the_wire() {

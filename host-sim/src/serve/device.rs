@@ -12,9 +12,10 @@ use crate::serve::core::{CoreOutput, DeviceCore};
 use crate::serve::hand::{self, HandMode};
 use crate::serve::link::{Event, LinkStats, Outbox};
 use softfinger_core::device::DeviceParams;
+use softfinger_core::pipeline::Command;
 use softfinger_protocol::{
-    AckResult, DeviceInfo, DeviceMsg, ErrorCode, HostMsg, Request, StateSample, TickStatsWire,
-    PROTOCOL_VERSION,
+    AckResult, DeviceInfo, DeviceMsg, ErrorCode, HostMsg, Mode, Request, StateSample,
+    TickStatsWire, PROTOCOL_VERSION,
 };
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -65,6 +66,11 @@ pub struct DeviceLoop {
     plant: Plant,
     scene_script: HandScript,
     hand: HandMode,
+    /// Homing against the plant is running: the hand has let go of the handle.
+    homing: bool,
+    /// Where a client asked the hand to hold the handle (None: the scene's script); applied at
+    /// once, or when homing ends.
+    hand_target: Option<Waypoint>,
     clients: BTreeMap<u32, Client>,
     stats: Arc<LinkStats>,
     info: DeviceInfo,
@@ -112,6 +118,8 @@ impl DeviceLoop {
             plant,
             scene_script,
             hand: HandMode::Script,
+            homing: false,
+            hand_target: None,
             clients: BTreeMap::new(),
             stats,
             info,
@@ -176,22 +184,26 @@ impl DeviceLoop {
 
     fn one_tick(&mut self, overruns: u32) {
         let rate = self.core.rate_hz();
-        let counts = self.plant.counts();
         let t0 = Instant::now();
-        let out = self.core.tick(counts);
+        let out = self.core.tick(&mut self.plant);
         let ns = t0.elapsed().as_nanos().min(u32::MAX as u128) as u32;
         self.timing.record(ns, (rate / 10.0) as u32);
         self.timing.last.overruns = overruns;
-        self.plant
-            .step_with_enable(out.duties, out.enable, 1.0 / rate as f64);
         self.last = out;
         self.tick += 1;
-        if self.hand == HandMode::Script && self.plant.time_s() >= self.plant.script().duration_s()
+        if self.homing && out.mode != Mode::Homing {
+            // Homing ended (done, aborted or failed): the hand takes the handle again.
+            self.homing = false;
+            self.plant.grasp_hand();
+            let _ = self.take_handle();
+        } else if !self.homing
+            && self.hand == HandMode::Script
+            && self.plant.time_s() >= self.plant.script().duration_s()
         {
-            match hand::following(&self.plant, &self.scene_script, self.device) {
-                Ok(p) => self.plant = p,
+            let p = hand::following(&self.plant, &self.scene_script, self.device);
+            if self.rehand(p, HandMode::Script) != AckResult::Ok {
                 // The handle is somewhere no script can start from: it stays held where it is.
-                Err(_) => self.hand = HandMode::Driven,
+                self.hand = HandMode::Driven;
             }
         }
         self.stream();
@@ -270,17 +282,30 @@ impl DeviceLoop {
                     position_m: t.position_m.map(f64::from),
                     wrist_rad: t.wrist_rad.map(f64::from),
                 };
-                self.rehand(
-                    hand::holding(&self.plant, target, self.device),
-                    HandMode::Driven,
-                )
+                // Checked now (reachable, finite) even while homing, applied when it ends.
+                match hand::holding(&self.plant, target, self.device) {
+                    Err(_) => AckResult::Err(ErrorCode::InvalidValue),
+                    Ok(_) => {
+                        self.hand_target = Some(target);
+                        self.take_handle()
+                    }
+                }
             }
             Request::ReleaseHand => {
-                let p = hand::following(&self.plant, &self.scene_script, self.device);
-                self.rehand(p, HandMode::Script)
+                self.hand_target = None;
+                self.take_handle()
             }
             other => match convert::core_request(other, &self.core.contact_params()) {
-                Some(r) => self.core.request(r),
+                Some(r) => {
+                    let result = self.core.request(r);
+                    if r == Command::Home && result == AckResult::Ok {
+                        // The real homing against the plant: the hand lets go of the handle
+                        // until the arms have found their stops.
+                        self.homing = true;
+                        self.plant.release_hand();
+                    }
+                    result
+                }
                 None => AckResult::Err(ErrorCode::Unsupported),
             },
         };
@@ -297,9 +322,28 @@ impl DeviceLoop {
         AckResult::Ok
     }
 
+    /// The hand holds the handle where a client asked, or plays the scene's script; while
+    /// homing it keeps off the handle (applied when homing ends).
+    fn take_handle(&mut self) -> AckResult {
+        if self.homing {
+            return AckResult::Ok;
+        }
+        match self.hand_target {
+            Some(t) => {
+                let p = hand::holding(&self.plant, t, self.device);
+                self.rehand(p, HandMode::Driven)
+            }
+            None => {
+                let p = hand::following(&self.plant, &self.scene_script, self.device);
+                self.rehand(p, HandMode::Script)
+            }
+        }
+    }
+
     fn rehand(&mut self, plant: Result<Plant, String>, mode: HandMode) -> AckResult {
         match plant {
-            Ok(p) => {
+            Ok(mut p) => {
+                p.continue_counters_from(&self.plant);
                 self.plant = p;
                 self.hand = mode;
                 AckResult::Ok

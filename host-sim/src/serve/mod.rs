@@ -37,7 +37,10 @@ pub struct Args {
     /// Blend time of local model switches, ms.
     #[arg(long, default_value_t = 2.0)]
     pub blend_ms: f32,
-    /// Home and arm at start (bench mode: force without a client).
+    /// Communication watchdog timeout, ms (0: off). Clients keep it fed with a heartbeat.
+    #[arg(long, default_value_t = 200.0)]
+    pub watchdog_ms: f32,
+    /// Home and arm at start, watchdog off (bench mode: force without a client).
     #[arg(long)]
     pub auto_arm: bool,
     /// Stop after this many seconds (default: run until killed).
@@ -58,26 +61,20 @@ impl Server {
     /// Bind, build the device from the scene, and start the threads.
     pub fn start(args: &Args) -> Result<Server, String> {
         let scene = Scene::load(&args.scene)?;
-        let (contact, model) = core::scene_model(&scene)?;
+        let (contact, _) = core::scene_model(&scene)?;
         let device = softfinger_core::devices::OMEGA_LIKE.params;
-        let mut core = core::LocalModelCore::new(
-            device,
-            scene.rate_hz as f32,
-            contact,
-            model,
-            args.blend_ms * 1e-3,
-        )?;
+        let watchdog_s = args.watchdog_ms * 1e-3;
+        let mut core = core::PipelineCore::new(&scene, args.blend_ms * 1e-3, watchdog_s)?;
         let script = crate::closed_loop::touch_script(&scene, &contact);
-        let plant =
+        let mut plant =
             crate::closed_loop::plant(&scene, &contact).map_err(|e| format!("plant: {e:?}"))?;
         if args.auto_arm {
-            // Home against the plant at rest (its counts do not move), then arm.
-            use crate::serve::core::{CoreRequest, DeviceCore};
-            core.request(CoreRequest::Home);
-            for _ in 0..(scene.rate_hz as u32) {
-                core.tick(plant.counts());
-            }
-            core.request(CoreRequest::Arm);
+            // The operator's session in simulated time: home against the plant, the hand takes
+            // the handle, arm. Bench mode: no client feeds the watchdog, so it is off.
+            let pipe = core.pipeline_mut();
+            pipe.command(softfinger_core::pipeline::Command::SetWatchdog { timeout_s: 0.0 })
+                .map_err(|e| format!("watchdog: {e:?}"))?;
+            crate::closed_loop::prepare(pipe, &mut plant)?;
         }
         let listener =
             TcpListener::bind(&args.listen).map_err(|e| format!("{}: {e}", args.listen))?;

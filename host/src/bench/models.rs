@@ -144,6 +144,7 @@ pub fn run(
 ) -> Result<(ModelReport, WatchdogReport), LinkError> {
     let mut d = Device::connect(target)?;
     d.set_timeout(Duration::from_secs(3));
+    let watchdog_before = d.info()?.watchdog_ms;
     let top = host_sim::closed_loop::surface_top_z_m();
     let c = softfinger_core::delta::DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
     let _ = d.disarm();
@@ -155,6 +156,8 @@ pub fn run(
         wrist_rad: [0.0; 3],
     })?;
     d.set_stream(1)?;
+    // Homing against the plant first (the hand lets go meanwhile).
+    wait_until(&d, |s| s.mode == softfinger_protocol::Mode::Disarmed)?;
     // Wait in device time (a loaded or unoptimised host runs the device slower than real time):
     // the hand's move (at most 2 s) is over and the handle has settled (it sags below the
     // target under gravity; the hand's grasp is a spring), then 0.5 s armed.
@@ -168,8 +171,9 @@ pub fn run(
     let mut seq = first.model_seq.wrapping_add(1);
     d.set_local_model(plane(seq, top))?;
     d.arm()?;
+    // Past the pipeline's 0.5 s arming ramp.
     let armed_at = first.tick;
-    wait_until(&d, |s| s.tick >= armed_at + rate as u64 / 2)?;
+    wait_until(&d, |s| s.tick >= armed_at + rate as u64)?;
     drain(&d)?;
 
     std::thread::sleep(Duration::from_secs_f64(cfg.model_s));
@@ -210,7 +214,7 @@ pub fn run(
     missing += m2 + m3;
 
     let watchdog = watchdog(&mut d, rate, cfg.watchdog_ms)?;
-    let _ = d.set_watchdog_ms(0);
+    let _ = d.set_watchdog_ms(watchdog_before);
     let _ = d.disarm();
     let _ = d.release_hand();
     let _ = d.set_stream(0);
@@ -235,6 +239,8 @@ pub fn run(
 
 fn watchdog(d: &mut Device, rate: u32, timeout_ms: u16) -> Result<WatchdogReport, LinkError> {
     d.set_watchdog_ms(timeout_ms)?;
+    // Silence: no heartbeat either.
+    d.set_heartbeat(false);
     // Silence: samples until the force has been zero for the timeout again, in device time.
     let mut zero_since = None;
     let (quiet, _) = collect_until(d, |s| {
@@ -267,6 +273,7 @@ fn watchdog(d: &mut Device, rate: u32, timeout_ms: u16) -> Result<WatchdogReport
     });
     // Re-arm, and keep talking (the watchdog is still on): a ping every 20 ms until force is
     // rendered again (the handle bounces after the pause, so any tick), then 100 ms more.
+    d.set_heartbeat(true);
     d.arm()?;
     let flagged_now = |s: &StateSample| s.flags & Flags::COMM_TIMEOUT.0 != 0;
     let rendering = |s: &StateSample| {
