@@ -161,8 +161,8 @@ impl DeviceCore for PipelineCore {
     }
 }
 
-/// The initial model and contact parameters of a scene (plane top or sphere centre in the base
-/// frame, as the closed-loop runs place them).
+/// The initial model and contact parameters of a scene (plane top; sphere, bowl or cylinder centre
+/// in the base frame, as the closed-loop runs place them).
 pub fn scene_model(scene: &crate::scene::Scene) -> Result<(ContactParams, LocalModelSpec), String> {
     let contact = crate::closed_loop::contact_params(scene)?;
     let top = crate::closed_loop::surface_top_z_m() as f32;
@@ -174,13 +174,21 @@ pub fn scene_model(scene: &crate::scene::Scene) -> Result<(ContactParams, LocalM
             },
             top - radius_m as f32,
         ),
-        other => {
-            return Err(format!(
-                "scene '{}': the virtual device renders plane and sphere local models, not a {}",
-                scene.name,
-                other.kind()
-            ))
-        }
+        // The bowl's centre is its radius above its bottom (the first contact), as in
+        // `closed_loop::bowl_config`; the local model checks that it holds the fingertip.
+        crate::scene::SurfaceSpec::Bowl { radius_m } => (
+            ModelKind::Bowl {
+                radius_m: radius_m as f32,
+            },
+            top + radius_m as f32,
+        ),
+        // The cylinder's axis (object x, along base x) is its radius below its top.
+        crate::scene::SurfaceSpec::Cylinder { radius_m } => (
+            ModelKind::Cylinder {
+                radius_m: radius_m as f32,
+            },
+            top - radius_m as f32,
+        ),
     };
     let spec = LocalModelSpec {
         kind,

@@ -166,14 +166,21 @@ fn models_are_refused_with_typed_codes() {
     assert_eq!(core.contact_params(), contact);
 }
 
+/// Every built-in surface becomes the initial local model, placed where the closed loop puts it:
+/// the first contact at the same height for all of them.
 #[test]
-fn bowl_and_cylinder_scenes_are_refused_with_their_kind() {
-    for (name, kind) in [
-        ("finger-in-bowl", "bowl"),
-        ("finger-on-cylinder", "cylinder"),
+fn every_scene_surface_is_the_initial_local_model() {
+    let top = crate::closed_loop::surface_top_z_m() as f32;
+    for (name, kind, centre_z) in [
+        ("finger-on-plane", "plane", top),
+        ("finger-on-sphere", "sphere", top - 0.05),
+        ("finger-in-bowl", "bowl", top + 0.05),
+        ("finger-on-cylinder", "cylinder", top - 0.05),
     ] {
-        let e = scene_model(&Scene::load(name).unwrap()).unwrap_err();
-        assert!(e.contains(kind) && e.contains(name), "{e}");
+        let scene = Scene::load(name).unwrap();
+        let (_, spec) = scene_model(&scene).unwrap();
+        assert!(format!("{:?}", spec.kind).to_lowercase().starts_with(kind), "{name}");
+        let z = spec.pose.position_m.z;
+        assert!((z - centre_z).abs() < 1e-6, "{name}: centre z {z}");
     }
-    assert!(scene_model(&Scene::load("finger-on-sphere").unwrap()).is_ok());
 }
