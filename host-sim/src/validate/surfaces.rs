@@ -162,7 +162,10 @@ mod tests {
         assert_eq!(rows.len(), 8);
         for r in &rows {
             assert!(r.reference_cross_check_mm < 1.5e-11, "{r:?}");
-            assert!(r.object_max_error_mm < 1e-3 && r.finger_max_error_mm < 1e-3, "{r:?}");
+            assert!(
+                r.object_max_error_mm < 1e-3 && r.finger_max_error_mm < 1e-3,
+                "{r:?}"
+            );
             assert!(r.object_max_error_mm > 0.0, "{r:?}");
         }
         let names: Vec<_> = rows.iter().map(|r| r.surface).collect();
