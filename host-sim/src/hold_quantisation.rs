@@ -156,3 +156,39 @@ pub fn line(setup: &HoldSetup, p: &HoldProfile) -> String {
         p.final_energy_j
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_setups_are_rejected_before_running() {
+        let good = HoldSetup {
+            hold_s: 20.0,
+            passivity: true,
+            drift_m_per_s: 0.0,
+            window_s: 5.0,
+        };
+        for bad in [
+            HoldSetup {
+                hold_s: 10.0,
+                window_s: 5.0,
+                ..good
+            },
+            HoldSetup {
+                hold_s: f64::NAN,
+                ..good
+            },
+            HoldSetup {
+                window_s: 0.0,
+                ..good
+            },
+            HoldSetup {
+                drift_m_per_s: f64::INFINITY,
+                ..good
+            },
+        ] {
+            assert!(measure::<Libm>(bad).is_err(), "{bad:?}");
+        }
+    }
+}
