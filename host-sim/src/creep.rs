@@ -11,9 +11,14 @@
 //! - `closed-loop`: the controller against the plant, a hand pressing 1 mm and holding still for
 //!   `--hold-s` simulated seconds with the wrist tilted and one wrist count dithering every tick:
 //!   the largest rendered tangential force after the press has settled, against the force of one
-//!   motor-encoder count of displacement (tangential stiffness × effector displacement of one count).
+//!   motor-encoder count of displacement (tangential stiffness × effector displacement of one count);
+//! - the same hold through the encoders ([`crate::hold_quantisation`], exact method, libm), with
+//!   and without the passivity stage, still and with the hand drifting 0.65 µm/s: the
+//!   instantaneous tangential force (max, p99, median), the mean over the first and last windows
+//!   and its change, the count changes and the anchor's walk.
 
 use crate::closed_loop;
+use crate::hold_quantisation::{self, HoldSetup};
 use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
 use softfinger_core::contact::{ContactInput, ContactModel};
 use softfinger_core::decompose::Method;
@@ -177,47 +182,8 @@ fn hold_run<M: Math>(
     hold_s: f64,
     dither: bool,
 ) -> Result<(f64, f64, f64), String> {
-    let top = closed_loop::surface_top_z_m();
-    let c = DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
-    let wrist = [0.3, -0.2, 0.1];
-    let above = [c.x as f64, c.y as f64, top + 0.012];
-    let pressed = [c.x as f64, c.y as f64, top + 0.01 - 0.001];
-    let script = HandScript::new(Waypoint {
-        position_m: above,
-        wrist_rad: wrist,
-    })
-    .then(
-        Phase::Press,
-        0.5,
-        Waypoint {
-            position_m: pressed,
-            wrist_rad: wrist,
-        },
-    )
-    .then(
-        Phase::Hold,
-        hold_s,
-        Waypoint {
-            position_m: pressed,
-            wrist_rad: wrist,
-        },
-    );
-    let mut plant = Plant::new(OMEGA_LIKE.params, PlantParams::OMEGA_LIKE, script)
-        .map_err(|e| format!("plant: {e:?}"))?;
-    let timing = BoardTiming::STM32G474_10KHZ;
-    let config = PipelineConfig {
-        device: OMEGA_LIKE,
-        timing,
-        contact,
-        surface: Plane::default(),
-        object_origin_m: Vec3::new(0.0, 0.0, top as f32),
-        log_rate_hz: softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ,
-    };
-    let mut ctrl: Pipeline<M, Plane> =
-        Pipeline::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
-    // The operator's session first (home, grasp, arm); the script starts when armed.
-    closed_loop::prepare(&mut ctrl, &mut plant)?;
-    let rate = f64::from(timing.control_hz);
+    let (mut ctrl, mut plant) = hold_scene::<M>(contact, hold_s, 0.0)?;
+    let rate = f64::from(ctrl.config().timing.control_hz);
     let ticks = ((0.5 + hold_s) * rate) as u64;
     // Press (0.5 s) and the arming ramp (within it) settle before the hold is judged.
     let settle = (1.5 * rate) as u64;
@@ -257,6 +223,58 @@ fn hold_run<M: Math>(
         },
     );
     Ok((worst, walk, growth))
+}
+
+/// The closed-loop hold scene: the plant with a hand that presses 1 mm at the workspace centre in
+/// 0.5 s with the wrist at [`rest_orientation`]'s angles, then holds for `hold_s`, its reference
+/// moving along base `x` at `drift_m_per_s` (0: still; a test hook standing for a slow walk of the
+/// probe relative to the anchor), and the pipeline homed, the hand grasped and armed.
+pub fn hold_scene<M: Math>(
+    contact: ContactParams,
+    hold_s: f64,
+    drift_m_per_s: f64,
+) -> Result<(Pipeline<M, Plane>, Plant), String> {
+    let top = closed_loop::surface_top_z_m();
+    let c = DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
+    let wrist = [0.3, -0.2, 0.1];
+    let above = [c.x as f64, c.y as f64, top + 0.012];
+    let pressed = [c.x as f64, c.y as f64, top + 0.01 - 0.001];
+    let held_end = [pressed[0] + drift_m_per_s * hold_s, pressed[1], pressed[2]];
+    let script = HandScript::new(Waypoint {
+        position_m: above,
+        wrist_rad: wrist,
+    })
+    .then(
+        Phase::Press,
+        0.5,
+        Waypoint {
+            position_m: pressed,
+            wrist_rad: wrist,
+        },
+    )
+    .then(
+        Phase::Hold,
+        hold_s,
+        Waypoint {
+            position_m: held_end,
+            wrist_rad: wrist,
+        },
+    );
+    let mut plant = Plant::new(OMEGA_LIKE.params, PlantParams::OMEGA_LIKE, script)
+        .map_err(|e| format!("plant: {e:?}"))?;
+    let config = PipelineConfig {
+        device: OMEGA_LIKE,
+        timing: BoardTiming::STM32G474_10KHZ,
+        contact,
+        surface: Plane::default(),
+        object_origin_m: Vec3::new(0.0, 0.0, top as f32),
+        log_rate_hz: softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ,
+    };
+    let mut ctrl: Pipeline<M, Plane> =
+        Pipeline::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
+    // The operator's session first (home, grasp, arm); the script starts when armed.
+    closed_loop::prepare(&mut ctrl, &mut plant)?;
+    Ok((ctrl, plant))
 }
 
 fn per_backend(args: &Args, method: Method) -> Result<(), String> {
@@ -317,6 +335,20 @@ pub fn main(args: &Args) -> Result<(), String> {
     );
     for m in Method::ALL {
         per_backend(args, m)?;
+    }
+    if args.hold_s > 2.0 {
+        // The hold through the encoders (exact method, libm): with and without the passivity
+        // stage, and with the hand's reference drifting 0.65 µm/s (the creep rate of issue 12).
+        for (passivity, drift) in [(true, 0.0), (false, 0.0), (true, 0.65e-6), (false, 0.65e-6)] {
+            let setup = HoldSetup {
+                hold_s: args.hold_s,
+                passivity,
+                drift_m_per_s: drift,
+                window_s: (args.hold_s / 6.0).min(10.0),
+            };
+            let p = hold_quantisation::measure::<Libm>(setup)?;
+            println!("{}", hold_quantisation::line(&setup, &p));
+        }
     }
     Ok(())
 }

@@ -7,6 +7,7 @@ pub mod cli;
 pub mod closed_loop;
 pub mod creep;
 pub mod faults;
+pub mod hold_quantisation;
 pub mod limit_path;
 pub mod limit_surface_cmd;
 pub mod pil;

@@ -16,6 +16,13 @@
 //! fixed sphere (frame O) and `R_kᵀ (−r n)` on the rolling sphere (its own frame). As `R → ∞` this tends to
 //! the plane case.
 //!
+//! **Sphere (radius r) inside a fixed bowl (radius R > r, centre at O's origin)**: with `m` the unit vector
+//! from the bowl's centre to the contact (the bowl's normal towards the sphere is `−m`), the centre is at
+//! `(R − r) m` and no slip (the material point at the contact, `c + r m`, at rest: `ċ + ω × (r m) = 0`)
+//! gives `(R − r) ṁ = −r ω × m`,
+//! so `m_{k+1} = exp(−κ_b [w_k]×) m_k`, `κ_b = r/(R − r)`. The contact point is `R m` on the bowl and
+//! `R_kᵀ (r m)` on the rolling sphere. This is the sphere-on-sphere form with `R → −R` and `n = −m`.
+//!
 //! The results depend only on the orientation samples, not on the sampling period.
 
 use nalgebra::{Rotation3, Unit, UnitQuaternion, Vector3};
@@ -66,6 +73,28 @@ pub fn sphere_on_sphere(
         }
         object.push(n * object_radius);
         finger.push(q.inverse() * (-n * radius));
+    }
+    ContactPaths { object, finger }
+}
+
+/// Sphere of radius `radius` (m) inside a bowl of radius `bowl_radius > radius` (m) centred at O's
+/// origin, starting with its contact at the bottom `(0, 0, −bowl_radius)` (normal `+z`).
+pub fn sphere_in_bowl(
+    samples: &[UnitQuaternion<f64>],
+    radius: f64,
+    bowl_radius: f64,
+) -> ContactPaths {
+    let kappa = radius / (bowl_radius - radius);
+    let mut m = -Vector3::z();
+    let mut object = Vec::with_capacity(samples.len());
+    let mut finger = Vec::with_capacity(samples.len());
+    for (k, q) in samples.iter().enumerate() {
+        if k > 0 {
+            let w = rotation_vector(&(q * samples[k - 1].inverse()));
+            m = Rotation3::from_scaled_axis(-w * kappa) * m;
+        }
+        object.push(m * bowl_radius);
+        finger.push(q.inverse() * (m * radius));
     }
     ContactPaths { object, finger }
 }

@@ -1,9 +1,11 @@
 //! Independent high-accuracy reference for sphere rolling contact: the paper's §3.1 validation, which
-//! integrated the classical rolling equations with `ode45`.
+//! integrated the classical rolling equations with `ode45`, on the plane, a sphere, a bowl (the inside
+//! of a sphere) and a cylinder.
 //!
 //! Two independent ways to get the contact paths of a sphere rolling without slipping, driven by sampled
 //! orientations with a constant angular velocity between samples:
-//! - [`closed_form`]: the exact paths (rotation-vector increments; sphere on plane or on sphere);
+//! - [`closed_form`]: the exact paths (rotation-vector increments; sphere on plane, on a sphere or in a
+//!   bowl; the cylinder has none);
 //! - [`montana_paths`]: Montana's contact equations ([`montana`], on the charts of [`surface`]) integrated
 //!   by our adaptive Dormand–Prince RK45 ([`rk45`]).
 //!
@@ -53,6 +55,13 @@ pub enum Ground {
     /// A fixed sphere of radius `radius` (m) centred at the origin; the first contact is at its top
     /// `(0, 0, radius)`.
     Sphere { radius: f64 },
+    /// The inside of a fixed sphere (a bowl) of radius `radius` (m, larger than the rolling sphere's)
+    /// centred at the origin; the first contact is at its bottom `(0, 0, −radius)`, normal `+z`.
+    Bowl { radius: f64 },
+    /// A fixed cylinder of radius `radius` (m) with its axis along `x` through the origin; the first
+    /// contact is at `(0, 0, radius)`, normal `+z`. No closed form: [`ReferenceMethod::ClosedForm`] gives
+    /// [`ReferenceError::NoClosedForm`].
+    Cylinder { radius: f64 },
 }
 
 /// Work counters (all zero for the closed form).
@@ -73,8 +82,8 @@ pub struct ReferenceStats {
 /// Contact paths, one row per sample (the first row is the initial contact), in metres.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ReferencePaths {
-    /// Contact point on the ground in the fixed frame: `(x, y, 0)` on the plane; on a ground sphere, a
-    /// point of that sphere (origin at its centre).
+    /// Contact point on the ground in the fixed frame: `(x, y, 0)` on the plane; on a ground sphere,
+    /// bowl or cylinder, a point of that surface (origin at its centre, or on its axis).
     pub plane: Vec<[f64; 3]>,
     /// Contact point on the rolling sphere in the sphere's own frame (origin at its centre).
     pub sphere: Vec<[f64; 3]>,
@@ -89,6 +98,8 @@ pub enum ReferenceError {
     InvalidInput,
     /// The integrator failed (bad tolerances, or the step size collapsed).
     Integration(Rk45Error),
+    /// [`ReferenceMethod::ClosedForm`] on a ground that has none (the cylinder).
+    NoClosedForm,
 }
 
 impl From<Rk45Error> for ReferenceError {
@@ -119,7 +130,8 @@ pub fn reference_paths_on(
     let positive = |v: f64| v.is_finite() && v > 0.0;
     let ground_ok = match ground {
         Ground::Plane => true,
-        Ground::Sphere { radius } => positive(radius),
+        Ground::Sphere { radius: big } | Ground::Cylinder { radius: big } => positive(big),
+        Ground::Bowl { radius: big } => positive(big) && big > radius,
     };
     let samples_ok = samples
         .iter()
@@ -142,6 +154,8 @@ pub fn reference_paths_on(
                 Ground::Sphere { radius: big } => {
                     closed_form::sphere_on_sphere(samples, radius, big, &Vector3::z_axis())
                 }
+                Ground::Bowl { radius: big } => closed_form::sphere_in_bowl(samples, radius, big),
+                Ground::Cylinder { .. } => return Err(ReferenceError::NoClosedForm),
             };
             Ok(ReferencePaths {
                 plane: rows(&paths.object),
@@ -155,6 +169,10 @@ pub fn reference_paths_on(
                 Ground::Sphere { radius: big } => {
                     Surface::sphere_centred(big, &Vector3::z_axis(), &Vector3::x())
                 }
+                Ground::Bowl { radius: big } => {
+                    Surface::bowl_centred(big, &-Vector3::z_axis(), &Vector3::x())
+                }
+                Ground::Cylinder { radius: big } => Surface::Cylinder { radius: big },
             };
             let run = montana_paths::integrate(radius, object, [0.0, 0.0], samples, dt, &opts)?;
             Ok(ReferencePaths::from_run(&run))
@@ -208,5 +226,7 @@ pub fn max_distance(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+#[cfg(test)]
+mod curved_tests;
 #[cfg(test)]
 mod tests;

@@ -28,6 +28,22 @@
 //! lines. Differentiating `R C_f = C_o R_ψ3` and taking the (y, x) element gives the third, because
 //! `y·ẋ = T M α̇` on each surface and `Ṙ_ψ3 R_ψ3ᵀ = [(0, 0, −ψ̇)]×`.
 //!
+//! # The object surfaces ([`Surface`])
+//! The finger is a sphere of radius `ρ`: `K_f = I/ρ`, `M_f = diag(ρ cos v_f, ρ)`, `T_f = [tan v_f/ρ, 0]`.
+//! With `R_ψ² = I`, the relative curvature `K_f + K̃_o` is:
+//! - plane: `I/ρ`;
+//! - sphere of radius `R` (outside): `(1/ρ + 1/R) I`;
+//! - bowl of radius `R` (inside a sphere, normal towards its centre, `K_o = −I/R`): `(1/ρ − 1/R) I`,
+//!   invertible for `ρ ≠ R` (a fingertip smaller than the bowl: `ρ < R`; the integration fails with a
+//!   non-finite rate at `ρ = R`);
+//! - cylinder of radius `R` (axis `x_O`, `K_o = diag(0, 1/R)` in its chart): `I/ρ + R_ψ diag(0, 1/R) R_ψ
+//!   = I/ρ + (1/R)[[s², sc], [sc, c²]]` with `(s, c) = (sin ψ, cos ψ)`: the curvature a rolling contact
+//!   sees depends on the direction it rolls in, through the angle of contact `ψ` (rolling along the axis
+//!   sees `1/ρ`, around it `1/ρ + 1/R`). Always positive definite.
+//!
+//! Singularities: the sphere and bowl charts at their poles (handled by re-centring, see
+//! [`Contact::rechart`]); the cylinder chart has none; the finger chart at its poles (re-centred).
+//!
 //! For a finger sphere of radius `r` on a plane (chart of [`Surface::Sphere`]: `u` longitude, `v` latitude):
 //! `u̇_f = −ω_y / cos v_f`, `v̇_f = ω_x`, `(ẋ, ẏ) = r R_ψ [−ω_y, ω_x]ᵀ = r·(ω_O,y, −ω_O,x)`,
 //! `ψ̇ = ω_z − tan v_f · ω_y`.
@@ -53,7 +69,7 @@ pub enum AngularVelocity {
 pub struct Contact {
     /// Finger surface: always a [`Surface::Sphere`].
     pub finger: Surface,
-    /// Object surface (plane or sphere), fixed in O.
+    /// Object surface (plane, sphere, bowl or cylinder), fixed in O.
     pub object: Surface,
 }
 
@@ -178,7 +194,8 @@ impl Contact {
     /// Re-centres the sphere charts on the current contact, with the chart's east along the contact's
     /// direction of motion under `w` (so the contact then moves along the chart's equator, away from the
     /// poles). Rewrites `s` for the new charts; the physical configuration (orientation, contact points) is
-    /// unchanged. A plane object keeps its chart.
+    /// unchanged. A bowl object is re-centred the same way; a plane or cylinder object keeps its chart
+    /// (it has no singularity).
     pub fn rechart(&mut self, s: &mut State, w: &AngularVelocity) {
         let r = self.orientation(s);
         let p_f = self.finger_point(s);
@@ -187,8 +204,14 @@ impl Contact {
         if let Surface::Sphere { radius, .. } = self.finger {
             self.finger = Surface::sphere_centred(radius, &Unit::new_normalize(p_f), &v_f);
         }
-        if let Surface::Sphere { radius, .. } = self.object {
-            self.object = Surface::sphere_centred(radius, &Unit::new_normalize(p_o), &v_o);
+        match self.object {
+            Surface::Sphere { radius, .. } => {
+                self.object = Surface::sphere_centred(radius, &Unit::new_normalize(p_o), &v_o);
+            }
+            Surface::Bowl { radius, .. } => {
+                self.object = Surface::bowl_centred(radius, &Unit::new_normalize(p_o), &v_o);
+            }
+            Surface::Plane | Surface::Cylinder { .. } => {}
         }
         let af = self.finger.coords(&p_f);
         let ao = self.object.coords(&p_o);

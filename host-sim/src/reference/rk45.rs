@@ -327,6 +327,14 @@ impl<const N: usize> Rk45<N> {
     }
 
     /// Hairer's starting step (Solving ODEs I, §II.4), with this integrator's norm. One evaluation of `f`.
+    ///
+    /// The first probe `h0 = 0.01·‖y0‖/‖f0‖` (the step that changes `y` by 1 % of its size) only means
+    /// something when `y0` is larger than its own error scale. When every component of `y0` lies within
+    /// its tolerance of zero (`‖y0‖ < 1`) the state is zero at the requested accuracy and the probe is
+    /// the fixed `1e-6`, as Hairer's code does for `y0 = 0`. (Hairer's test is `‖y0‖ < 1e-5`: then a state
+    /// that is zero but for a round-off residue, such as a contact angle of −5.6e-17 rad against
+    /// `atol = 1e-14`, gives `‖y0‖ = 5.6e-3`, a probe of ~1e-19 s for `‖f0‖ ~ 1e14`, and a start below
+    /// the round-off limit of `t`: `StepTooSmall` before the first step.)
     fn initial_step<F>(
         &mut self,
         f: &mut F,
@@ -340,7 +348,7 @@ impl<const N: usize> Rk45<N> {
     {
         let d0 = self.norm_at(y0, y0);
         let d1 = self.norm_at(f0, y0);
-        let h0 = if d0 < 1e-5 || d1 < 1e-5 {
+        let h0 = if d0 < 1.0 || d1 < 1e-5 {
             1e-6
         } else {
             0.01 * d0 / d1
@@ -771,5 +779,26 @@ mod tests {
                 || matches!(r, Err(Rk45Error::TooManySteps { .. })),
             "{r:?}"
         );
+    }
+
+    #[test]
+    fn a_round_off_residue_state_still_starts() {
+        // y' = 10, y(0) = 1e-16 (zero but for a round-off residue) at atol 1e-14: Hairer's probe
+        // 0.01·‖y0‖/‖f0‖ = 0.01·1e-2/1e15 = 1e-19 s, capped start 100·h0 = 1e-17 s, below the round-off
+        // limit 16·eps·0.01 = 3.6e-17 s: the old test ‖y0‖ < 1e-5 stopped here with `StepTooSmall`.
+        // The solution is linear, so the 5th-order result is exact up to round-off: y(0.01) = 0.1 to
+        // within a few ulps (asserted 1e-15).
+        let mut rk = Rk45::new(Options::<1>::uniform(1e-12, 1e-14)).unwrap();
+        let mut y = [1e-16];
+        rk.integrate(|_, _| [10.0], 0.0, 0.01, &mut y).unwrap();
+        assert!((y[0] - 0.1).abs() < 1e-15, "{}", y[0]);
+        // Exactly at the threshold and just above it (‖y0‖ = 1 and 1.5 in tolerance units) the probe is
+        // Hairer's relative one; both start and reach the end.
+        for y0 in [1.0e-14, 1.5e-14] {
+            let mut rk = Rk45::new(Options::<1>::uniform(1e-12, 1e-14)).unwrap();
+            let mut y = [y0];
+            rk.integrate(|_, _| [10.0], 0.0, 0.01, &mut y).unwrap();
+            assert!((y[0] - (0.1 + y0)).abs() < 1e-15, "{y0:e}: {}", y[0]);
+        }
     }
 }

@@ -9,6 +9,8 @@
 //! - torsion `T = yᵀ·[x_α₁/|c_α₁|, x_α₂/|c_α₂|]` (1/length).
 //!
 //! All vectors are in the frame of the body that owns the surface; lengths in metres, angles in radians.
+//! "Outward" means out of the body, towards the other body in contact: for the bowl (the inside of a
+//! sphere) it points to the sphere's centre, so the bowl's `K` is negative.
 
 use nalgebra::{Matrix2, Matrix3, Rotation3, RowVector2, Unit, Vector3};
 
@@ -27,6 +29,22 @@ pub enum Surface {
     /// The chart is singular at the poles `v = ±π/2` (the chart's `±z` axis); the chart's origin
     /// `(u, v) = (0, 0)` is the body-frame direction `A·e_x`, see [`Surface::sphere_centred`].
     Sphere { radius: f64, chart: Rotation3<f64> },
+    /// A bowl: the inside of a sphere of radius `radius` (m) centred at the body's origin, with the
+    /// mirrored longitude/latitude chart `c(u, v) = radius · A · (cos v cos u, −cos v sin u, sin v)`
+    /// (the longitude runs the other way, so that `z = x × y` points inwards, out of the bowl's material
+    /// and towards a fingertip inside it). Then `x = A(−sin u, −cos u, 0)`, `y = A(−sin v cos u,
+    /// sin v sin u, cos v)`, `z = A(−cos v cos u, cos v sin u, −sin v) = −c/radius`, and
+    /// `M = diag(radius·cos v, radius)`, `K = −I/radius` (`z_α = −c_α/radius`), `T = [tan v / radius, 0]`.
+    /// Singular at the poles `v = ±π/2`, like the sphere; the chart's origin is the direction `A·e_x`,
+    /// see [`Surface::bowl_centred`].
+    Bowl { radius: f64, chart: Rotation3<f64> },
+    /// A cylinder of radius `radius` (m) whose axis is the body's `x` axis, chart
+    /// `c(u, v) = (u, radius·sin v, radius·cos v)`: `u` (m) along the axis, `v` (rad) around it from `+z`
+    /// towards `+y`. Then `x = (1, 0, 0)`, `y = (0, cos v, −sin v)`, `z = (0, sin v, cos v)` (outward),
+    /// `M = diag(1, radius)`, `K = diag(0, 1/radius)` (flat along the axis, curved around it: the
+    /// curvature seen by a rolling contact depends on its direction), `T = 0`. No singularity (`v` is
+    /// periodic); `(0, 0)` is the point `(0, 0, radius)` with normal `+z`.
+    Cylinder { radius: f64 },
 }
 
 impl Surface {
@@ -55,11 +73,34 @@ impl Surface {
         Surface::Sphere { radius, chart }
     }
 
+    /// A bowl whose chart origin `(0, 0)` is the body-frame direction `centre` (from the bowl's centre to
+    /// the point) and whose `x` direction there is the component of `east` perpendicular to `centre`
+    /// (any perpendicular if `east` is parallel to `centre`), as [`Surface::sphere_centred`].
+    pub fn bowl_centred(radius: f64, centre: &Unit<Vector3<f64>>, east: &Vector3<f64>) -> Self {
+        let Surface::Sphere { chart, .. } = Surface::sphere_centred(radius, centre, east) else {
+            unreachable!("sphere_centred returns a sphere")
+        };
+        // The sphere's chart has A·e_y = east and A·e_z = centre × east; the bowl's x at the origin is
+        // −A·e_y and its y is A·e_z, so flip the second and third columns (a rotation by π about e_x).
+        let m = chart.matrix();
+        let flipped =
+            Matrix3::from_columns(&[m.column(0).into_owned(), -m.column(1), -m.column(2)]);
+        Surface::Bowl {
+            radius,
+            chart: Rotation3::from_matrix_unchecked(flipped),
+        }
+    }
+
     /// The point `c(α)` (m, body frame).
     pub fn point(&self, a: [f64; 2]) -> Vector3<f64> {
         match self {
             Surface::Plane => Vector3::new(a[0], a[1], 0.0),
             Surface::Sphere { radius, chart } => chart * unit_sphere(a) * *radius,
+            Surface::Bowl { radius, chart } => chart * unit_sphere([-a[0], a[1]]) * *radius,
+            Surface::Cylinder { radius } => {
+                let (sv, cv) = a[1].sin_cos();
+                Vector3::new(a[0], radius * sv, radius * cv)
+            }
         }
     }
 
@@ -75,6 +116,18 @@ impl Surface {
                 let z = Vector3::new(cv * cu, cv * su, sv);
                 chart.matrix() * Matrix3::from_columns(&[x, y, z])
             }
+            Surface::Bowl { chart, .. } => {
+                let (su, cu) = a[0].sin_cos();
+                let (sv, cv) = a[1].sin_cos();
+                let x = Vector3::new(-su, -cu, 0.0);
+                let y = Vector3::new(-sv * cu, sv * su, cv);
+                let z = Vector3::new(-cv * cu, cv * su, -sv);
+                chart.matrix() * Matrix3::from_columns(&[x, y, z])
+            }
+            Surface::Cylinder { .. } => {
+                let (sv, cv) = a[1].sin_cos();
+                Matrix3::new(1.0, 0.0, 0.0, 0.0, cv, sv, 0.0, -sv, cv)
+            }
         }
     }
 
@@ -82,7 +135,10 @@ impl Surface {
     pub fn metric(&self, a: [f64; 2]) -> Matrix2<f64> {
         match self {
             Surface::Plane => Matrix2::identity(),
-            Surface::Sphere { radius, .. } => Matrix2::new(radius * a[1].cos(), 0.0, 0.0, *radius),
+            Surface::Sphere { radius, .. } | Surface::Bowl { radius, .. } => {
+                Matrix2::new(radius * a[1].cos(), 0.0, 0.0, *radius)
+            }
+            Surface::Cylinder { radius } => Matrix2::new(1.0, 0.0, 0.0, *radius),
         }
     }
 
@@ -91,14 +147,18 @@ impl Surface {
         match self {
             Surface::Plane => Matrix2::zeros(),
             Surface::Sphere { radius, .. } => Matrix2::identity() / *radius,
+            Surface::Bowl { radius, .. } => -Matrix2::identity() / *radius,
+            Surface::Cylinder { radius } => Matrix2::new(0.0, 0.0, 0.0, 1.0 / radius),
         }
     }
 
     /// Torsion form `T` (1/m).
     pub fn torsion(&self, a: [f64; 2]) -> RowVector2<f64> {
         match self {
-            Surface::Plane => RowVector2::zeros(),
-            Surface::Sphere { radius, .. } => RowVector2::new(a[1].tan() / radius, 0.0),
+            Surface::Plane | Surface::Cylinder { .. } => RowVector2::zeros(),
+            Surface::Sphere { radius, .. } | Surface::Bowl { radius, .. } => {
+                RowVector2::new(a[1].tan() / radius, 0.0)
+            }
         }
     }
 
@@ -111,14 +171,20 @@ impl Surface {
                 let s = chart.inverse() * p.normalize();
                 [s.y.atan2(s.x), s.z.atan2(s.x.hypot(s.y))]
             }
+            Surface::Bowl { chart, .. } => {
+                let s = chart.inverse() * p.normalize();
+                [(-s.y).atan2(s.x), s.z.atan2(s.x.hypot(s.y))]
+            }
+            Surface::Cylinder { .. } => [p.x, p.y.atan2(p.z)],
         }
     }
 
-    /// How close `α` is to a chart singularity: `|latitude|` (rad) for the sphere, 0 for the plane.
+    /// How close `α` is to a chart singularity: `|latitude|` (rad) for the sphere and the bowl, 0 for
+    /// the plane and the cylinder (no singularity).
     pub fn pole_proximity(&self, a: [f64; 2]) -> f64 {
         match self {
-            Surface::Plane => 0.0,
-            Surface::Sphere { .. } => a[1].abs(),
+            Surface::Plane | Surface::Cylinder { .. } => 0.0,
+            Surface::Sphere { .. } | Surface::Bowl { .. } => a[1].abs(),
         }
     }
 }
@@ -155,11 +221,72 @@ mod tests {
         (d(0), d(1))
     }
 
+    fn test_bowl() -> Surface {
+        Surface::Bowl {
+            radius: 0.05,
+            chart: Rotation3::from_scaled_axis(Vector3::new(-0.6, 0.2, 0.9)),
+        }
+    }
+
     #[test]
     fn sphere_frame_metric_curvature_torsion_match_the_chart() {
-        // Independent check by finite differences of c(α) and of the frame, against the closed forms.
+        frame_metric_curvature_torsion_match_the_chart(test_sphere(), 0.01);
         let s = test_sphere();
-        for a in [[0.0, 0.0], [0.4, -0.3], [-2.0, 0.9], [3.0, -1.2]] {
+        let a = [0.4, -0.3];
+        let z = s.frame(a).column(2).into_owned();
+        assert!((z - s.point(a).normalize()).norm() < 1e-14);
+    }
+
+    #[test]
+    fn bowl_centred_puts_origin_and_x_where_asked() {
+        let c = Unit::new_normalize(Vector3::new(0.2, -0.5, -1.0));
+        let east = Vector3::new(1.0, 0.3, 0.0);
+        let b = Surface::bowl_centred(0.05, &c, &east);
+        assert!((b.point([0.0, 0.0]) - c.into_inner() * 0.05).norm() < 1e-15);
+        let f = b.frame([0.0, 0.0]);
+        let e_perp = (east - c.into_inner() * c.dot(&east)).normalize();
+        assert!((f.column(0) - e_perp).norm() < 1e-14);
+        assert!((f.column(2) + c.into_inner()).norm() < 1e-14);
+        if let Surface::Bowl { chart, .. } = b {
+            assert!((chart.matrix().determinant() - 1.0).abs() < 1e-14);
+        } else {
+            unreachable!()
+        }
+    }
+
+    #[test]
+    fn bowl_frame_metric_curvature_torsion_match_the_chart() {
+        frame_metric_curvature_torsion_match_the_chart(test_bowl(), 0.05);
+        // The normal points to the centre (into the bowl's hollow).
+        let b = test_bowl();
+        let a = [0.4, -0.3];
+        let z = b.frame(a).column(2).into_owned();
+        assert!((z + b.point(a).normalize()).norm() < 1e-14);
+    }
+
+    #[test]
+    fn cylinder_frame_metric_curvature_torsion_match_the_chart() {
+        frame_metric_curvature_torsion_match_the_chart(Surface::Cylinder { radius: 0.05 }, 0.05);
+        let c = Surface::Cylinder { radius: 0.05 };
+        assert_eq!(c.point([0.0, 0.0]), Vector3::new(0.0, 0.0, 0.05));
+        assert_eq!(c.frame([0.0, 0.0]), Matrix3::identity());
+        // Outward: the normal is the radial direction in the y-z plane.
+        let a = [0.03, 2.2];
+        let p = c.point(a);
+        let radial = Vector3::new(0.0, p.y, p.z).normalize();
+        assert!((c.frame(a).column(2) - radial).norm() < 1e-15);
+    }
+
+    /// Independent check by finite differences of `c(α)` and of the frame, against the closed forms.
+    /// `scale` is the surface's radius (m), to scale the tolerances.
+    fn frame_metric_curvature_torsion_match_the_chart(s: Surface, scale: f64) {
+        let tol_k = 1e-5;
+        let points = match s {
+            // The cylinder's first coordinate is a length (m): points within a few cm of the origin.
+            Surface::Cylinder { .. } => [[0.0, 0.0], [0.02, -0.3], [-0.04, 0.9], [0.03, 3.0]],
+            _ => [[0.0, 0.0], [0.4, -0.3], [-2.0, 0.9], [3.0, -1.2]],
+        };
+        for a in points {
             let (cu, cv) = partials(&s, a);
             let f = s.frame(a);
             let (x, y, z) = (f.column(0), f.column(1), f.column(2));
@@ -167,8 +294,10 @@ mod tests {
             assert!((cu.normalize() - x).norm() < 1e-8);
             assert!((cv.normalize() - y).norm() < 1e-8);
             assert!((x.cross(&y) - z).norm() < 1e-12);
-            assert!((s.point(a).normalize() - z).norm() < 1e-12);
-            assert!(cu.dot(&cv).abs() < 1e-12, "chart must be orthogonal");
+            assert!(
+                cu.dot(&cv).abs() < 1e-12 * scale / 0.01,
+                "chart must be orthogonal"
+            );
             // Metric.
             let m = s.metric(a);
             assert!((m[(0, 0)] - cu.norm()).abs() < 1e-10);
@@ -191,21 +320,26 @@ mod tests {
                 y.dot(&fu.column(2)) / cu.norm(),
                 y.dot(&fv.column(2)) / cv.norm(),
             );
-            assert!((k - s.curvature(a)).abs().max() < 1e-5, "K at {a:?}");
+            assert!((k - s.curvature(a)).abs().max() < tol_k, "K at {a:?}");
             let t = RowVector2::new(
                 y.dot(&fu.column(0)) / cu.norm(),
                 y.dot(&fv.column(0)) / cv.norm(),
             );
-            assert!((t - s.torsion(a)).abs().max() < 1e-5, "T at {a:?}");
+            assert!((t - s.torsion(a)).abs().max() < tol_k, "T at {a:?}");
         }
     }
 
     #[test]
     fn coords_inverts_point() {
-        let s = test_sphere();
-        for a in [[0.0, 0.0], [0.4, -0.3], [-2.0, 0.9], [3.0, -1.2]] {
-            let b = s.coords(&s.point(a));
-            assert!((b[0] - a[0]).abs() < 1e-12 && (b[1] - a[1]).abs() < 1e-12);
+        for s in [
+            test_sphere(),
+            test_bowl(),
+            Surface::Cylinder { radius: 0.05 },
+        ] {
+            for a in [[0.0, 0.0], [0.4, -0.3], [-2.0, 0.9], [3.0, -1.2]] {
+                let b = s.coords(&s.point(a));
+                assert!((b[0] - a[0]).abs() < 1e-12 && (b[1] - a[1]).abs() < 1e-12);
+            }
         }
         assert_eq!(
             Surface::Plane.coords(&Vector3::new(1.0, 2.0, 0.0)),

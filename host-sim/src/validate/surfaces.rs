@@ -1,9 +1,13 @@
-//! Every surface against the RK45 integration of the rolling constraint
-//! ([`crate::reference::rolling_ode`]): the core's closed-form rolling updates (exact method) on
-//! the plane, the sphere, the bowl and the cylinder, 10 s at 1 kHz of a smooth roll-and-spin
-//! motion, fingertip radius 10 mm, object radius 50 mm.
+//! Every surface against host-sim's Montana-form reference (Montana's contact equations integrated
+//! by RK45 at rtol 1e-12, [`crate::reference::reference_paths_on`]): the core's closed-form rolling
+//! updates (exact method) on the plane, the sphere, the bowl and the cylinder, 10 s at 1 kHz of a
+//! smooth roll-and-spin motion, fingertip radius 10 mm, object radius 50 mm. Each surface's
+//! reference is itself cross-checked against the second, independent one, the Cartesian RK45 of
+//! the rolling constraint ([`crate::reference::rolling_ode`], rtol 1e-10), and the distance
+//! between the two is reported.
 
 use crate::reference::rolling_ode::{integrate, Object};
+use crate::reference::{max_distance, reference_paths_on, Ground, ReferenceMethod};
 use nalgebra::UnitQuaternion;
 use softfinger_core::decompose::Method;
 use softfinger_core::rolling::Rolling;
@@ -26,6 +30,8 @@ pub struct SurfaceRow {
     /// Largest distance from the reference over the run, object and fingertip contact points, mm.
     pub object_max_error_mm: f64,
     pub finger_max_error_mm: f64,
+    /// Largest distance between the Montana and the Cartesian references (either contact point), mm.
+    pub reference_cross_check_mm: f64,
 }
 
 /// The motion: a roll about a slowly turning tangent axis (≈0.6 rad/s) with a spin (≈0.4 rad/s).
@@ -65,15 +71,6 @@ fn ours<M: Math, S: Surface>(
     (obj, fin)
 }
 
-fn max_dist(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| {
-            ((x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2) + (x[2] - y[2]).powi(2)).sqrt()
-        })
-        .fold(0.0, f64::max)
-}
-
 /// Every surface with the libm and fast backends.
 pub fn run() -> Result<Vec<SurfaceRow>, String> {
     let s = samples();
@@ -86,9 +83,23 @@ pub fn run() -> Result<Vec<SurfaceRow>, String> {
         ("bowl", Object::Bowl(OBJECT_R)),
         ("cylinder", Object::Cylinder(OBJECT_R)),
     ];
+    let method = ReferenceMethod::Rk45 {
+        rtol: 1e-12,
+        atol: 1e-14,
+    };
     for (name, object) in objects {
-        let reference = integrate(object, FINGER_R, &s, dt, 1e-10)
-            .map_err(|e| format!("rolling reference on the {name}: {e:?}"))?;
+        let ground = match object {
+            Object::Plane => Ground::Plane,
+            Object::Sphere(r) => Ground::Sphere { radius: r },
+            Object::Bowl(r) => Ground::Bowl { radius: r },
+            Object::Cylinder(r) => Ground::Cylinder { radius: r },
+        };
+        let montana = reference_paths_on(ground, method, &s, dt, FINGER_R)
+            .map_err(|e| format!("Montana reference on the {name}: {e:?}"))?;
+        let cartesian = integrate(object, FINGER_R, &s, dt, 1e-10)
+            .map_err(|e| format!("Cartesian reference on the {name}: {e:?}"))?;
+        let cross = max_distance(&montana.plane, &cartesian.object)
+            .max(max_distance(&montana.sphere, &cartesian.finger));
         for backend in ["libm", "fast"] {
             let (o, f) = match (object, backend) {
                 (Object::Plane, "libm") => ours::<Libm, _>(Plane::default(), &s),
@@ -103,8 +114,9 @@ pub fn run() -> Result<Vec<SurfaceRow>, String> {
             rows.push(SurfaceRow {
                 surface: name,
                 backend,
-                object_max_error_mm: 1e3 * max_dist(&o, &reference.object),
-                finger_max_error_mm: 1e3 * max_dist(&f, &reference.finger),
+                object_max_error_mm: 1e3 * max_distance(&o, &montana.plane),
+                finger_max_error_mm: 1e3 * max_distance(&f, &montana.sphere),
+                reference_cross_check_mm: 1e3 * cross,
             });
         }
     }
@@ -114,19 +126,52 @@ pub fn run() -> Result<Vec<SurfaceRow>, String> {
 /// The rows as a text table.
 pub fn table(rows: &[SurfaceRow]) -> String {
     let mut out = format!(
-        "\nSurfaces: exact method vs RK45 of the rolling constraint (rtol 1e-10), {DURATION_S} s at {RATE_HZ} Hz, r = {} mm, R = {} mm\n{:<10} {:<8} {:>18} {:>18}\n",
+        "\nSurfaces: exact method vs the Montana-form RK45 reference (rtol 1e-12), {DURATION_S} s at {RATE_HZ} Hz, r = {} mm, R = {} mm\n{:<10} {:<8} {:>18} {:>18} {:>22}\n",
         FINGER_R * 1e3,
         OBJECT_R * 1e3,
         "surface",
         "backend",
         "object max (mm)",
-        "finger max (mm)"
+        "finger max (mm)",
+        "Montana-Cartesian (mm)"
     );
     for r in rows {
         out += &format!(
-            "{:<10} {:<8} {:>18.3e} {:>18.3e}\n",
-            r.surface, r.backend, r.object_max_error_mm, r.finger_max_error_mm
+            "{:<10} {:<8} {:>18.3e} {:>18.3e} {:>22.3e}\n",
+            r.surface,
+            r.backend,
+            r.object_max_error_mm,
+            r.finger_max_error_mm,
+            r.reference_cross_check_mm
         );
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_surface_is_validated_against_two_agreeing_references() {
+        // Measured (`host-sim validate`): the Montana and Cartesian references agree to 4.0e-12 mm
+        // (plane), 3.9e-12 (sphere), 4.7e-12 (bowl), 4.7e-12 mm (cylinder): asserted 1.5e-11 mm. The
+        // core's worst path error is 1.38e-4 mm (sphere object point): all rows inside the issue's
+        // 0.001 mm target, and nonzero (an f32 path is never exact).
+        let rows = run().unwrap();
+        assert_eq!(rows.len(), 8);
+        for r in &rows {
+            assert!(r.reference_cross_check_mm < 1.5e-11, "{r:?}");
+            assert!(
+                r.object_max_error_mm < 1e-3 && r.finger_max_error_mm < 1e-3,
+                "{r:?}"
+            );
+            assert!(r.object_max_error_mm > 0.0, "{r:?}");
+        }
+        let names: Vec<_> = rows.iter().map(|r| r.surface).collect();
+        assert!(["plane", "sphere", "bowl", "cylinder"]
+            .iter()
+            .all(|n| names.contains(n)));
+        assert!(table(&rows).contains("Montana-Cartesian"));
+    }
 }
