@@ -207,6 +207,16 @@ fn each_refusal_of_the_pipeline_has_its_error_code() {
         error_code(CommandError::InvalidParams(e)),
         ErrorCode::InvalidValue
     );
+    use softfinger_core::local_model::ModelError;
+    assert_eq!(
+        error_code(CommandError::InvalidModel(ModelError::StaleSequence)),
+        ErrorCode::StaleSequence
+    );
+    assert_eq!(
+        error_code(CommandError::InvalidModel(ModelError::BadPose)),
+        ErrorCode::InvalidValue
+    );
+    assert_eq!(error_code(CommandError::Unsupported), ErrorCode::Unsupported);
 }
 
 #[test]

@@ -8,6 +8,7 @@
 //! request only when it is the same command; other outcomes answer nothing.
 
 use heapless::Deque;
+use softfinger_core::local_model::ModelError;
 use softfinger_core::pipeline::{Command, CommandError};
 use softfinger_protocol::{AckResult, ErrorCode};
 
@@ -20,6 +21,9 @@ pub fn error_code(e: CommandError) -> ErrorCode {
         CommandError::NotHomed | CommandError::Armed | CommandError::Homing => ErrorCode::WrongMode,
         CommandError::Faulted => ErrorCode::Faulted,
         CommandError::InvalidParams(_) => ErrorCode::InvalidValue,
+        CommandError::InvalidModel(ModelError::StaleSequence) => ErrorCode::StaleSequence,
+        CommandError::InvalidModel(_) => ErrorCode::InvalidValue,
+        CommandError::Unsupported => ErrorCode::Unsupported,
     }
 }
 
