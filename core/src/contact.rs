@@ -305,13 +305,13 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
                 // The torsion spring gets what the tangential load leaves of the static limit
                 // surface: τ ≤ τ_max·√(1 − (|f_t|/(μ_s·f_N))²).
                 let f_max = p.mu_s * f_n;
-                let used = if f_max > 0.0 {
-                    f_t.norm_squared() / (f_max * f_max)
-                } else {
-                    1.0
-                };
-                let left = if used < 1.0 { M::sqrt(1.0 - used) } else { 0.0 };
-                let (tau, sat) = self.spin.update(roll.angles.phi, k_z, tau_max_s * left);
+                let (tau, sat) = self.spin.update_within::<M>(
+                    roll.angles.phi,
+                    k_z,
+                    tau_max_s,
+                    f_t.norm_squared(),
+                    f_max * f_max,
+                );
                 (surface.along_normal(f_n) + f_t, tau, sat)
             }
             ContactState::Sliding => {

@@ -16,6 +16,15 @@ use crate::fixed::Fixed;
 /// Coefficient of the Hertzian torsional friction limit, 3π/16.
 pub const HERTZ_TORSION_COEFF: f32 = 3.0 * core::f32::consts::PI / 16.0;
 
+/// Relative margin inside the limit surface below which [`SpinSpring::update_within`] takes its
+/// fast path (2⁻¹⁰; the roundings it must cover are below 1e-6).
+pub const INSIDE_MARGIN: f32 = 1.0 / 1024.0;
+/// Least τ_max (N·m) for the fast test of [`SpinSpring::update_within`]: every product of its
+/// slow path stays normal above it.
+const TAU_MAX_NORMAL: f32 = 1.0e-30;
+/// Largest k_z (N·m/rad) for that fast test (the largest [`crate::params`] accepts).
+const K_Z_MAX: f32 = 1.0e3;
+
 /// The torsional friction limit τ_max = (3π/16)·μ·f_N·a (N·m). Zero for f_N ≤ 0.
 #[inline]
 pub fn torsion_limit(mu: f32, normal_force_n: f32, patch_radius_m: f32) -> f32 {
@@ -50,11 +59,82 @@ impl SpinSpring {
     /// Wind the spring by `dphi` (rad) and return (τn in N·m, saturated?). `k_z` in N·m/rad,
     /// `tau_max` in N·m (≥ 0). Non-finite `dphi` is ignored (the caller flags it).
     pub fn update(&mut self, dphi: f32, k_z: f32, tau_max: f32) -> (f32, bool) {
+        let el = self.wind(dphi);
+        self.settle(el, k_z, tau_max)
+    }
+
+    /// [`SpinSpring::update`] with the torque limited to what a tangential load leaves of the
+    /// static limit surface (see [`crate::limit_surface`]): |τn| ≤ τ_max·√(1 − |f_t|²/f_max²),
+    /// `ft2` = |f_t|² and `fmax2` = f_max² in N² (no tangential budget, `fmax2` ≤ 0: no torque).
+    /// The same answer, bit for bit, as `update(dphi, k_z, tau_max·√(1 − ft2/fmax2))` with
+    /// `M::sqrt` (tested), without the division and the square root while the load is clearly
+    /// inside the ellipse, which is the common path.
+    ///
+    /// Why the fast test is safe: it passes when x² + u < 1 − m, x = τ/τ_max and u = ft2/fmax2
+    /// computed in f32 (a few ulps, ≤ 5e-7 relative, on terms ≤ 1), m = [`INSIDE_MARGIN`]. Then
+    /// |τ| < τ_max·√(1 − u − m/2) ≤ τ_max·(√(1 − u) − m/4): at least m/4 = 2.4e-4 relative below
+    /// the slow path's limit τ_max·√(1 − u)/k_z (same `u`, bit for bit), whose roundings (a
+    /// subtraction, a square root, a product and a division) and that of τ = k_z·φ_el are below
+    /// 1e-6 as long as no product is subnormal: hence 0 < k_z ≤ 1e3 N·m/rad (the parameters'
+    /// range) and τ_max ≥ 1e-30 N·m are required (then the limit, at least τ_max·√m/k_z, is
+    /// normal, and a subnormal τ is far below it). Non-finite values fail the test and take the
+    /// slow path.
+    #[inline(always)]
+    pub fn update_within<M: crate::math::Math>(
+        &mut self,
+        dphi: f32,
+        k_z: f32,
+        tau_max: f32,
+        ft2: f32,
+        fmax2: f32,
+    ) -> (f32, bool) {
+        let el = self.wind(dphi);
+        let tau = k_z * el;
+        let x = tau / tau_max;
+        let u = ft2 / fmax2;
+        if k_z > 0.0
+            && k_z <= K_Z_MAX
+            && tau_max >= TAU_MAX_NORMAL
+            && x * x + u < 1.0 - INSIDE_MARGIN
+        {
+            self.elastic_rad = el;
+            self.accumulated_rad = el + self.offset_rad;
+            return (tau, false);
+        }
+        self.settle_within::<M>(el, k_z, tau_max, ft2, fmax2)
+    }
+
+    /// The slow path of [`SpinSpring::update_within`]: the share of the limit left, then
+    /// [`SpinSpring::settle`].
+    #[cold]
+    #[inline(never)]
+    fn settle_within<M: crate::math::Math>(
+        &mut self,
+        el: f32,
+        k_z: f32,
+        tau_max: f32,
+        ft2: f32,
+        fmax2: f32,
+    ) -> (f32, bool) {
+        let used = if fmax2 > 0.0 { ft2 / fmax2 } else { 1.0 };
+        let left = if used < 1.0 { M::sqrt(1.0 - used) } else { 0.0 };
+        self.settle(el, k_z, tau_max * left)
+    }
+
+    /// Add `dphi` (rad) to the total spin (non-finite: ignored) and return the elastic twist.
+    #[inline(always)]
+    fn wind(&mut self, dphi: f32) -> f32 {
         if dphi.is_finite() {
             self.total.add_f32(dphi);
         }
+        self.total.minus(self.offset).to_f32()
+    }
+
+    /// Hold the elastic twist `el` (rad) within τ_max/k_z (slipping the offset beyond it) and
+    /// return (τn, saturated?).
+    #[inline]
+    fn settle(&mut self, el: f32, k_z: f32, tau_max: f32) -> (f32, bool) {
         let limit = if k_z > 0.0 { tau_max / k_z } else { 0.0 };
-        let el = self.total.minus(self.offset).to_f32();
         let saturated = el.abs() > limit;
         self.elastic_rad = if saturated {
             // Slip: move the offset so the elastic twist sits on the limit.
@@ -91,6 +171,7 @@ impl SpinSpring {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Math;
 
     #[test]
     fn linear_below_the_limit_eq_1() {
@@ -167,6 +248,93 @@ mod tests {
             (s.accumulated_rad - 0.003).abs() < 1e-9,
             "{}",
             s.accumulated_rad
+        );
+    }
+
+    /// The reference of [`SpinSpring::update_within`]: its old formulation, the share left by the
+    /// tangential load through a division and a square root (libm), then `update`.
+    fn within_reference(
+        s: &mut SpinSpring,
+        dphi: f32,
+        k_z: f32,
+        t: f32,
+        ft2: f32,
+        f2: f32,
+    ) -> (f32, bool) {
+        let used = if f2 > 0.0 { ft2 / f2 } else { 1.0 };
+        let left = if used < 1.0 {
+            crate::Libm::sqrt(1.0 - used)
+        } else {
+            0.0
+        };
+        s.update(dphi, k_z, t * left)
+    }
+
+    /// The fast path changes nothing: over loads swept across the limit surface (from far inside
+    /// to outside, and within a few ulps of the margin's edge), stiffnesses on both sides of the
+    /// fast test's range (0, 1e3, 2e3 N·m/rad), torsion limits on both sides of 1e-30 N·m, and
+    /// NaN, the torque, the saturation and the whole spring equal the reference bit for bit.
+    #[test]
+    fn update_within_equals_the_square_root_formulation() {
+        let mut x = 0x1234_5678u32;
+        let mut rnd = move || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x as f32 / u32::MAX as f32
+        };
+        let (mut fast, mut slow) = (0u32, 0u32);
+        for &k_z in &[0.01f32, 0.0, 1.0e3, 2.0e3, 1.0e-3] {
+            for &t in &[4.7e-3f32, 1.0e-30, 0.99e-30, 0.0, 2.0, f32::NAN] {
+                let (mut a, mut b) = (SpinSpring::default(), SpinSpring::default());
+                for _ in 0..20_000 {
+                    let f2 = 1.6f32 * 1.6;
+                    // |f_t| from 0 to 1.1·f_max, the twist around the elastic limit.
+                    let ft2 = (1.1 * rnd()).powi(2) * f2;
+                    let dphi = if k_z > 0.0 {
+                        (rnd() - 0.5) * 1.2 * t / k_z
+                    } else {
+                        rnd() - 0.5
+                    };
+                    let before = a;
+                    let ra = a.update_within::<crate::Libm>(dphi, k_z, t, ft2, f2);
+                    let rb = within_reference(&mut b, dphi, k_z, t, ft2, f2);
+                    assert_eq!(
+                        (ra.0.to_bits(), ra.1),
+                        (rb.0.to_bits(), rb.1),
+                        "k_z {k_z} t {t}"
+                    );
+                    assert_eq!(a, b, "k_z {k_z} t {t}");
+                    let (x, u) = (k_z * a.elastic_rad / t, ft2 / f2);
+                    if x * x + u < 1.0 - INSIDE_MARGIN && before.offset == a.offset {
+                        fast += 1;
+                    } else {
+                        slow += 1;
+                    }
+                }
+            }
+        }
+        // Right at the margin's edge: loads a few ulps either side of x² + u = 1 − m.
+        let (k_z, t, f2) = (0.01f32, 4.7e-3f32, 2.56f32);
+        for i in 0..2000 {
+            let x = 0.5 + 0.5 * (i as f32 / 2000.0);
+            let edge = 1.0 - INSIDE_MARGIN - x * x;
+            for d in -4i32..=4 {
+                let ft2 = f32::from_bits((edge * f2).to_bits().wrapping_add(d as u32));
+                let el = x * t / k_z;
+                let (mut a, mut b) = (SpinSpring::default(), SpinSpring::default());
+                let ra = a.update_within::<crate::Libm>(el, k_z, t, ft2, f2);
+                let rb = within_reference(&mut b, el, k_z, t, ft2, f2);
+                assert_eq!(
+                    (ra.0.to_bits(), ra.1, a),
+                    (rb.0.to_bits(), rb.1, b),
+                    "x {x} d {d}"
+                );
+            }
+        }
+        assert!(
+            fast > 10_000 && slow > 10_000,
+            "both paths exercised: {fast} fast, {slow} slow"
         );
     }
 }
