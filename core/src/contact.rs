@@ -342,20 +342,29 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             flags |= Flags::SPIN_SATURATED;
         }
 
-        // 6. Limits and the last NaN guard.
+        // 6. Limits and the last NaN guard. One comparison on the common path: τ·0 is ±0 for a
+        // finite τ and NaN otherwise, so the sum is ≤ the limit only when |F| is within it and
+        // both are finite.
         let f2 = force.norm_squared();
-        if !f2.is_finite() || !tau_n_nm.is_finite() {
-            force = Vec3::ZERO;
-            flags |= Flags::NON_FINITE_OUTPUT;
-        } else if f2 > p.max_force_n * p.max_force_n {
-            // Aim 4 ulps below the limit so the rounding of the rescale (and of any later norm
-            // computation) can never put |F| above it.
-            force = force * (p.max_force_n * (1.0 - 4.0 * f32::EPSILON) / M::sqrt(f2));
-            flags |= Flags::OUTPUT_LIMITED;
+        let max2 = p.max_force_n * p.max_force_n;
+        let mut tau_n_nm = tau_n_nm;
+        if !(f2 + tau_n_nm * 0.0 <= max2) {
+            if !f2.is_finite() || !tau_n_nm.is_finite() {
+                force = Vec3::ZERO;
+                flags |= Flags::NON_FINITE_OUTPUT;
+                if !tau_n_nm.is_finite() {
+                    tau_n_nm = 0.0;
+                }
+            } else {
+                // Aim 4 ulps below the limit so the rounding of the rescale (and of any later
+                // norm computation) can never put |F| above it.
+                force = force * (p.max_force_n * (1.0 - 4.0 * f32::EPSILON) / M::sqrt(f2));
+                flags |= Flags::OUTPUT_LIMITED;
+            }
         }
         ContactOutput {
             force_n: force,
-            tau_n_nm: if tau_n_nm.is_finite() { tau_n_nm } else { 0.0 },
+            tau_n_nm,
             spin_rad: self.spin.accumulated_rad,
             state,
             reason,

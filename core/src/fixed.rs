@@ -58,11 +58,33 @@ impl Fixed {
     #[inline]
     pub fn from_f32(x: f32) -> Fixed {
         let s = x * SCALE; // exact: a power of two
-        let a = s.abs();
-        if a < I32_FAST {
+        if s.abs() < I32_FAST {
             // `as` truncates towards zero (odd) and saturates; NaN becomes 0.
             Fixed(s as i32 as i64)
-        } else if a < TWO_63 {
+        } else {
+            Fixed::from_large(s)
+        }
+    }
+
+    /// [`Fixed::from_f32`], except that ±inf gives zero too (as NaN does): for increments that
+    /// must not move a sum unless finite, with no separate finiteness test on the common path.
+    #[inline]
+    pub fn from_finite_f32(x: f32) -> Fixed {
+        let s = x * SCALE;
+        if s.abs() < I32_FAST {
+            Fixed(s as i32 as i64)
+        } else if x.abs() == f32::INFINITY {
+            Fixed::ZERO
+        } else {
+            Fixed::from_large(s)
+        }
+    }
+
+    /// `s` (units; |s| ≥ 2³¹ − 128 or NaN) truncated towards zero.
+    #[inline]
+    fn from_large(s: f32) -> Fixed {
+        let a = s.abs();
+        if a < TWO_63 {
             // |s| ≥ 2³¹ − 128 is a whole number: its two 32-bit halves convert exactly with one
             // unsigned conversion each (no 64-bit libcall), see [`split_whole`].
             let m = split_whole(a);
@@ -89,6 +111,13 @@ impl Fixed {
     #[inline]
     pub fn add_f32(&mut self, d: f32) {
         self.0 = self.0.wrapping_add(Fixed::from_f32(d).0);
+    }
+
+    /// [`Fixed::add_f32`] of a finite increment; a non-finite one adds nothing (see
+    /// [`Fixed::from_finite_f32`]).
+    #[inline]
+    pub fn add_finite_f32(&mut self, d: f32) {
+        self.0 = self.0.wrapping_add(Fixed::from_finite_f32(d).0);
     }
 
     /// `self − other` (wrapping, see [`Fixed::add_f32`]).
@@ -124,6 +153,22 @@ mod tests {
             assert_eq!(Fixed(-f.0).to_f32(), -back, "odd conversion at {x}");
         }
         assert_eq!(Fixed::from_f32(f32::NAN), Fixed::ZERO);
+        for x in [
+            0.0f32,
+            1e-12,
+            -3.7e-9,
+            6.1e-6,
+            -0.0234,
+            1.5,
+            5.0e5,
+            -1e30,
+            f32::MAX,
+        ] {
+            assert_eq!(Fixed::from_finite_f32(x), Fixed::from_f32(x), "{x}");
+        }
+        for x in [f32::INFINITY, f32::NEG_INFINITY, f32::NAN] {
+            assert_eq!(Fixed::from_finite_f32(x), Fixed::ZERO, "{x}");
+        }
         assert_eq!(Fixed::from_f32(f32::INFINITY).0, i64::MAX);
         assert_eq!(Fixed::from_f32(f32::NEG_INFINITY).0, i64::MIN);
     }
