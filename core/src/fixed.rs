@@ -58,9 +58,12 @@ impl Fixed {
     #[inline]
     pub fn from_f32(x: f32) -> Fixed {
         let s = x * SCALE; // exact: a power of two
-        if s.abs() < I32_FAST {
-            // `as` truncates towards zero (odd) and saturates; NaN becomes 0.
-            Fixed(s as i32 as i64)
+                           // `as` truncates towards zero (odd) and saturates; NaN becomes 0. Only |s| ≥ 2³¹ saturates
+                           // (to i32::MIN or i32::MAX), which one unsigned comparison of i + 2³¹ + 1 tells apart
+                           // (they become 1 and 0), with no float comparison.
+        let i = s as i32;
+        if (i as u32).wrapping_add(0x8000_0001) >= 2 {
+            Fixed(i as i64)
         } else {
             Fixed::from_large(s)
         }
@@ -71,8 +74,9 @@ impl Fixed {
     #[inline]
     pub fn from_finite_f32(x: f32) -> Fixed {
         let s = x * SCALE;
-        if s.abs() < I32_FAST {
-            Fixed(s as i32 as i64)
+        let i = s as i32;
+        if (i as u32).wrapping_add(0x8000_0001) >= 2 {
+            Fixed(i as i64)
         } else if x.abs() == f32::INFINITY {
             Fixed::ZERO
         } else {

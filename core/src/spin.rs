@@ -38,6 +38,14 @@ const TAU_MAX_NORMAL: f32 = 1.0e-30;
 /// Largest k_z (N·m/rad) for that fast test (the largest [`crate::params`] accepts).
 const K_Z_MAX: f32 = 1.0e3;
 
+/// 0 < k_z ≤ [`K_Z_MAX`] (false for NaN) in one unsigned comparison of the bit patterns: positive
+/// floats order as their bits, −0 and negatives have the sign bit (huge as unsigned), and +0
+/// wraps to the largest value.
+#[inline(always)]
+fn k_z_in_range(k_z: f32) -> bool {
+    k_z.to_bits().wrapping_sub(1) < K_Z_MAX.to_bits()
+}
+
 /// The torsional friction limit τ_max = (3π/16)·μ·f_N·a (N·m). Zero for f_N ≤ 0.
 #[inline]
 pub fn torsion_limit(mu: f32, normal_force_n: f32, patch_radius_m: f32) -> f32 {
@@ -50,19 +58,20 @@ pub fn torsion_limit(mu: f32, normal_force_n: f32, patch_radius_m: f32) -> f32 {
 
 /// The torsion spring's state.
 ///
-/// The total spin Σδφ is a fixed-point sum ([`Fixed`]) and the elastic twist is its difference from
-/// the slip offset (also fixed point), which only a slip changes: a zero δφ changes nothing, and a
+/// The elastic twist is a fixed-point sum ([`Fixed`]) of the spin increments and the slip offset
+/// (also fixed point) what the slips took from it, which only a slip changes, so the total spin
+/// Σδφ is their exact sum: a zero δφ changes nothing, and a
 /// fingertip that twists back by the exact negated increments returns its spin and, unless the
 /// spring slipped meanwhile, its torque bit for bit. A spring that slipped keeps its offset: that
 /// is friction, not creep.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SpinSpring {
-    /// Elastic twist φ_el, rad (read-only: a cache of `total − offset`).
+    /// Elastic twist φ_el, rad (read-only: a cache of `elastic`).
     pub elastic_rad: f32,
-    /// Total spin Σδφ since the contact began, rad (read-only: a cache of `total`).
+    /// Total spin Σδφ since the contact began, rad (read-only: a cache of `elastic + offset`).
     pub accumulated_rad: f32,
-    total: Fixed,
+    elastic: Fixed,
     offset: Fixed,
     /// `offset` as f32 (so the total needs no second conversion: total = φ_el + offset).
     offset_rad: f32,
@@ -105,11 +114,7 @@ impl SpinSpring {
         let tau = k_z * el;
         let x = tau / tau_max;
         let u = ft2 / fmax2;
-        if k_z > 0.0
-            && k_z <= K_Z_MAX
-            && tau_max >= TAU_MAX_NORMAL
-            && x * x + u < 1.0 - INSIDE_MARGIN
-        {
+        if k_z_in_range(k_z) && tau_max >= TAU_MAX_NORMAL && x * x + u < 1.0 - INSIDE_MARGIN {
             self.elastic_rad = el;
             self.accumulated_rad = el + self.offset_rad;
             return (tau, false);
@@ -134,11 +139,21 @@ impl SpinSpring {
         self.settle(el, k_z, tau_max * left)
     }
 
-    /// Add `dphi` (rad) to the total spin (non-finite: ignored) and return the elastic twist.
+    /// Add `dphi` (rad) to the spin (non-finite: ignored) and return the elastic twist.
     #[inline(always)]
     fn wind(&mut self, dphi: f32) -> f32 {
-        self.total.add_finite_f32(dphi * TO_SUM);
-        from_sum(self.total.minus(self.offset))
+        self.elastic.add_finite_f32(dphi * TO_SUM);
+        from_sum(self.elastic)
+    }
+
+    /// Set the elastic twist to `el` (rad) and move the offset by what it lost, keeping the total
+    /// spin exactly (friction).
+    fn slip(&mut self, el: f32) {
+        let new = Fixed::from_f32(el * TO_SUM);
+        self.offset = Fixed(self.offset.0.wrapping_add(self.elastic.minus(new).0));
+        self.elastic = new;
+        self.offset_rad = from_sum(self.offset);
+        self.elastic_rad = from_sum(self.elastic);
     }
 
     /// Hold the elastic twist `el` (rad) within τ_max/k_z (slipping the offset beyond it) and
@@ -147,15 +162,12 @@ impl SpinSpring {
     fn settle(&mut self, el: f32, k_z: f32, tau_max: f32) -> (f32, bool) {
         let limit = if k_z > 0.0 { tau_max / k_z } else { 0.0 };
         let saturated = el.abs() > limit;
-        self.elastic_rad = if saturated {
-            // Slip: move the offset so the elastic twist sits on the limit.
-            let e = if el > 0.0 { limit } else { -limit };
-            self.offset = self.total.minus(Fixed::from_f32(e * TO_SUM));
-            self.offset_rad = from_sum(self.offset);
-            from_sum(self.total.minus(self.offset))
+        if saturated {
+            // Slip: the elastic twist sits on the limit.
+            self.slip(if el > 0.0 { limit } else { -limit });
         } else {
-            el
-        };
+            self.elastic_rad = el;
+        }
         // A function of the state alone (both terms are), so it returns when the state does.
         self.accumulated_rad = self.elastic_rad + self.offset_rad;
         (k_z * self.elastic_rad, saturated)
@@ -167,9 +179,7 @@ impl SpinSpring {
         if el == self.elastic_rad || !el.is_finite() {
             return;
         }
-        self.offset = self.total.minus(Fixed::from_f32(el * TO_SUM));
-        self.offset_rad = from_sum(self.offset);
-        self.elastic_rad = from_sum(self.total.minus(self.offset));
+        self.slip(el);
         self.accumulated_rad = self.elastic_rad + self.offset_rad;
     }
 
@@ -260,6 +270,27 @@ mod tests {
             "{}",
             s.accumulated_rad
         );
+    }
+
+    /// The bit-pattern range test against the float comparisons, on both sides of each end.
+    #[test]
+    fn k_z_range_test_is_the_float_one() {
+        let up = |x: f32| f32::from_bits(x.to_bits() + 1);
+        for k in [
+            0.0f32,
+            -0.0,
+            f32::from_bits(1),
+            1.0e-3,
+            0.01,
+            K_Z_MAX,
+            up(K_Z_MAX),
+            -1.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ] {
+            assert_eq!(k_z_in_range(k), k > 0.0 && k <= K_Z_MAX, "{k}");
+        }
     }
 
     /// The reference of [`SpinSpring::update_within`]: its old formulation, the share left by the
