@@ -294,7 +294,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         // 5. Force and spin torque for the new state.
         let p = self.params;
         let k_z = p.spin_stiffness;
-        let (mut force, tau_n_nm, saturated) = match state {
+        let (force, tau_n_nm, saturated) = match state {
             ContactState::Broken => (Vec3::ZERO, 0.0, false),
             ContactState::Rolling => {
                 let f_t = if reason == Reason::MadeContact || reason == Reason::Stuck {
@@ -342,26 +342,8 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             flags |= Flags::SPIN_SATURATED;
         }
 
-        // 6. Limits and the last NaN guard. One comparison on the common path: τ·0 is ±0 for a
-        // finite τ and NaN otherwise, so the sum is ≤ the limit only when |F| is within it and
-        // both are finite.
-        let f2 = force.norm_squared();
-        let max2 = p.max_force_n * p.max_force_n;
-        let mut tau_n_nm = tau_n_nm;
-        if !(f2 + tau_n_nm * 0.0 <= max2) {
-            if !f2.is_finite() || !tau_n_nm.is_finite() {
-                force = Vec3::ZERO;
-                flags |= Flags::NON_FINITE_OUTPUT;
-                if !tau_n_nm.is_finite() {
-                    tau_n_nm = 0.0;
-                }
-            } else {
-                // Aim 4 ulps below the limit so the rounding of the rescale (and of any later
-                // norm computation) can never put |F| above it.
-                force = force * (p.max_force_n * (1.0 - 4.0 * f32::EPSILON) / M::sqrt(f2));
-                flags |= Flags::OUTPUT_LIMITED;
-            }
-        }
+        // 6. Limits and the last NaN guard.
+        let (force, tau_n_nm) = guard_output::<M>(force, tau_n_nm, p.max_force_n, &mut flags);
         ContactOutput {
             force_n: force,
             tau_n_nm,
@@ -373,6 +355,37 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             flags,
         }
     }
+}
+
+/// The contact step's last stage: |F| ≤ `max_force_n` (N; a larger force is rescaled to 4 ulps
+/// below it, so the rounding of the rescale and of any later norm cannot put it above, and
+/// flagged [`Flags::OUTPUT_LIMITED`] into `flags`) and nothing non-finite out (a non-finite force or torque
+/// gives zero force, a non-finite torque zero torque, [`Flags::NON_FINITE_OUTPUT`]). One
+/// comparison on the common path: τ·0 is ±0 for a finite τ and NaN otherwise, so |F|² + τ·0 is
+/// within the limit only when |F| is and both are finite.
+#[inline(always)]
+#[must_use]
+fn guard_output<M: Math>(
+    force: Vec3,
+    tau_nm: f32,
+    max_force_n: f32,
+    flags: &mut Flags,
+) -> (Vec3, f32) {
+    let f2 = force.norm_squared();
+    let (mut force, mut tau_nm) = (force, tau_nm);
+    if !(f2 + tau_nm * 0.0 <= max_force_n * max_force_n) {
+        if !f2.is_finite() || !tau_nm.is_finite() {
+            force = Vec3::ZERO;
+            *flags |= Flags::NON_FINITE_OUTPUT;
+            if !tau_nm.is_finite() {
+                tau_nm = 0.0;
+            }
+        } else {
+            force = force * (max_force_n * (1.0 - 4.0 * f32::EPSILON) / M::sqrt(f2));
+            *flags |= Flags::OUTPUT_LIMITED;
+        }
+    }
+    (force, tau_nm)
 }
 
 #[cfg(test)]

@@ -232,6 +232,12 @@ mod tests {
         assert!(sat);
         let (tau, _) = s.update(f32::NAN, 0.05, 1.0);
         assert!(tau.is_finite());
+        // A non-finite increment moves nothing.
+        let before = s;
+        for d in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            let _ = s.update(d, 0.05, 1.0);
+            assert_eq!(s, before, "{d}");
+        }
     }
 
     /// Twisting back by the exact negated increments returns the spin and the torque bit for bit;
