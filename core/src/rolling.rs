@@ -155,19 +155,8 @@ impl<S: Surface> Rolling<S> {
     /// singularity) moves nothing but still advances `q_prev`, and is flagged.
     #[inline(always)]
     pub fn step<M: Math>(&mut self, q: Quat) -> RollStep {
-        // The common path: the exact method's log map is scale-free, so a near-unit sample is
-        // used as it is (see `Quat::unit_checked`), and inlined on its own (merged with the
-        // other paths, the sample went through the stack).
-        if self.method == Method::Exact && q.is_near_unit() {
-            return self.step_exact::<M>(q, Flags::NONE);
-        }
-        self.step_checked::<M>(q)
-    }
-
-    /// [`Rolling::step`] for every other sample and method. The Euler methods build a rotation
-    /// matrix, which is not scale-free: their samples are normalised.
-    #[inline(never)]
-    fn step_checked<M: Math>(&mut self, q: Quat) -> RollStep {
+        // The exact method's log map is scale-free: a near-unit sample is used as it is (see
+        // `Quat::unit_checked`). The Euler methods build a rotation matrix, which is not.
         let (q, qflags) = match self.method {
             Method::Exact => q.unit_checked::<M>(),
             Method::Rpy | Method::PaperVerbatim => q.normalized_checked::<M>(),
@@ -178,42 +167,36 @@ impl<S: Surface> Rolling<S> {
                 ..RollStep::default()
             };
         }
-        if self.method == Method::Exact {
-            return self.step_exact::<M>(q, qflags);
-        }
         let dq = increment(q, self.q_prev);
-        let (a, f) = self.euler_angles::<M>(dq);
-        let w = self
-            .surface
-            .contact_to_object(Vec3::new(a.psi, a.theta, a.phi));
-        let object_disp_m = self.surface.roll::<M>(w, self.radius_m);
+        let (angles, object_disp_m, dflags) = match self.method {
+            Method::Exact => {
+                // q and q_prev are finite unit quaternions here, so dq is finite: the exact
+                // method skips `decompose`'s own finiteness check. The rotation vector is taken
+                // in the object frame (odd in dq's vector part), the surface rolls by it, and the
+                // angles are its components in the contact frame over the step.
+                let w = dq.to_rotation_vector::<M>();
+                let d = self.surface.roll::<M>(w, self.radius_m);
+                let wc = self.surface.to_step_contact::<M>(w);
+                let a = Angles {
+                    phi: wc.z,
+                    theta: wc.y,
+                    psi: wc.x,
+                };
+                (a, d, Flags::NONE)
+            }
+            _ => {
+                let (a, f) = self.euler_angles::<M>(dq);
+                let w = self
+                    .surface
+                    .contact_to_object(Vec3::new(a.psi, a.theta, a.phi));
+                (a, self.surface.roll::<M>(w, self.radius_m), f)
+            }
+        };
         self.q_prev = q;
         RollStep {
-            angles: a,
+            angles,
             object_disp_m,
-            flags: qflags | f,
-        }
-    }
-
-    /// The exact method's step from the finite, near-unit sample `q` (flags `qflags` so far):
-    /// dq is then finite, so it skips `decompose`'s own finiteness check. The rotation vector is
-    /// taken in the object frame (odd in dq's vector part), the surface rolls by it, and the
-    /// angles are its components in the contact frame over the step.
-    #[inline(always)]
-    fn step_exact<M: Math>(&mut self, q: Quat, qflags: Flags) -> RollStep {
-        let dq = increment(q, self.q_prev);
-        let w = dq.to_rotation_vector::<M>();
-        let object_disp_m = self.surface.roll::<M>(w, self.radius_m);
-        let wc = self.surface.to_step_contact::<M>(w);
-        self.q_prev = q;
-        RollStep {
-            angles: Angles {
-                phi: wc.z,
-                theta: wc.y,
-                psi: wc.x,
-            },
-            object_disp_m,
-            flags: qflags,
+            flags: qflags | dflags,
         }
     }
 }

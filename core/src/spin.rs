@@ -147,7 +147,9 @@ impl SpinSpring {
     }
 
     /// Set the elastic twist to `el` (rad) and move the offset by what it lost, keeping the total
-    /// spin exactly (friction).
+    /// spin exactly (friction). Not inlined: off the common path, and the firmware's fast code
+    /// memory is small.
+    #[inline(never)]
     fn slip(&mut self, el: f32) {
         let new = Fixed::from_f32(el * TO_SUM);
         self.offset = Fixed(self.offset.0.wrapping_add(self.elastic.minus(new).0));
@@ -157,8 +159,8 @@ impl SpinSpring {
     }
 
     /// Hold the elastic twist `el` (rad) within τ_max/k_z (slipping the offset beyond it) and
-    /// return (τn, saturated?).
-    #[inline]
+    /// return (τn, saturated?). Not inlined (see [`SpinSpring::slip`]).
+    #[inline(never)]
     fn settle(&mut self, el: f32, k_z: f32, tau_max: f32) -> (f32, bool) {
         let limit = if k_z > 0.0 { tau_max / k_z } else { 0.0 };
         let saturated = el.abs() > limit;
