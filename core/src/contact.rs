@@ -373,7 +373,9 @@ fn guard_output<M: Math>(
 ) -> (Vec3, f32) {
     let f2 = force.norm_squared();
     let (mut force, mut tau_nm) = (force, tau_nm);
-    if !(f2 + tau_nm * 0.0 <= max_force_n * max_force_n) {
+    // False for NaN as well as for a force over the limit.
+    let within = f2 + tau_nm * 0.0 <= max_force_n * max_force_n;
+    if !within {
         if !f2.is_finite() || !tau_nm.is_finite() {
             force = Vec3::ZERO;
             *flags |= Flags::NON_FINITE_OUTPUT;

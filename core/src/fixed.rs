@@ -23,7 +23,9 @@ const SCALE: f32 = 17_592_186_044_416.0;
 const INV_SCALE: f32 = 1.0 / SCALE;
 /// 2⁻¹² = 2³²·2⁻⁴⁴: the weight of the high half.
 const HIGH_WEIGHT: f32 = 1.0 / 4096.0;
-/// Below this |x·2⁴⁴| (|x| < 1.2e-4) an increment converts through i32 (one instruction on the M4F).
+/// The largest f32 below 2³¹: up to this |x·2⁴⁴| (|x| < 1.2e-4) an increment converts through i32
+/// (one instruction on the M4F); the conversion tells the larger ones apart by its saturation.
+#[cfg(test)]
 const I32_FAST: f32 = 2_147_483_520.0;
 
 /// 2⁶³: beyond it `from_f32` saturates (through the general conversion).
