@@ -3,7 +3,8 @@
 //! A contact point or a spin angle is a sum of tiny increments, one per tick. Summed in f32 (even
 //! with Kahan compensation), `(s + d) − d` is not `s`: a fingertip dithering between two encoder
 //! counts walks its contact point away one rounding at a time. Here the sum is an `i64` in units of
-//! 2⁻⁴⁴ (5.7e-14 m for lengths, 5.7e-14 rad for angles; range ±5.2e5 m or rad). Each increment is
+//! 2⁻⁴⁴ (5.7e-14 m for lengths, range ±5.2e5 m; the spin spring scales its angles by 2⁻⁸ first,
+//! see [`crate::spin`]). Each increment is
 //! truncated once to that unit, by a rounding that is odd (`trunc(−x) = −trunc(x)`), and integer
 //! addition is exact and associative, so:
 //!
