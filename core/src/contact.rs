@@ -299,7 +299,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         // 5. Force and spin torque for the new state.
         let p = self.params;
         let k_z = p.spin_stiffness;
-        let (mut force, tau_n_nm, saturated) = match state {
+        let (force, tau_n_nm, saturated) = match state {
             ContactState::Broken => (Vec3::ZERO, 0.0, false),
             ContactState::Rolling => {
                 let f_t = if reason == Reason::MadeContact || reason == Reason::Stuck {
@@ -310,13 +310,13 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
                 // The torsion spring gets what the tangential load leaves of the static limit
                 // surface: τ ≤ τ_max·√(1 − (|f_t|/(μ_s·f_N))²).
                 let f_max = p.mu_s * f_n;
-                let used = if f_max > 0.0 {
-                    f_t.norm_squared() / (f_max * f_max)
-                } else {
-                    1.0
-                };
-                let left = if used < 1.0 { M::sqrt(1.0 - used) } else { 0.0 };
-                let (tau, sat) = self.spin.update(roll.angles.phi, k_z, tau_max_s * left);
+                let (tau, sat) = self.spin.update_within::<M>(
+                    roll.angles.phi,
+                    k_z,
+                    tau_max_s,
+                    f_t.norm_squared(),
+                    f_max * f_max,
+                );
                 (surface.along_normal(f_n) + f_t, tau, sat)
             }
             ContactState::Sliding => {
@@ -348,19 +348,10 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         }
 
         // 6. Limits and the last NaN guard.
-        let f2 = force.norm_squared();
-        if !f2.is_finite() || !tau_n_nm.is_finite() {
-            force = Vec3::ZERO;
-            flags |= Flags::NON_FINITE_OUTPUT;
-        } else if f2 > p.max_force_n * p.max_force_n {
-            // Aim 4 ulps below the limit so the rounding of the rescale (and of any later norm
-            // computation) can never put |F| above it.
-            force = force * (p.max_force_n * (1.0 - 4.0 * f32::EPSILON) / M::sqrt(f2));
-            flags |= Flags::OUTPUT_LIMITED;
-        }
+        let (force, tau_n_nm) = guard_output::<M>(force, tau_n_nm, p.max_force_n, &mut flags);
         ContactOutput {
             force_n: force,
-            tau_n_nm: if tau_n_nm.is_finite() { tau_n_nm } else { 0.0 },
+            tau_n_nm,
             spin_rad: self.spin.accumulated_rad,
             state,
             reason,
@@ -369,6 +360,39 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             flags,
         }
     }
+}
+
+/// The contact step's last stage: |F| ≤ `max_force_n` (N; a larger force is rescaled to 4 ulps
+/// below it, so the rounding of the rescale and of any later norm cannot put it above, and
+/// flagged [`Flags::OUTPUT_LIMITED`] into `flags`) and nothing non-finite out (a non-finite force or torque
+/// gives zero force, a non-finite torque zero torque, [`Flags::NON_FINITE_OUTPUT`]). One
+/// comparison on the common path: τ·0 is ±0 for a finite τ and NaN otherwise, so |F|² + τ·0 is
+/// within the limit only when |F| is and both are finite.
+#[inline(always)]
+#[must_use]
+fn guard_output<M: Math>(
+    force: Vec3,
+    tau_nm: f32,
+    max_force_n: f32,
+    flags: &mut Flags,
+) -> (Vec3, f32) {
+    let f2 = force.norm_squared();
+    let (mut force, mut tau_nm) = (force, tau_nm);
+    // False for NaN as well as for a force over the limit.
+    let within = f2 + tau_nm * 0.0 <= max_force_n * max_force_n;
+    if !within {
+        if !f2.is_finite() || !tau_nm.is_finite() {
+            force = Vec3::ZERO;
+            *flags |= Flags::NON_FINITE_OUTPUT;
+            if !tau_nm.is_finite() {
+                tau_nm = 0.0;
+            }
+        } else {
+            force = force * (max_force_n * (1.0 - 4.0 * f32::EPSILON) / M::sqrt(f2));
+            *flags |= Flags::OUTPUT_LIMITED;
+        }
+    }
+    (force, tau_nm)
 }
 
 #[cfg(test)]

@@ -3,7 +3,8 @@
 //! A contact point or a spin angle is a sum of tiny increments, one per tick. Summed in f32 (even
 //! with Kahan compensation), `(s + d) − d` is not `s`: a fingertip dithering between two encoder
 //! counts walks its contact point away one rounding at a time. Here the sum is an `i64` in units of
-//! 2⁻⁴⁴ (5.7e-14 m for lengths, 5.7e-14 rad for angles; range ±5.2e5 m or rad). Each increment is
+//! 2⁻⁴⁴ (5.7e-14 m for lengths, range ±5.2e5 m; the spin spring scales its angles by 2⁻⁸ first,
+//! see [`crate::spin`]). Each increment is
 //! truncated once to that unit, by a rounding that is odd (`trunc(−x) = −trunc(x)`), and integer
 //! addition is exact and associative, so:
 //!
@@ -23,7 +24,9 @@ const SCALE: f32 = 17_592_186_044_416.0;
 const INV_SCALE: f32 = 1.0 / SCALE;
 /// 2⁻¹² = 2³²·2⁻⁴⁴: the weight of the high half.
 const HIGH_WEIGHT: f32 = 1.0 / 4096.0;
-/// Below this |x·2⁴⁴| (|x| < 1.2e-4) an increment converts through i32 (one instruction on the M4F).
+/// The largest f32 below 2³¹: up to this |x·2⁴⁴| (|x| < 1.2e-4) an increment converts through i32
+/// (one instruction on the M4F); the conversion tells the larger ones apart by its saturation.
+#[cfg(test)]
 const I32_FAST: f32 = 2_147_483_520.0;
 
 /// 2⁶³: beyond it `from_f32` saturates (through the general conversion).
@@ -58,11 +61,37 @@ impl Fixed {
     #[inline]
     pub fn from_f32(x: f32) -> Fixed {
         let s = x * SCALE; // exact: a power of two
+                           // `as` truncates towards zero (odd) and saturates; NaN becomes 0. Only |s| ≥ 2³¹ saturates
+                           // (to i32::MIN or i32::MAX), which one unsigned comparison of i + 2³¹ + 1 tells apart
+                           // (they become 1 and 0), with no float comparison.
+        let i = s as i32;
+        if (i as u32).wrapping_add(0x8000_0001) >= 2 {
+            Fixed(i as i64)
+        } else {
+            Fixed::from_large(s)
+        }
+    }
+
+    /// [`Fixed::from_f32`], except that ±inf gives zero too (as NaN does): for increments that
+    /// must not move a sum unless finite, with no separate finiteness test on the common path.
+    #[inline]
+    pub fn from_finite_f32(x: f32) -> Fixed {
+        let s = x * SCALE;
+        let i = s as i32;
+        if (i as u32).wrapping_add(0x8000_0001) >= 2 {
+            Fixed(i as i64)
+        } else if x.abs() == f32::INFINITY {
+            Fixed::ZERO
+        } else {
+            Fixed::from_large(s)
+        }
+    }
+
+    /// `s` (units; |s| ≥ 2³¹ − 128 or NaN) truncated towards zero.
+    #[inline]
+    fn from_large(s: f32) -> Fixed {
         let a = s.abs();
-        if a < I32_FAST {
-            // `as` truncates towards zero (odd) and saturates; NaN becomes 0.
-            Fixed(s as i32 as i64)
-        } else if a < TWO_63 {
+        if a < TWO_63 {
             // |s| ≥ 2³¹ − 128 is a whole number: its two 32-bit halves convert exactly with one
             // unsigned conversion each (no 64-bit libcall), see [`split_whole`].
             let m = split_whole(a);
@@ -89,6 +118,13 @@ impl Fixed {
     #[inline]
     pub fn add_f32(&mut self, d: f32) {
         self.0 = self.0.wrapping_add(Fixed::from_f32(d).0);
+    }
+
+    /// [`Fixed::add_f32`] of a finite increment; a non-finite one adds nothing (see
+    /// [`Fixed::from_finite_f32`]).
+    #[inline]
+    pub fn add_finite_f32(&mut self, d: f32) {
+        self.0 = self.0.wrapping_add(Fixed::from_finite_f32(d).0);
     }
 
     /// `self − other` (wrapping, see [`Fixed::add_f32`]).
@@ -124,6 +160,22 @@ mod tests {
             assert_eq!(Fixed(-f.0).to_f32(), -back, "odd conversion at {x}");
         }
         assert_eq!(Fixed::from_f32(f32::NAN), Fixed::ZERO);
+        for x in [
+            0.0f32,
+            1e-12,
+            -3.7e-9,
+            6.1e-6,
+            -0.0234,
+            1.5,
+            5.0e5,
+            -1e30,
+            f32::MAX,
+        ] {
+            assert_eq!(Fixed::from_finite_f32(x), Fixed::from_f32(x), "{x}");
+        }
+        for x in [f32::INFINITY, f32::NEG_INFINITY, f32::NAN] {
+            assert_eq!(Fixed::from_finite_f32(x), Fixed::ZERO, "{x}");
+        }
         assert_eq!(Fixed::from_f32(f32::INFINITY).0, i64::MAX);
         assert_eq!(Fixed::from_f32(f32::NEG_INFINITY).0, i64::MIN);
     }

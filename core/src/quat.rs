@@ -74,12 +74,19 @@ impl Quat {
     /// flags are those of [`Quat::normalized_checked`]. No square root on the common path.
     #[inline(always)]
     pub fn unit_checked<M: Math>(self) -> (Quat, Flags) {
-        let d = self.norm_squared() - 1.0;
-        // NaN or inf components make `d` NaN or inf, which fails this test.
-        if d.abs() <= NEAR_UNIT_N2 {
+        if self.is_near_unit() {
             return (self, Flags::NONE);
         }
         self.normalized_checked::<M>()
+    }
+
+    /// True when the squared norm is within 1.9e-3 of 1 with finite components: the samples
+    /// [`Quat::unit_checked`] leaves as they are.
+    #[inline(always)]
+    pub fn is_near_unit(self) -> bool {
+        let d = self.norm_squared() - 1.0;
+        // NaN or inf components make `d` NaN or inf, which fails this test.
+        d.abs() <= NEAR_UNIT_N2
     }
 
     /// Normalise, with a defined answer for every input.
@@ -150,19 +157,22 @@ impl Quat {
     /// the result does not depend on the quaternion's scale (v/w is scale-free).
     #[inline(always)]
     pub fn to_rotation_vector<M: Math>(self) -> Vec3 {
-        // Take the hemisphere w >= 0 so the angle is in [0, π].
-        let q = if self.w < 0.0 { self.scale(-1.0) } else { self };
-        let v = q.vector();
+        // The series needs no hemisphere: (−v)·(2/(−w))·P = v·(2/w)·P bit for bit (negation is
+        // exact and u is even in w), so −q gives the same answer without a sign flip.
+        let v = self.vector();
         let s2 = v.norm_squared();
-        let w2 = q.w * q.w;
-        if s2 <= 0.04 * w2 && q.w > 0.0 {
-            let inv_w = 1.0 / q.w;
+        let w2 = self.w * self.w;
+        if s2 <= 0.04 * w2 && self.w != 0.0 {
+            let inv_w = 1.0 / self.w;
             let u = s2 * inv_w * inv_w;
             let p = 1.0
                 + u * (-1.0 / 3.0
                     + u * (1.0 / 5.0 + u * (-1.0 / 7.0 + u * (1.0 / 9.0 - u * (1.0 / 11.0)))));
             return v * (2.0 * inv_w * p);
         }
+        // Take the hemisphere w >= 0 so the angle is in [0, π].
+        let q = if self.w < 0.0 { self.scale(-1.0) } else { self };
+        let v = q.vector();
         let s = M::sqrt(s2);
         let k = if s < SERIES_THRESHOLD {
             // 2·atan2(s, w)/s = (2/w)(1 - s²/(3w²) + ...); w ≈ 1 here.
@@ -264,6 +274,13 @@ mod tests {
                     q64.k as f32 * scale,
                 );
                 let w = q.to_rotation_vector::<Libm>();
+                // −q is the same rotation: the same answer bit for bit (no hemisphere flip on
+                // this path; see `to_rotation_vector`).
+                let wn = q.scale(-1.0).to_rotation_vector::<Libm>();
+                assert_eq!(
+                    wn.to_array().map(f32::to_bits),
+                    w.to_array().map(f32::to_bits)
+                );
                 let err = ((w.x as f64 - w_ref.x).powi(2)
                     + (w.y as f64 - w_ref.y).powi(2)
                     + (w.z as f64 - w_ref.z).powi(2))

@@ -16,6 +16,36 @@ use crate::fixed::Fixed;
 /// Coefficient of the Hertzian torsional friction limit, 3π/16.
 pub const HERTZ_TORSION_COEFF: f32 = 3.0 * core::f32::consts::PI / 16.0;
 
+/// The spin sums hold an angle times 2⁻⁸ ([`Fixed`] units of 2⁻⁴⁴, so 2⁻³⁶ rad = 1.5e-11 rad per
+/// unit, range ±1.2e8 rad): every increment below 2³¹ units (0.031 rad, 310 rad/s at 10 kHz)
+/// converts with one instruction on the M4F (at 2⁻⁴⁴ rad, only those below 1.2e-4 rad did).
+/// Scaling by a power of two is exact and odd, so the sums stay exactly reversible; the
+/// truncation of each increment is below 1.5e-11 rad (1.5e-5 rad after 10⁶ ticks at worst).
+const TO_SUM: f32 = 1.0 / 256.0;
+
+/// An angle sum as f32, rad (exact scaling of [`Fixed::to_f32`]).
+#[inline(always)]
+fn from_sum(f: Fixed) -> f32 {
+    f.to_f32() * 256.0
+}
+
+/// Relative margin inside the limit surface below which [`SpinSpring::update_within`] takes its
+/// fast path (2⁻¹⁰; the roundings it must cover are below 1e-6).
+pub const INSIDE_MARGIN: f32 = 1.0 / 1024.0;
+/// Least τ_max (N·m) for the fast test of [`SpinSpring::update_within`]: every product of its
+/// slow path stays normal above it.
+const TAU_MAX_NORMAL: f32 = 1.0e-30;
+/// Largest k_z (N·m/rad) for that fast test (the largest [`crate::params`] accepts).
+const K_Z_MAX: f32 = 1.0e3;
+
+/// 0 < k_z ≤ [`K_Z_MAX`] (false for NaN) in one unsigned comparison of the bit patterns: positive
+/// floats order as their bits, −0 and negatives have the sign bit (huge as unsigned), and +0
+/// wraps to the largest value.
+#[inline(always)]
+fn k_z_in_range(k_z: f32) -> bool {
+    k_z.to_bits().wrapping_sub(1) < K_Z_MAX.to_bits()
+}
+
 /// The torsional friction limit τ_max = (3π/16)·μ·f_N·a (N·m). Zero for f_N ≤ 0.
 #[inline]
 pub fn torsion_limit(mu: f32, normal_force_n: f32, patch_radius_m: f32) -> f32 {
@@ -28,19 +58,20 @@ pub fn torsion_limit(mu: f32, normal_force_n: f32, patch_radius_m: f32) -> f32 {
 
 /// The torsion spring's state.
 ///
-/// The total spin Σδφ is a fixed-point sum ([`Fixed`]) and the elastic twist is its difference from
-/// the slip offset (also fixed point), which only a slip changes: a zero δφ changes nothing, and a
+/// The elastic twist is a fixed-point sum ([`Fixed`]) of the spin increments and the slip offset
+/// (also fixed point) what the slips took from it, which only a slip changes, so the total spin
+/// Σδφ is their exact sum: a zero δφ changes nothing, and a
 /// fingertip that twists back by the exact negated increments returns its spin and, unless the
 /// spring slipped meanwhile, its torque bit for bit. A spring that slipped keeps its offset: that
 /// is friction, not creep.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SpinSpring {
-    /// Elastic twist φ_el, rad (read-only: a cache of `total − offset`).
+    /// Elastic twist φ_el, rad (read-only: a cache of `elastic`).
     pub elastic_rad: f32,
-    /// Total spin Σδφ since the contact began, rad (read-only: a cache of `total`).
+    /// Total spin Σδφ since the contact began, rad (read-only: a cache of `elastic + offset`).
     pub accumulated_rad: f32,
-    total: Fixed,
+    elastic: Fixed,
     offset: Fixed,
     /// `offset` as f32 (so the total needs no second conversion: total = φ_el + offset).
     offset_rad: f32,
@@ -50,21 +81,95 @@ impl SpinSpring {
     /// Wind the spring by `dphi` (rad) and return (τn in N·m, saturated?). `k_z` in N·m/rad,
     /// `tau_max` in N·m (≥ 0). Non-finite `dphi` is ignored (the caller flags it).
     pub fn update(&mut self, dphi: f32, k_z: f32, tau_max: f32) -> (f32, bool) {
-        if dphi.is_finite() {
-            self.total.add_f32(dphi);
+        let el = self.wind(dphi);
+        self.settle(el, k_z, tau_max)
+    }
+
+    /// [`SpinSpring::update`] with the torque limited to what a tangential load leaves of the
+    /// static limit surface (see [`crate::limit_surface`]): |τn| ≤ τ_max·√(1 − |f_t|²/f_max²),
+    /// `ft2` = |f_t|² and `fmax2` = f_max² in N² (no tangential budget, `fmax2` ≤ 0: no torque).
+    /// The same answer, bit for bit, as `update(dphi, k_z, tau_max·√(1 − ft2/fmax2))` with
+    /// `M::sqrt` (tested), without the division and the square root while the load is clearly
+    /// inside the ellipse, which is the common path.
+    ///
+    /// Why the fast test is safe: it passes when x² + u < 1 − m, x = τ/τ_max and u = ft2/fmax2
+    /// computed in f32 (a few ulps, ≤ 5e-7 relative, on terms ≤ 1), m = [`INSIDE_MARGIN`]. Then
+    /// |τ| < τ_max·√(1 − u − m/2) ≤ τ_max·(√(1 − u) − m/4): at least m/4 = 2.4e-4 relative below
+    /// the slow path's limit τ_max·√(1 − u)/k_z (same `u`, bit for bit), whose roundings (a
+    /// subtraction, a square root, a product and a division) and that of τ = k_z·φ_el are below
+    /// 1e-6 as long as no product is subnormal: hence 0 < k_z ≤ 1e3 N·m/rad (the parameters'
+    /// range) and τ_max ≥ 1e-30 N·m are required (then the limit, at least τ_max·√m/k_z, is
+    /// normal, and a subnormal τ is far below it). Non-finite values fail the test and take the
+    /// slow path.
+    #[inline(always)]
+    pub fn update_within<M: crate::math::Math>(
+        &mut self,
+        dphi: f32,
+        k_z: f32,
+        tau_max: f32,
+        ft2: f32,
+        fmax2: f32,
+    ) -> (f32, bool) {
+        let el = self.wind(dphi);
+        let tau = k_z * el;
+        let x = tau / tau_max;
+        let u = ft2 / fmax2;
+        if k_z_in_range(k_z) && tau_max >= TAU_MAX_NORMAL && x * x + u < 1.0 - INSIDE_MARGIN {
+            self.elastic_rad = el;
+            self.accumulated_rad = el + self.offset_rad;
+            return (tau, false);
         }
+        self.settle_within::<M>(el, k_z, tau_max, ft2, fmax2)
+    }
+
+    /// The slow path of [`SpinSpring::update_within`]: the share of the limit left, then
+    /// [`SpinSpring::settle`].
+    #[cold]
+    #[inline(never)]
+    fn settle_within<M: crate::math::Math>(
+        &mut self,
+        el: f32,
+        k_z: f32,
+        tau_max: f32,
+        ft2: f32,
+        fmax2: f32,
+    ) -> (f32, bool) {
+        let used = if fmax2 > 0.0 { ft2 / fmax2 } else { 1.0 };
+        let left = if used < 1.0 { M::sqrt(1.0 - used) } else { 0.0 };
+        self.settle(el, k_z, tau_max * left)
+    }
+
+    /// Add `dphi` (rad) to the spin (non-finite: ignored) and return the elastic twist.
+    #[inline(always)]
+    fn wind(&mut self, dphi: f32) -> f32 {
+        self.elastic.add_finite_f32(dphi * TO_SUM);
+        from_sum(self.elastic)
+    }
+
+    /// Set the elastic twist to `el` (rad) and move the offset by what it lost, keeping the total
+    /// spin exactly (friction). Not inlined: off the common path, and the firmware's fast code
+    /// memory is small.
+    #[inline(never)]
+    fn slip(&mut self, el: f32) {
+        let new = Fixed::from_f32(el * TO_SUM);
+        self.offset = Fixed(self.offset.0.wrapping_add(self.elastic.minus(new).0));
+        self.elastic = new;
+        self.offset_rad = from_sum(self.offset);
+        self.elastic_rad = from_sum(self.elastic);
+    }
+
+    /// Hold the elastic twist `el` (rad) within τ_max/k_z (slipping the offset beyond it) and
+    /// return (τn, saturated?). Not inlined (see [`SpinSpring::slip`]).
+    #[inline(never)]
+    fn settle(&mut self, el: f32, k_z: f32, tau_max: f32) -> (f32, bool) {
         let limit = if k_z > 0.0 { tau_max / k_z } else { 0.0 };
-        let el = self.total.minus(self.offset).to_f32();
         let saturated = el.abs() > limit;
-        self.elastic_rad = if saturated {
-            // Slip: move the offset so the elastic twist sits on the limit.
-            let e = if el > 0.0 { limit } else { -limit };
-            self.offset = self.total.minus(Fixed::from_f32(e));
-            self.offset_rad = self.offset.to_f32();
-            self.total.minus(self.offset).to_f32()
+        if saturated {
+            // Slip: the elastic twist sits on the limit.
+            self.slip(if el > 0.0 { limit } else { -limit });
         } else {
-            el
-        };
+            self.elastic_rad = el;
+        }
         // A function of the state alone (both terms are), so it returns when the state does.
         self.accumulated_rad = self.elastic_rad + self.offset_rad;
         (k_z * self.elastic_rad, saturated)
@@ -76,9 +181,7 @@ impl SpinSpring {
         if el == self.elastic_rad || !el.is_finite() {
             return;
         }
-        self.offset = self.total.minus(Fixed::from_f32(el));
-        self.offset_rad = self.offset.to_f32();
-        self.elastic_rad = self.total.minus(self.offset).to_f32();
+        self.slip(el);
         self.accumulated_rad = self.elastic_rad + self.offset_rad;
     }
 
@@ -91,6 +194,7 @@ impl SpinSpring {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Math;
 
     #[test]
     fn linear_below_the_limit_eq_1() {
@@ -130,6 +234,12 @@ mod tests {
         assert!(sat);
         let (tau, _) = s.update(f32::NAN, 0.05, 1.0);
         assert!(tau.is_finite());
+        // A non-finite increment moves nothing.
+        let before = s;
+        for d in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            let _ = s.update(d, 0.05, 1.0);
+            assert_eq!(s, before, "{d}");
+        }
     }
 
     /// Twisting back by the exact negated increments returns the spin and the torque bit for bit;
@@ -167,6 +277,114 @@ mod tests {
             (s.accumulated_rad - 0.003).abs() < 1e-9,
             "{}",
             s.accumulated_rad
+        );
+    }
+
+    /// The bit-pattern range test against the float comparisons, on both sides of each end.
+    #[test]
+    fn k_z_range_test_is_the_float_one() {
+        let up = |x: f32| f32::from_bits(x.to_bits() + 1);
+        for k in [
+            0.0f32,
+            -0.0,
+            f32::from_bits(1),
+            1.0e-3,
+            0.01,
+            K_Z_MAX,
+            up(K_Z_MAX),
+            -1.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ] {
+            assert_eq!(k_z_in_range(k), k > 0.0 && k <= K_Z_MAX, "{k}");
+        }
+    }
+
+    /// The reference of [`SpinSpring::update_within`]: its old formulation, the share left by the
+    /// tangential load through a division and a square root (libm), then `update`.
+    fn within_reference(
+        s: &mut SpinSpring,
+        dphi: f32,
+        k_z: f32,
+        t: f32,
+        ft2: f32,
+        f2: f32,
+    ) -> (f32, bool) {
+        let used = if f2 > 0.0 { ft2 / f2 } else { 1.0 };
+        let left = if used < 1.0 {
+            crate::Libm::sqrt(1.0 - used)
+        } else {
+            0.0
+        };
+        s.update(dphi, k_z, t * left)
+    }
+
+    /// The fast path changes nothing: over loads swept across the limit surface (from far inside
+    /// to outside, and within a few ulps of the margin's edge), stiffnesses on both sides of the
+    /// fast test's range (0, 1e3, 2e3 N·m/rad), torsion limits on both sides of 1e-30 N·m, and
+    /// NaN, the torque, the saturation and the whole spring equal the reference bit for bit.
+    #[test]
+    fn update_within_equals_the_square_root_formulation() {
+        let mut x = 0x1234_5678u32;
+        let mut rnd = move || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x as f32 / u32::MAX as f32
+        };
+        let (mut fast, mut slow) = (0u32, 0u32);
+        for &k_z in &[0.01f32, 0.0, 1.0e3, 2.0e3, 1.0e-3] {
+            for &t in &[4.7e-3f32, 1.0e-30, 0.99e-30, 0.0, 2.0, f32::NAN] {
+                let (mut a, mut b) = (SpinSpring::default(), SpinSpring::default());
+                for _ in 0..20_000 {
+                    let f2 = 1.6f32 * 1.6;
+                    // |f_t| from 0 to 1.1·f_max, the twist around the elastic limit.
+                    let ft2 = (1.1 * rnd()).powi(2) * f2;
+                    let dphi = if k_z > 0.0 {
+                        (rnd() - 0.5) * 1.2 * t / k_z
+                    } else {
+                        rnd() - 0.5
+                    };
+                    let before = a;
+                    let ra = a.update_within::<crate::Libm>(dphi, k_z, t, ft2, f2);
+                    let rb = within_reference(&mut b, dphi, k_z, t, ft2, f2);
+                    assert_eq!(
+                        (ra.0.to_bits(), ra.1),
+                        (rb.0.to_bits(), rb.1),
+                        "k_z {k_z} t {t}"
+                    );
+                    assert_eq!(a, b, "k_z {k_z} t {t}");
+                    let (x, u) = (k_z * a.elastic_rad / t, ft2 / f2);
+                    if x * x + u < 1.0 - INSIDE_MARGIN && before.offset == a.offset {
+                        fast += 1;
+                    } else {
+                        slow += 1;
+                    }
+                }
+            }
+        }
+        // Right at the margin's edge: loads a few ulps either side of x² + u = 1 − m.
+        let (k_z, t, f2) = (0.01f32, 4.7e-3f32, 2.56f32);
+        for i in 0..2000 {
+            let x = 0.5 + 0.5 * (i as f32 / 2000.0);
+            let edge = 1.0 - INSIDE_MARGIN - x * x;
+            for d in -4i32..=4 {
+                let ft2 = f32::from_bits((edge * f2).to_bits().wrapping_add(d as u32));
+                let el = x * t / k_z;
+                let (mut a, mut b) = (SpinSpring::default(), SpinSpring::default());
+                let ra = a.update_within::<crate::Libm>(el, k_z, t, ft2, f2);
+                let rb = within_reference(&mut b, el, k_z, t, ft2, f2);
+                assert_eq!(
+                    (ra.0.to_bits(), ra.1, a),
+                    (rb.0.to_bits(), rb.1, b),
+                    "x {x} d {d}"
+                );
+            }
+        }
+        assert!(
+            fast > 10_000 && slow > 10_000,
+            "both paths exercised: {fast} fast, {slow} slow"
         );
     }
 }

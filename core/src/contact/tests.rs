@@ -315,3 +315,38 @@ fn remembered_patch_equals_a_fresh_evaluation() {
         );
     }
 }
+
+/// The output guard: a force just within the limit passes untouched, one just above is rescaled
+/// below it (checked in f64) along the same direction, and a non-finite force or torque gives zero
+/// force (a non-finite torque zero torque) with its flag, also when the force is over the limit.
+#[test]
+fn the_output_guard_limits_the_force_and_stops_non_finite_output() {
+    let max = 12.0f32;
+    let dir = Vec3::new(0.6, 0.0, 0.8);
+    let guard = |f: Vec3, t: f32| {
+        let mut fl = Flags::NONE;
+        let (f, t) = guard_output::<Libm>(f, t, max, &mut fl);
+        (f, t, fl)
+    };
+    let (f, t, fl) = guard(dir * (max * (1.0 - 1e-6)), 0.002);
+    assert_eq!((f, t, fl), (dir * (max * (1.0 - 1e-6)), 0.002, Flags::NONE));
+    let (f, t, fl) = guard(dir * (max * (1.0 + 1e-6)), -0.002);
+    assert_eq!((t, fl), (-0.002, Flags::OUTPUT_LIMITED));
+    let n = ((f.x as f64).powi(2) + (f.y as f64).powi(2) + (f.z as f64).powi(2)).sqrt();
+    assert!(n <= max as f64 && n > max as f64 * (1.0 - 1e-6), "{n}");
+    assert!((f.x / f.z - 0.75).abs() < 1e-6, "{f:?}");
+    for (force, tau, tau_out) in [
+        (Vec3::new(f32::NAN, 0.0, 1.0), 0.001, 0.001),
+        (Vec3::new(0.0, f32::INFINITY, 1.0), 0.001, 0.001),
+        (Vec3::new(0.0, 0.0, 1.0), f32::INFINITY, 0.0),
+        (Vec3::new(0.0, 0.0, 1.0), f32::NAN, 0.0),
+        (dir * (2.0 * max), f32::NAN, 0.0),
+    ] {
+        let (f, t, fl) = guard(force, tau);
+        assert_eq!(
+            (f, t, fl),
+            (Vec3::ZERO, tau_out, Flags::NON_FINITE_OUTPUT),
+            "{force:?} {tau}"
+        );
+    }
+}
