@@ -112,7 +112,7 @@ fn constant_duty_reaches_the_dc_motor_steady_speed() {
         ..PlantParams::OMEGA_LIKE.without_hand().without_gravity()
     };
     let mut p = plant(params, HandScript::hold(pose([0.3; 3])));
-    let duty = 0.03f32; // 255/8500 exactly: no quantisation error
+    let duty = 0.04f32; // 170/4250 exactly: no quantisation error
     run(&mut p, [duty, 0.0, 0.0], 0.2);
     let m = D.motor;
     let (kt, ke, r, n) = (
@@ -121,7 +121,7 @@ fn constant_duty_reaches_the_dc_motor_steady_speed() {
         m.resistance_ohm as f64,
         m.capstan_ratio as f64,
     );
-    let volts = 0.03 * D.supply_v as f64;
+    let volts = 0.04 * D.supply_v as f64;
     let (tc, bv) = (
         params.coulomb_friction_nm,
         params.viscous_friction_nm_s_per_rad,
