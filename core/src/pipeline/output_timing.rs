@@ -196,8 +196,8 @@ mod tests {
             let t = OutputTiming::planned(&b);
             assert_eq!(t.effect_counts, b.pwm_period_counts());
             assert!(t.write_counts < b.pwm_period_counts() && t.within_tick());
-            let expected = (b.pwm_period_counts() - t.sample_counts) as f32
-                / b.tick_period_counts() as f32;
+            let expected =
+                (b.pwm_period_counts() - t.sample_counts) as f32 / b.tick_period_counts() as f32;
             assert_eq!(t.delay_ticks(), expected);
             let quarter_or_half = 1.0 / b.pwm_periods_per_tick() as f32;
             assert!((t.delay_ticks() - quarter_or_half).abs() < 0.01);
@@ -216,7 +216,10 @@ mod tests {
         let at = |cpi: f32| OutputTiming::new(&BOARD_10K, 0, (n as f32 * cpi) as u32);
         assert_eq!(at(0.999 * m).effect_counts, 4_250);
         assert_eq!(at(m).effect_counts, 8_500);
-        assert!(m > 1.5, "the planned tick must fit at the top of the 1.1-1.5 range");
+        assert!(
+            m > 1.5,
+            "the planned tick must fit at the top of the 1.1-1.5 range"
+        );
         assert_eq!(cpi_margin(&BOARD_10K, 0), f32::INFINITY);
     }
 

@@ -147,7 +147,8 @@ impl Lockstep<'_> {
         let t = OutputTiming::new(
             &self.s.timing,
             instructions_to_timer_counts(sample),
-            instructions_to_timer_counts(write).saturating_sub(instructions_to_timer_counts(sample)),
+            instructions_to_timer_counts(write)
+                .saturating_sub(instructions_to_timer_counts(sample)),
         );
         self.load_after = t.effect_counts / t.pwm_counts.max(1);
         if sampled.is_some() {

@@ -347,7 +347,10 @@ fn compares_load_at_the_asked_pwm_boundary() {
     // i(50 µs) / i(75 µs) = (1 − e^(−50/110)) / (1 − e^(−75/110)).
     let tau = PlantParams::OMEGA_LIKE.motor_inductance_h / 2.18;
     let ratio = (1.0 - (-50e-6 / tau).exp()) / (1.0 - (-75e-6 / tau).exp());
-    assert!(i1 > 0.0 && (i2 / i1 - ratio).abs() < 0.01, "{i1} {i2} {ratio}");
+    assert!(
+        i1 > 0.0 && (i2 / i1 - ratio).abs() < 0.01,
+        "{i1} {i2} {ratio}"
+    );
     let mut p = fresh();
     p.step_bridges(&cmd, &timing);
     assert_eq!(p.truth().motor_currents_a[0], i1);
