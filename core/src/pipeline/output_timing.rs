@@ -44,7 +44,9 @@ pub const SAMPLE_INSTRUCTIONS: u32 = 40;
 /// Instructions of the pipeline tick, an upper bound of those between the sample and the compare
 /// write: `scripts/mcu-bench`'s `pipeline_tick` row (fast backend, passivity stage included:
 /// 2 580 measured). At 1.25 cycles per instruction that is 19.0 µs at 170 MHz. Only whole PWM
-/// periods matter: with 40 kHz PWM any figure up to 3 350 gives the same delay.
+/// periods matter: with 40 kHz PWM any figure up to 3 350 gives the same delay. Measured on the
+/// firmware: `scripts/pil` finds the sample 40 and the compare write at most 3 040 instructions
+/// after the tick event on the emulated board (its link code included), the same PWM period.
 pub const PIPELINE_TICK_INSTRUCTIONS: u32 = 2_580;
 
 /// The cycles per instruction at which a compare write `write_instructions` after the tick's
