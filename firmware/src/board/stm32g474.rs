@@ -412,8 +412,9 @@ pub fn prepare_core(nvic: &mut cortex_m::peripheral::NVIC) {
 
 /// After `embassy_stm32::init`: flash prefetch on (with the instruction and data caches), the
 /// core's LOCKUP output onto TIM1's break (a fault inside the HardFault handler locks the core up;
-/// the PWM outputs then cut in hardware), and the HAL's interrupts between the tick (P0) and thread
-/// mode.
+/// the PWM outputs then cut in hardware), and the interrupt priorities (DMA's is in
+/// `hal_config`): the tick (TIM6, P0, still masked), then the HAL's interrupts between it and
+/// thread mode.
 pub fn after_hal_init() {
     // Write-once until reset. SYSCFG's clock is on (embassy_stm32::init enables it).
     pac::SYSCFG.cfgr2().modify(|w| w.set_cll(true));
@@ -428,7 +429,8 @@ pub fn after_hal_init() {
     interrupt::EXTI15_10.set_priority(Priority::P3); // B1
 }
 
-/// Hand the loop to the TIM6 interrupt and start it: highest priority, the watchdog, then TIM1
+/// Hand the loop to the TIM6 interrupt (priority 0, set in [`after_hal_init`] with every other
+/// interrupt priority) and start it: the watchdog, then TIM1
 /// and TIM6 restarted together from 0, so every tick event is a PWM period boundary (the shared
 /// board timing's convention: both count the same 170 MHz clock, 4250 and 17 000 counts per
 /// period, so once aligned they stay aligned), then unmask. Returns TIM1's count minus TIM6's,
