@@ -60,6 +60,9 @@ pub struct DeviceLoop {
     /// Motor winding inductance, H (the plant's 0.24 mH; a near-zero value isolates the
     /// electrical lag).
     pub inductance_h: f64,
+    /// Motor encoder counts per motor turn, controller and plant (the device's 4096; a finer
+    /// encoder isolates the quantisation).
+    pub motor_counts_per_rev: u32,
 }
 
 fn script() -> HandScript {
@@ -87,8 +90,13 @@ fn simulate(
         normal_damping: 0.0,
         ..ContactParams::DEFAULT
     };
+    // The controller's device has the plant's winding: the observer's lag model is its L/R.
+    let mut device = DeviceParams::OMEGA_LIKE;
+    device.motor.inductance_h = l.inductance_h as f32;
+    device.motor_encoder_counts_per_rev = l.motor_counts_per_rev;
     let config = ControllerConfig {
         rate_hz: l.rate_hz as f32,
+        device,
         contact,
         object_origin_m: Vec3::new(0.0, 0.0, closed_loop::surface_top_z_m() as f32),
         ..ControllerConfig::default_plane()
@@ -97,16 +105,14 @@ fn simulate(
         Controller::new(config).map_err(|e| format!("device wall K = {k}: {e}"))?;
     ctrl.set_passivity(PassivityConfig {
         enabled: l.passivity,
-        output_delay_ticks: l.delay_ticks.clamp(0.0, 1.0) as f32,
-        ..PassivityConfig::DEFAULT
+        ..PassivityConfig::for_device(&device, l.delay_ticks as f32)
     })
     .map_err(|e| format!("passivity: {e}"))?;
     let params = PlantParams {
         motor_inductance_h: l.inductance_h,
         ..PlantParams::OMEGA_LIKE
     };
-    let mut plant = Plant::new(DeviceParams::OMEGA_LIKE, params, script())
-        .map_err(|e| format!("plant: {e:?}"))?;
+    let mut plant = Plant::new(device, params, script()).map_err(|e| format!("plant: {e:?}"))?;
     let dt = 1.0 / l.rate_hz;
     let ticks = (seconds * l.rate_hz).round() as u64;
     let mut damped = 0u64;
@@ -242,6 +248,7 @@ fn figures(rate_hz: f64, delay_ticks: f64, inductance_h: f64) -> Result<Figures,
         delay_ticks,
         passivity,
         inductance_h,
+        motor_counts_per_rev: DeviceParams::OMEGA_LIKE.motor_encoder_counts_per_rev,
     };
     let one = kmax(&mk(1.0, false))?;
     let fw = kmax(&mk(delay_ticks, false))?;
@@ -265,6 +272,7 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
         delay_ticks,
         passivity: true,
         inductance_h: l,
+        motor_counts_per_rev: DeviceParams::OMEGA_LIKE.motor_encoder_counts_per_rev,
     };
     let env = fw.map(|k| envelope(&pc, 3.0 * k)).transpose()?;
     Ok(DeviceRow {
