@@ -273,10 +273,7 @@ impl<M: Math, S: Surface> Controller<M, S> {
             force_scale: 1.0,
             pending: Flags::NONE,
             passivity: Passivity::new(
-                PassivityConfig::for_device(
-                    &config.device,
-                    PassivityConfig::DEFAULT.output_delay_ticks,
-                ),
+                PassivityConfig::DEFAULT,
                 dt_s,
                 stored_spring(&config.contact),
                 config.contact.max_force_n,

@@ -1,7 +1,7 @@
 //! The hardware description the controller and the host plant model must agree on: linkage
 //! geometry, motors and capstan drives, H-bridge supply and PWM timer, encoders, and the wrist
-//! gimbal convention. Values only the plant needs (inertias, friction) live in the plant, not
-//! here; the winding inductance is here because the passivity observer models the current lag.
+//! gimbal convention. Values only the plant needs (inertias, friction, inductance) live in the
+//! plant, not here.
 //!
 //! # Sign conventions (the firmware's pin and counter set-up must honour them)
 //!
@@ -46,22 +46,6 @@ pub struct MotorParams {
     pub capstan_ratio: f32,
     /// Amplifier current limit, A (peak, both directions).
     pub max_current_a: f32,
-    /// Winding inductance, H: with [`Self::resistance_ohm`] it sets how far the current (and so
-    /// the force) lags the duty ([`Self::electrical_time_constant_s`]).
-    pub inductance_h: f32,
-}
-
-impl MotorParams {
-    /// The winding's electrical time constant L/R, s: the current follows a duty step as a
-    /// first-order lag with this time constant (0 when the resistance is not positive).
-    #[inline]
-    pub fn electrical_time_constant_s(&self) -> f32 {
-        if self.resistance_ohm > 0.0 {
-            self.inductance_h / self.resistance_ohm
-        } else {
-            0.0
-        }
-    }
 }
 
 /// Everything about the hardware that the controller and the plant model share.
@@ -99,7 +83,6 @@ pub enum DeviceParamField {
     BackEmfConstant,
     CapstanRatio,
     MaxCurrent,
-    Inductance,
     SupplyVoltage,
     PwmPeriodCounts,
     MotorEncoderCountsPerRev,
@@ -126,8 +109,7 @@ impl DeviceParams {
     /// - motors: a maxon RE 25-class brushed DC motor (Ø25 mm, 20 W, graphite brushes, 24 V
     ///   winding), figures as in maxon's catalogue for that class, rounded: k_t = 23.4 mN·m/A,
     ///   speed constant 408 rpm/V (k_e = 60/(2π·408) = 0.0234 V·s/rad), terminal resistance
-    ///   2.18 Ω, inductance 0.24 mH (L/R = 110 µs; also rotor inertia 10.8 g·cm², which the plant
-    ///   uses). They
+    ///   2.18 Ω (also: inductance 0.24 mH, rotor inertia 10.8 g·cm², which the plant uses). They
     ///   are self-consistent: R·J/k² = 4.3 ms, the catalogue's mechanical time constant. Check a
     ///   current datasheet before using them on hardware;
     /// - capstan reduction 12:1 (ours: a 5 mm drive pulley on a 60 mm arm sector);
@@ -147,7 +129,6 @@ impl DeviceParams {
             back_emf_v_s_per_rad: 0.0234,
             capstan_ratio: 12.0,
             max_current_a: 4.0,
-            inductance_h: 0.24e-3,
         },
         supply_v: 24.0,
         pwm_period_counts: crate::pipeline::BoardTiming::STM32G474_10KHZ.pwm_period_counts(),
@@ -169,7 +150,6 @@ impl DeviceParams {
             (self.motor.back_emf_v_s_per_rad, F::BackEmfConstant),
             (self.motor.capstan_ratio, F::CapstanRatio),
             (self.motor.max_current_a, F::MaxCurrent),
-            (self.motor.inductance_h, F::Inductance),
             (self.supply_v, F::SupplyVoltage),
         ];
         for (value, field) in positive {

@@ -17,7 +17,7 @@ fn omega_like_is_valid() {
 fn validate_rejects_each_bad_float_field_by_name() {
     use DeviceParamField as F;
     type Setter = fn(&mut DeviceParams, f32);
-    let fields: [(Setter, DeviceParamField); 11] = [
+    let fields: [(Setter, DeviceParamField); 10] = [
         (|d, v| d.delta.base_radius_m = v, F::BaseRadius),
         (|d, v| d.delta.effector_radius_m = v, F::EffectorRadius),
         (|d, v| d.delta.upper_arm_m = v, F::UpperArm),
@@ -30,7 +30,6 @@ fn validate_rejects_each_bad_float_field_by_name() {
         (|d, v| d.motor.back_emf_v_s_per_rad = v, F::BackEmfConstant),
         (|d, v| d.motor.capstan_ratio = v, F::CapstanRatio),
         (|d, v| d.motor.max_current_a = v, F::MaxCurrent),
-        (|d, v| d.motor.inductance_h = v, F::Inductance),
         (|d, v| d.supply_v = v, F::SupplyVoltage),
     ];
     for (set, field) in fields {

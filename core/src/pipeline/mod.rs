@@ -121,10 +121,13 @@ impl<M: Math, S: Surface> Pipeline<M, S> {
         let cc = config.controller_config();
         let mut controller = Controller::new(cc).map_err(PipelineError::Params)?;
         // The passivity observer weighs the forces acting in each interval by this board's
-        // sample-to-output delay and the motors' winding lag.
+        // sample-to-output delay.
         let delay = output_timing::OutputTiming::planned(&config.timing).delay_ticks();
         controller
-            .set_passivity(passivity::PassivityConfig::for_device(&cc.device, delay))
+            .set_passivity(passivity::PassivityConfig {
+                output_delay_ticks: delay.min(1.0),
+                ..passivity::PassivityConfig::DEFAULT
+            })
             .map_err(PipelineError::Params)?;
         let rate = cc.rate_hz;
         let gc = GuardConfig::from_limits(&config.device.limits, rate);

@@ -13,21 +13,7 @@
 //! W[k] = W[k−1] + (d·F[k−2] + (1−d)·F[k−1]) · (p[k] − p[k−1])      (J, into the user)
 //! ```
 //!
-//! The force acting is the *applied* one: the motor current follows the output as a first-order
-//! lag with the winding's time constant τ = L/R (`winding_lag_s`, from the device's
-//! [`crate::device::MotorParams::electrical_time_constant_s`]). The observer propagates that lag
-//! exactly over the two piecewise-constant segments of each interval (length d·T with F[k−2], then
-//! (1−d)·T with F[k−1]; a₁ = e^{−dT/τ}, a₂ = e^{−(1−d)T/τ}) and uses the lag's own integral
-//! (τ·ḟ = u − f ⇒ ∫f = ∫u − τ·(f_end − f_start)):
-//!
-//! ```text
-//! f[k]   = a₁a₂·f[k−1] + (1−a₁)a₂·F[k−2] + (1−a₂)·F[k−1]          (applied force at tick k)
-//! W[k]   = W[k−1] + (d·F[k−2] + (1−d)·F[k−1] + τ/T·(f[k−1] − f[k])) · (p[k] − p[k−1])
-//! ```
-//!
-//! (a zero-order hold with a delay, then a lag: the sampled-system treatment of Ryu, Kim &
-//! Hannaford with the actuator's dynamics in the path). With τ = 0 it is the line above, bit for
-//! bit. A passive rendering keeps W ≤ 0 (it can only return what the user put in). When W > 0 the
+//! A passive rendering keeps W ≤ 0 (it can only return what the user put in). When W > 0 the
 //! controller adds a damper −α·v, v the probe velocity the caller hands in (the controller's
 //! filtered velocity: a raw one-count difference would turn encoder quantisation into force
 //! steps), with α = W/(T·|v|²) (the damping that dissipates W over one tick at that speed),
@@ -50,9 +36,6 @@ pub struct PassivityConfig {
     pub max_damping_n_s_per_m: f32,
     /// Sample-to-output delay in ticks, [0, 1] (see [`super::output_timing::OutputTiming`]).
     pub output_delay_ticks: f32,
-    /// Time constant of the first-order lag of the applied force behind the output, s (≥ 0; the
-    /// winding's L/R, [`crate::device::MotorParams::electrical_time_constant_s`]; 0: none).
-    pub winding_lag_s: f32,
 }
 
 impl PassivityConfig {
@@ -64,18 +47,7 @@ impl PassivityConfig {
         enabled: true,
         max_damping_n_s_per_m: 50.0,
         output_delay_ticks: 1.0,
-        winding_lag_s: 0.0,
     };
-
-    /// [`Self::DEFAULT`] for a device whose output acts `output_delay_ticks` after the sample
-    /// (clamped to [0, 1]) through the motors' winding lag.
-    pub fn for_device(device: &crate::device::DeviceParams, output_delay_ticks: f32) -> Self {
-        PassivityConfig {
-            output_delay_ticks: output_delay_ticks.clamp(0.0, 1.0),
-            winding_lag_s: device.motor.electrical_time_constant_s(),
-            ..Self::DEFAULT
-        }
-    }
 
     /// Check every field.
     pub fn validate(&self) -> Result<(), ParamError> {
@@ -84,7 +56,6 @@ impl PassivityConfig {
         if self.output_delay_ticks > 1.0 {
             return Err(ParamError::OutOfRange("output_delay_ticks"));
         }
-        non_negative("winding_lag_s", self.winding_lag_s)?;
         Ok(())
     }
 }
@@ -109,11 +80,6 @@ pub struct Passivity {
     prev_position: Vec3,
     /// Forces output at k−1 and k−2.
     out: [Vec3; 2],
-    /// Estimated applied force at the last tick (the winding lag's state), N.
-    applied: Vec3,
-    /// The lag over one interval: weights of f[k−1], F[k−2], F[k−1] in f[k], and of the same
-    /// three in the mean force acting over the interval ([`lag_weights`]).
-    lag: ([f32; 3], [f32; 3]),
     energy_j: f32,
     /// Spring stiffness for the energy stored at a (re)start, N/m.
     spring_n_per_m: f32,
@@ -143,8 +109,6 @@ impl Passivity {
             started: false,
             prev_position: Vec3::ZERO,
             out: [Vec3::ZERO; 2],
-            applied: Vec3::ZERO,
-            lag: lag_weights(config.output_delay_ticks, config.winding_lag_s, dt_s),
             energy_j: 0.0,
         })
     }
@@ -174,7 +138,6 @@ impl Passivity {
     pub fn restart(&mut self) {
         self.started = false;
         self.out = [Vec3::ZERO; 2];
-        self.applied = Vec3::ZERO;
         self.energy_j = 0.0;
     }
 
@@ -185,22 +148,16 @@ impl Passivity {
             self.started = true;
             self.prev_position = position;
             self.out = [force; 2];
-            self.applied = force;
             self.energy_j = -0.5 * force.norm_squared() / self.spring_n_per_m;
         }
         let dp = position - self.prev_position;
         self.prev_position = position;
-        let ([a0, a1, a2], [m0, m1, m2]) = self.lag;
-        let acting = self.out[1] * m1 + self.out[0] * m2 + self.applied * m0;
-        self.applied = self.applied * a0 + self.out[1] * a1 + self.out[0] * a2;
+        let d = self.config.output_delay_ticks;
+        let acting = self.out[1] * d + self.out[0] * (1.0 - d);
         let mut energy = self.energy_j + acting.dot(dp);
         let idle = force == Vec3::ZERO && self.out[0] == Vec3::ZERO && self.out[1] == Vec3::ZERO;
         if idle || !energy.is_finite() {
             energy = 0.0;
-            // A non-finite force reached the lag state (and so the energy): forget it.
-            if !self.applied.is_finite() {
-                self.applied = Vec3::ZERO;
-            }
         }
         self.energy_j = energy;
         let v2 = velocity.norm_squared();
@@ -222,27 +179,6 @@ impl Passivity {
             energy_j: energy,
         }
     }
-}
-
-/// The winding lag over one tick interval of `dt_s` with the output `delay` ticks late and time
-/// constant `tau_s` (validated ≥ 0): the weights of (f[k−1], F[k−2], F[k−1]) in the applied force
-/// f[k], `[a₁a₂, (1−a₁)a₂, 1−a₂]`, and in the mean force acting over the interval, `d·F[k−2] +
-/// (1−d)·F[k−1] + τ/T·(f[k−1] − f[k])` (see the module text). τ = 0 gives `[0, 0, 1]` and
-/// `[0, d, 1−d]`: the applied force is the output.
-fn lag_weights(delay: f32, tau_s: f32, dt_s: f32) -> ([f32; 3], [f32; 3]) {
-    if tau_s <= 0.0 {
-        return ([0.0, 0.0, 1.0], [0.0, delay, 1.0 - delay]);
-    }
-    let a1 = libm::expf(-delay * dt_s / tau_s);
-    let a2 = libm::expf(-(1.0 - delay) * dt_s / tau_s);
-    let applied = [a1 * a2, (1.0 - a1) * a2, 1.0 - a2];
-    let r = tau_s / dt_s;
-    let acting = [
-        r * (1.0 - applied[0]),
-        delay - r * applied[1],
-        (1.0 - delay) - r * applied[2],
-    ];
-    (applied, acting)
 }
 
 impl Passivity {
@@ -315,48 +251,6 @@ mod tests {
         }
     }
 
-    /// The winding lag: a force step F (from 0) at tick 1 with the output `d` ticks late, the
-    /// probe moving at constant v. The applied force is F·(1 − e^{−(t − t₀)/τ}) from t₀ = (1 + d)·T
-    /// on, so the energy into the user up to tick n is (closed form, f64)
-    /// `F·v·(s − τ·(1 − e^{−s/τ}))`, s = nT − t₀. Measured f32 error against it: ≤ 4.2e-8
-    /// relative (d = 0.247); bound 1.5e-7. An observer without the lag model (τ = 0) is off by
-    /// the work the lag withholds, F·v·τ·(1 − e^{−s/τ}): 6.1–6.5 % of W here (checked > 5 %).
-    #[test]
-    fn observer_follows_the_winding_lag_in_closed_form() {
-        let (t, f, v, tau) = (1.0e-4f64, 2.0f64, 0.01f64, 110e-6f64);
-        let n = 20usize;
-        let observed = |d: f64, lag: f64| {
-            let mut p = Passivity::new(
-                PassivityConfig {
-                    enabled: false,
-                    output_delay_ticks: d as f32,
-                    winding_lag_s: lag as f32,
-                    ..PassivityConfig::DEFAULT
-                },
-                t as f32,
-                1e4,
-                12.0,
-            )
-            .unwrap();
-            let at = |i: usize| Vec3::new((v * t * i as f64) as f32, 0.0, 0.0);
-            let _ = p.step(Vec3::ZERO, at(0), Vec3::ZERO);
-            let force = Vec3::new(f as f32, 0.0, 0.0);
-            let mut w = 0.0f64;
-            for i in 1..=n {
-                w = f64::from(p.step(force, at(i), Vec3::ZERO).energy_j);
-            }
-            w
-        };
-        for d in [0.0f64, 0.247, 1.0] {
-            let s = (n as f64 - 1.0 - d) * t;
-            let expected = f * v * (s - tau * (1.0 - (-s / tau).exp()));
-            let rel = |w: f64| ((w - expected) / expected).abs();
-            let w = observed(d, tau);
-            assert!(rel(w) < 1.5e-7, "d {d}: {w} vs {expected} ({})", rel(w));
-            assert!(rel(observed(d, 0.0)) > 0.05, "d {d}");
-        }
-    }
-
     /// A passive force (a damper) keeps W ≤ 0 and passes through bit for bit; the controller
     /// never acts.
     #[test]
@@ -383,7 +277,6 @@ mod tests {
                     enabled: true,
                     max_damping_n_s_per_m: max,
                     output_delay_ticks: 0.0,
-                    winding_lag_s: 0.0,
                 },
                 dt,
                 1e4,

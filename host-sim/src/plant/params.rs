@@ -59,8 +59,7 @@ impl PlantParams {
     /// Our plant for the Omega-like device of `DeviceParams::OMEGA_LIKE`. All values are
     /// assumptions unless a source is named:
     ///
-    /// - inductance: the device's (`MotorParams::inductance_h`, 0.24 mH); rotor inertia 10.8 g·cm²
-    ///   of the maxon RE 25-class motor
+    /// - inductance 0.24 mH and rotor inertia 10.8 g·cm² of the maxon RE 25-class motor
     ///   (catalogue values for that class), plus 0.08 g·cm² for a Ø10 × 10 mm steel drive
     ///   pulley: 1.16e-6 kg·m², 1.67e-4 kg·m² at the arm through 12²;
     /// - arm: 20 g tube over 105 mm (m·L²/3 = 7.4e-5), 30 g sector with 40 mm radius of gyration
@@ -185,15 +184,6 @@ const DEG: f64 = std::f64::consts::PI / 180.0;
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The plant's winding is the device definition's (the passivity observer's lag model).
-    #[test]
-    fn inductance_is_the_device_definitions() {
-        let device = softfinger_core::device::DeviceParams::OMEGA_LIKE
-            .motor
-            .inductance_h;
-        assert_eq!(PlantParams::OMEGA_LIKE.motor_inductance_h as f32, device);
-    }
 
     #[test]
     fn omega_like_is_valid_and_bad_fields_are_named() {
