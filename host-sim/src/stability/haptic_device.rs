@@ -17,7 +17,9 @@
 //!
 //! **Diagnostic.** Every figure is also computed with the winding inductance made negligible
 //! ([`NEGLIGIBLE_INDUCTANCE_H`]): the current then follows the duty at once, and what remains is
-//! the sampled loop of the model in [`super::haptic`].
+//! the sampled loop of the model in [`super::haptic`]. The 3x wall is also run at the same K with
+//! the negligible winding and with a [`FINE_ENCODER_FACTOR`]× finer motor encoder (controller and
+//! plant), separating the winding lag from the encoder's quantisation.
 
 use crate::closed_loop;
 use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
