@@ -5,8 +5,9 @@
 use host_sim::stability::haptic::{self, Device, Loop};
 use host_sim::stability::haptic_timing::{firmware_delay_ticks, firmware_loop};
 use softfinger_core::pipeline::output_timing::{
-    CCM_CYCLES_PER_INSTRUCTION, PIPELINE_TICK_INSTRUCTIONS,
+    OutputTiming, CCM_CYCLES_PER_INSTRUCTION, PIPELINE_TICK_INSTRUCTIONS,
 };
+use softfinger_core::pipeline::BoardTiming;
 
 const SECONDS: f64 = 5.0;
 
@@ -17,6 +18,18 @@ fn delay_10k() -> f64 {
         CCM_CYCLES_PER_INSTRUCTION,
     )
     .expect("40 kHz PWM at 10 kHz control is a valid timing")
+}
+
+/// The experiment's delay is the firmware's: the board constant `firmware/src/config.rs` asserts
+/// on (40 kHz PWM, four periods per 10 kHz tick) with the planned tick, a quarter tick less the
+/// sample instant. Fails if the firmware's timing and the experiment's part.
+#[test]
+fn the_experiment_runs_the_firmware_timing() {
+    let b = BoardTiming::STM32G474_10KHZ;
+    assert_eq!((b.pwm_hz, b.pwm_periods_per_tick()), (40_000, 4));
+    let planned = OutputTiming::planned(&b);
+    assert_eq!(delay_10k(), f64::from(planned.delay_ticks()));
+    assert_eq!(planned.effect_counts, b.pwm_period_counts());
 }
 
 /// Just below the exact (eigenvalue) limit of the firmware timing the hit decays, just above it

@@ -58,7 +58,7 @@ pub struct DeviceParams {
     pub motor: MotorParams,
     /// H-bridge supply voltage, V.
     pub supply_v: f32,
-    /// PWM timer counts per PWM period (duty resolution), e.g. 8500 = 170 MHz / 20 kHz. The
+    /// PWM timer counts per PWM period (duty resolution), e.g. 4250 = 170 MHz / 40 kHz. The
     /// pipeline and the plant's bridge path take it from the board timing
     /// ([`crate::pipeline::BoardTiming`]); the named devices set this field from the same constant.
     pub pwm_period_counts: u32,
@@ -115,7 +115,7 @@ impl DeviceParams {
     /// - capstan reduction 12:1 (ours: a 5 mm drive pulley on a 60 mm arm sector);
     /// - amplifier limit 4 A: a short-term peak (the RE 25's continuous current is about 1.5 A),
     ///   giving 12 × 0.0234 × 4 = 1.12 N·m per arm;
-    /// - 24 V supply; PWM 20 kHz from a 170 MHz timer clock, 8500 counts per period (from
+    /// - 24 V supply; PWM 40 kHz from a 170 MHz timer clock, 4250 counts per period (from
     ///   [`crate::pipeline::BoardTiming::STM32G474_10KHZ`]);
     /// - motor encoders 1024 lines (4096 quadrature counts per motor turn): 2π/(4096·12) =
     ///   0.128 mrad per count at the arm, ~13 µm at the effector;

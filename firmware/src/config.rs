@@ -12,10 +12,14 @@ use softfinger_core::Vec3;
 /// The device this firmware drives.
 pub const DEVICE: DeviceDefinition = OMEGA_LIKE;
 
-/// Timer clock, PWM and control rates, shared with host-sim's plant: 170 MHz, 20 kHz PWM
-/// (8500 counts), 10 kHz control (two PWM periods per tick).
+/// Timer clock, PWM and control rates, shared with host-sim's plant: 170 MHz, 40 kHz PWM
+/// (4250 counts), 10 kHz control (four PWM periods per tick). The low-latency output: a compare
+/// written in the tick's first PWM period acts from its second, a quarter tick after the tick's
+/// event (`softfinger_core::pipeline::output_timing`).
 pub const TIMING: BoardTiming = BoardTiming::STM32G474_10KHZ;
 const _: () = assert!(TIMING.is_valid());
+// Four PWM periods per tick: the delay the stability experiment and the passivity stage assume.
+const _: () = assert!(TIMING.pwm_periods_per_tick() == 4);
 // The device model's PWM period (duty -> voltage) is the one this board runs.
 const _: () = assert!(DEVICE.params.pwm_period_counts == TIMING.pwm_period_counts());
 

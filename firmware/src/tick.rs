@@ -92,14 +92,18 @@ impl<H: ControlHw> ControlLoop<H> {
     /// action: the start latency, in timer counts. Never blocks, never panics.
     #[inline(always)]
     pub fn run(&mut self, entry_count: u32) {
-        self.hw.ack_tick();
+        // Sample first: the sample-to-output delay runs from here to the PWM period boundary
+        // after the compare writes below (`softfinger_core::pipeline::output_timing`).
         let sample = self.hw.read_inputs();
+        self.hw.ack_tick();
         let out = self.pipeline.tick(&RawInput {
             counts: sample.counts,
             driver_fault: sample.driver_fault,
             start_latency_counts: entry_count,
             prev_write_done_counts: self.prev_write_done,
         });
+        // The compares right after the pipeline, before anything else: written within the tick's
+        // first PWM period, they act from its second.
         self.hw.write_bridges(&out.bridges);
         // Count first, then the flag: an event between the two reads reports "late", never a
         // wrapped small count.

@@ -76,8 +76,9 @@ pub fn plant(scene: &Scene, contact: &ContactParams) -> Result<Plant, PlantError
     )
 }
 
-/// The board timing for a control rate: the STM32G474's 170 MHz timer clock with 20 kHz PWM, or
-/// PWM at the control rate above 20 kHz. Rates whose PWM is not an integer multiple are refused.
+/// The board timing for a control rate: the firmware's (`BoardTiming::STM32G474_10KHZ`: 170 MHz
+/// timer clock, 40 kHz PWM) at that rate, or PWM at the control rate above 40 kHz. Rates whose PWM
+/// is not an integer multiple are refused.
 pub fn board_timing(rate_hz: f64) -> Result<BoardTiming, String> {
     let control = rate_hz.round();
     if !(control == rate_hz && (1.0..=1e6).contains(&control)) {

@@ -157,14 +157,16 @@ fn torque_to_duty_follows_the_dc_motor_closed_form() {
 #[test]
 fn duty_to_pwm_counts_rounds_and_saturates() {
     assert_eq!(D.duty_to_pwm_counts(0.0), 0);
-    assert_eq!(D.duty_to_pwm_counts(0.5), 4250);
-    assert_eq!(D.duty_to_pwm_counts(-1.0), -8500);
-    assert_eq!(D.duty_to_pwm_counts(1.7), 8500);
-    assert_eq!(D.duty_to_pwm_counts(-f32::INFINITY), -8500);
+    // The board's 40 kHz PWM: 4250 counts per period.
+    assert_eq!(D.pwm_period_counts, 4250);
+    assert_eq!(D.duty_to_pwm_counts(0.5), 2125);
+    assert_eq!(D.duty_to_pwm_counts(-1.0), -4250);
+    assert_eq!(D.duty_to_pwm_counts(1.7), 4250);
+    assert_eq!(D.duty_to_pwm_counts(-f32::INFINITY), -4250);
     assert_eq!(D.duty_to_pwm_counts(f32::NAN), 0);
-    // 1.4 counts rounds down, 1.6 up (1/8500 = 1.1765e-4 per count).
-    assert_eq!(D.duty_to_pwm_counts(1.4 / 8500.0), 1);
-    assert_eq!(D.duty_to_pwm_counts(-1.6 / 8500.0), -2);
+    // 1.4 counts rounds down, 1.6 up (1/4250 = 2.353e-4 per count).
+    assert_eq!(D.duty_to_pwm_counts(1.4 / 4250.0), 1);
+    assert_eq!(D.duty_to_pwm_counts(-1.6 / 4250.0), -2);
 }
 
 fn na_quat(q: Quat) -> UnitQuaternion<f64> {

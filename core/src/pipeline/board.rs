@@ -43,15 +43,18 @@ pub struct BoardTiming {
 }
 
 impl BoardTiming {
-    /// STM32G474 at 170 MHz, 20 kHz PWM (8500 counts per period), 10 kHz control (two PWM periods
-    /// per tick).
+    /// What the firmware runs (`firmware/src/config.rs`): STM32G474 at 170 MHz, 40 kHz PWM
+    /// (4250 counts per period), 10 kHz control (four PWM periods per tick). The low-latency
+    /// output of [`super::output_timing`]: a compare written in the tick's first PWM period acts
+    /// from its second, a quarter tick after the tick's event.
     pub const STM32G474_10KHZ: BoardTiming = BoardTiming {
         timer_clock_hz: 170_000_000,
-        pwm_hz: 20_000,
+        pwm_hz: 40_000,
         control_hz: 10_000,
     };
 
-    /// STM32G474 at 170 MHz, 20 kHz PWM, 20 kHz control (one PWM period per tick).
+    /// STM32G474 at 170 MHz, 40 kHz PWM, 20 kHz control (two PWM periods per tick: the
+    /// compare acts half a tick after the tick's event).
     pub const STM32G474_20KHZ: BoardTiming = BoardTiming {
         control_hz: 20_000,
         ..BoardTiming::STM32G474_10KHZ
@@ -123,9 +126,9 @@ impl BoardTiming {
 
 const _: () = assert!(BoardTiming::STM32G474_10KHZ.is_valid());
 const _: () = assert!(BoardTiming::STM32G474_20KHZ.is_valid());
-const _: () = assert!(BoardTiming::STM32G474_10KHZ.pwm_period_counts() == 8_500);
-const _: () = assert!(BoardTiming::STM32G474_10KHZ.pwm_periods_per_tick() == 2);
-const _: () = assert!(BoardTiming::STM32G474_20KHZ.pwm_periods_per_tick() == 1);
+const _: () = assert!(BoardTiming::STM32G474_10KHZ.pwm_period_counts() == 4_250);
+const _: () = assert!(BoardTiming::STM32G474_10KHZ.pwm_periods_per_tick() == 4);
+const _: () = assert!(BoardTiming::STM32G474_20KHZ.pwm_periods_per_tick() == 2);
 
 #[cfg(test)]
 mod tests {
@@ -134,10 +137,11 @@ mod tests {
     #[test]
     fn g474_figures() {
         let t = BoardTiming::STM32G474_10KHZ;
-        assert_eq!(t.pwm_period_counts(), 8_500);
+        assert_eq!(t.pwm_period_counts(), 4_250);
         assert_eq!(t.tick_period_counts(), 17_000);
-        assert_eq!(t.pwm_periods_per_tick(), 2);
+        assert_eq!(t.pwm_periods_per_tick(), 4);
         assert_eq!(BoardTiming::STM32G474_20KHZ.tick_period_counts(), 8_500);
+        assert_eq!(BoardTiming::STM32G474_20KHZ.pwm_periods_per_tick(), 2);
     }
 
     #[test]

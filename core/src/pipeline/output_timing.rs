@@ -15,19 +15,26 @@
 //! sample-to-output delay is `effect_counts − sample_counts`; in ticks it is the extra delay `d`
 //! of the sampled-wall analysis, whose largest passive wall is about 2b/((1 + 2d)·T).
 //!
-//! **Low-latency output** (what the firmware must do for the delay computed here): trigger the
-//! control tick from the PWM timer's update event (TIM1 update, one tick every
-//! `pwm_periods_per_tick()` PWM periods, e.g. with the repetition counter), read the encoders
-//! first, and write the three compare registers as soon as the duties are known — before
-//! telemetry and statistics. With 40 kHz PWM at 10 kHz control and a compute time under one PWM
-//! period (25 µs) the delay is a quarter tick; with 20 kHz PWM it is half a tick; with the PWM
-//! period equal to the tick it is a full tick.
+//! **Low-latency output** (what the firmware does, `firmware/src/board/stm32g474.rs`): the control
+//! tick starts on a PWM period boundary (`pwm_periods_per_tick()` PWM periods per tick), the
+//! interrupt reads the encoders first and writes the three compare registers as soon as the duties
+//! are known — before telemetry and statistics — and the compare preload loads them at every PWM
+//! period boundary. With the board's 40 kHz PWM ([`BoardTiming::STM32G474_10KHZ`]) and a compute
+//! time under one PWM period (25 µs) the delay is a quarter tick at 10 kHz and half a tick at
+//! 20 kHz ([`BoardTiming::STM32G474_20KHZ`]); with the PWM period equal to the tick it would be a
+//! full tick.
 
 use super::board::BoardTiming;
 
-/// Cycles per instruction assumed for the tick's code executing from CCM SRAM (no flash wait
-/// states): the FP-heavy pipeline has loads, stores, taken branches and a few `VDIV`/`VSQRT`
-/// above one cycle; 1.25 is the middle of the 1.1-1.5 range stated in `mcu-bench/README.md`.
+/// Cycles per instruction assumed for the tick's code executing from CCM SRAM. CCM SRAM has zero
+/// wait states, so no instruction fetch stalls and the Cortex-M4's own timings (ARM DDI 0439,
+/// tables 3-1 and 7-1) set the CPI: ALU, FPU add/multiply and most moves 1 cycle; loads and
+/// `VLDR`/`VSTR` 2 (1 when pipelined back to back); taken branches 2-4; `VFMA`-style
+/// multiply-accumulates 3; `VDIV`/`VSQRT` 14. The FP-heavy pipeline mix lands in the 1.1-1.5
+/// range of `mcu-bench/README.md`; 1.25 is its middle. The delay only changes when the write
+/// crosses a PWM period boundary, so the figure that matters is the margin: the 10 kHz tick's
+/// write stays in its first 40 kHz PWM period up to 4 250 / (sample + pipeline instructions)
+/// cycles per instruction (1.62 for the planned tick), above the range's top.
 pub const CCM_CYCLES_PER_INSTRUCTION: f32 = 1.25;
 
 /// Instructions from the tick's timer event to the encoder sample: interrupt entry (12 cycles of
@@ -37,21 +44,21 @@ pub const SAMPLE_INSTRUCTIONS: u32 = 40;
 /// Instructions of the pipeline tick, an upper bound of those between the sample and the compare
 /// write: `scripts/mcu-bench`'s `pipeline_tick` row (fast backend, passivity stage included:
 /// 2 580 measured). At 1.25 cycles per instruction that is 19.0 µs at 170 MHz. Only whole PWM
-/// periods matter: with 40 kHz PWM any figure up to 3 350 gives the same delay.
+/// periods matter: with 40 kHz PWM any figure up to 3 350 gives the same delay. Measured on the
+/// firmware: `scripts/pil` finds the sample 40 and the compare write at most 3 040 instructions
+/// after the tick event on the emulated board (its link code included), the same PWM period.
 pub const PIPELINE_TICK_INSTRUCTIONS: u32 = 2_580;
 
-/// The low-latency board timings: 40 kHz PWM (4 250 counts per period at 170 MHz), four PWM
-/// periods per 10 kHz tick and two per 20 kHz tick.
-pub const LOW_LATENCY_10KHZ: BoardTiming = BoardTiming {
-    pwm_hz: 40_000,
-    ..BoardTiming::STM32G474_10KHZ
-};
-/// See [`LOW_LATENCY_10KHZ`].
-pub const LOW_LATENCY_20KHZ: BoardTiming = BoardTiming {
-    pwm_hz: 40_000,
-    ..BoardTiming::STM32G474_20KHZ
-};
-const _: () = assert!(LOW_LATENCY_10KHZ.is_valid() && LOW_LATENCY_20KHZ.is_valid());
+/// The cycles per instruction at which a compare write `write_instructions` after the tick's
+/// event reaches the end of the first PWM period of `board`: below it the write is in time for
+/// the second period, at or above it the delay grows by a PWM period. Infinite for 0
+/// instructions; 0 for a zero PWM period.
+pub fn cpi_margin(board: &BoardTiming, write_instructions: u32) -> f32 {
+    if write_instructions == 0 {
+        return f32::INFINITY;
+    }
+    board.pwm_period_counts() as f32 / write_instructions as f32
+}
 
 /// The instants of one tick and the delay they give.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -147,13 +154,14 @@ impl OutputTiming {
 mod tests {
     use super::*;
 
-    const LOW_LATENCY: BoardTiming = LOW_LATENCY_10KHZ;
+    const BOARD_10K: BoardTiming = BoardTiming::STM32G474_10KHZ;
+    const BOARD_20K: BoardTiming = BoardTiming::STM32G474_20KHZ;
 
     #[test]
     fn effect_is_the_next_pwm_period_start_after_the_write() {
         // 40 kHz PWM: 4250 counts. A write at 4249 takes effect at 4250; at 4250 (the boundary
         // itself, too late for that update) at 8500.
-        let b = LOW_LATENCY;
+        let b = BOARD_10K;
         assert!(b.is_valid());
         let t = OutputTiming::new(&b, 50, 4_199);
         assert_eq!((t.write_counts, t.effect_counts), (4_249, 4_250));
@@ -161,50 +169,76 @@ mod tests {
         let t = OutputTiming::new(&b, 50, 4_200);
         assert_eq!(t.effect_counts, 8_500);
         // 20 kHz PWM, 10 kHz control: half a tick for any compute under 50 µs.
-        let t = OutputTiming::new(&BoardTiming::STM32G474_10KHZ, 0, 2_000);
+        let pwm_20k = BoardTiming {
+            pwm_hz: 20_000,
+            ..BOARD_10K
+        };
+        let t = OutputTiming::new(&pwm_20k, 0, 2_000);
         assert_eq!(t.delay_ticks(), 0.5);
         // PWM period = tick: a full tick.
-        let t = OutputTiming::new(&BoardTiming::STM32G474_20KHZ, 0, 2_000);
+        let one_period = BoardTiming {
+            pwm_hz: 20_000,
+            ..BOARD_20K
+        };
+        let t = OutputTiming::new(&one_period, 0, 2_000);
         assert_eq!(t.delay_ticks(), 1.0);
         assert!(t.within_tick());
         // A compute longer than the tick: the delay exceeds a tick.
-        let t = OutputTiming::new(&BoardTiming::STM32G474_20KHZ, 0, 8_500);
+        let t = OutputTiming::new(&one_period, 0, 8_500);
         assert!(!t.within_tick() && t.delay_ticks() == 2.0);
     }
 
-    /// The measured pipeline tick fits the first 40 kHz PWM period: a quarter tick at 10 kHz,
-    /// half a tick at 20 kHz (less the sample instant). Fails when the tick outgrows 25 µs.
+    /// The firmware's timing, derived from the board constants: the compare acts one PWM period
+    /// after the tick's event, i.e. 1 / pwm_periods_per_tick of a tick (a quarter at 10 kHz,
+    /// half at 20 kHz) less the sample instant. Fails when the planned tick outgrows 25 µs or a
+    /// board constant changes the PWM multiple.
     #[test]
     fn planned_tick_fits_the_first_pwm_period() {
-        for (b, ticks) in [(LOW_LATENCY_10KHZ, 0.25f32), (LOW_LATENCY_20KHZ, 0.5)] {
+        for b in [BOARD_10K, BOARD_20K] {
             let t = OutputTiming::planned(&b);
-            assert_eq!(t.effect_counts, 4_250);
-            assert!(t.write_counts < 4_250 && t.within_tick());
-            assert!(
-                (t.delay_ticks() - ticks).abs() < 0.01,
-                "{}",
-                t.delay_ticks()
-            );
+            assert_eq!(t.effect_counts, b.pwm_period_counts());
+            assert!(t.write_counts < b.pwm_period_counts() && t.within_tick());
+            let expected =
+                (b.pwm_period_counts() - t.sample_counts) as f32 / b.tick_period_counts() as f32;
+            assert_eq!(t.delay_ticks(), expected);
+            let quarter_or_half = 1.0 / b.pwm_periods_per_tick() as f32;
+            assert!((t.delay_ticks() - quarter_or_half).abs() < 0.01);
         }
-        // On today's 20 kHz PWM the same tick waits half a 10 kHz tick.
-        let t = OutputTiming::planned(&BoardTiming::STM32G474_10KHZ);
-        assert_eq!(t.effect_counts, 8_500);
+        assert_eq!(BOARD_10K.pwm_periods_per_tick(), 4);
+        assert_eq!(BOARD_20K.pwm_periods_per_tick(), 2);
+    }
+
+    /// The CPI margin of the planned tick: 4250 / (40 + 2580) = 1.622; just below it the write
+    /// is in time for the second PWM period, at it the delay grows by a PWM period.
+    #[test]
+    fn cpi_margin_is_the_edge_of_the_first_pwm_period() {
+        let n = SAMPLE_INSTRUCTIONS + PIPELINE_TICK_INSTRUCTIONS;
+        let m = cpi_margin(&BOARD_10K, n);
+        assert!((m - 4_250.0 / 2_620.0).abs() < 1e-6, "{m}");
+        let at = |cpi: f32| OutputTiming::new(&BOARD_10K, 0, (n as f32 * cpi) as u32);
+        assert_eq!(at(0.999 * m).effect_counts, 4_250);
+        assert_eq!(at(m).effect_counts, 8_500);
+        assert!(
+            m > 1.5,
+            "the planned tick must fit at the top of the 1.1-1.5 range"
+        );
+        assert_eq!(cpi_margin(&BOARD_10K, 0), f32::INFINITY);
     }
 
     #[test]
     fn from_instructions_uses_the_stated_cpi() {
         // 2000 instructions × 1.25 = 2500 cycles = 14.7 µs at 170 MHz: under 25 µs, so a
         // quarter tick at 40 kHz PWM less the 51-count sample instant.
-        let t = OutputTiming::from_instructions(&LOW_LATENCY, 2_000, CCM_CYCLES_PER_INSTRUCTION);
+        let t = OutputTiming::from_instructions(&BOARD_10K, 2_000, CCM_CYCLES_PER_INSTRUCTION);
         assert_eq!(t.sample_counts, 51);
         assert_eq!(t.write_counts, 51 + 2_501);
         assert_eq!(t.effect_counts, 4_250);
         assert!((t.delay_ticks() - (4_250.0 - 51.0) / 17_000.0).abs() < 1e-7);
         // 3400 instructions × 1.25 = 4250 cycles: the write misses the first PWM period.
-        let t = OutputTiming::from_instructions(&LOW_LATENCY, 3_400, CCM_CYCLES_PER_INSTRUCTION);
+        let t = OutputTiming::from_instructions(&BOARD_10K, 3_400, CCM_CYCLES_PER_INSTRUCTION);
         assert_eq!(t.effect_counts, 8_500);
         // A bad CPI falls back to 1.5.
-        let t = OutputTiming::from_instructions(&LOW_LATENCY, 1_000, f32::NAN);
+        let t = OutputTiming::from_instructions(&BOARD_10K, 1_000, f32::NAN);
         assert_eq!(t.sample_counts, 61);
     }
 }

@@ -12,7 +12,7 @@ use proptest::prelude::*;
 use std::vec::Vec;
 
 const RATE: u32 = 10_000;
-const FULL_SCALE: u16 = 8_500;
+const FULL_SCALE: u16 = BoardTiming::STM32G474_10KHZ.pwm_period_counts() as u16;
 
 fn pipeline_with(plane_z_m: f32) -> Pipeline<Libm> {
     let cfg = PipelineConfig::plane(OMEGA_LIKE, BoardTiming::STM32G474_10KHZ, plane_z_m);

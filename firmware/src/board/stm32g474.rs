@@ -5,6 +5,18 @@
 //!
 //! The hot path (encoder reads, bridge writes) uses single register accesses through the
 //! stm32-metapac register API: one volatile access each, no bounds checks, no lock.
+//!
+//! **Output timing** (`softfinger_core::pipeline::output_timing`): TIM1 runs the shared board
+//! timing's 40 kHz PWM with its compares preloaded and an update event at *every* PWM period
+//! (repetition counter 0), so a compare written during a PWM period acts from the next one. The
+//! control tick is TIM6's update, on the same 170 MHz clock and started with TIM1 from 0
+//! ([`start_tick`]), so every tick event is a PWM period boundary (four PWM periods per 10 kHz
+//! tick). The interrupt reads the encoders first and writes the compares right after the
+//! pipeline; the tick's write lands in its first PWM period, so the force acts 25 µs after the
+//! event. TIM1's own update interrupt with a repetition counter of 3 cannot be the tick: the
+//! repetition counter also gates the preload transfer (RM0440, "Repetition counter": the preload
+//! registers, CCRx included, are transferred only at the update event, every RCR + 1 periods), so
+//! the compare would act from the next tick, a full tick late.
 
 use embassy_stm32::exti::{self, ExtiInput};
 use embassy_stm32::gpio::{AnyPin, Level, Output, OutputType, Pull, Speed};
@@ -439,8 +451,9 @@ pub fn prepare_core(nvic: &mut cortex_m::peripheral::NVIC) {
 
 /// After `embassy_stm32::init`: flash prefetch on (with the instruction and data caches), the
 /// core's LOCKUP output onto TIM1's break (a fault inside the HardFault handler locks the core up;
-/// the PWM outputs then cut in hardware), and the HAL's interrupts between the tick (P0) and thread
-/// mode.
+/// the PWM outputs then cut in hardware), and the interrupt priorities (DMA's is in
+/// `hal_config`): the tick (TIM6, P0, still masked), then the HAL's interrupts between it and
+/// thread mode.
 pub fn after_hal_init() {
     // Write-once until reset. SYSCFG's clock is on (embassy_stm32::init enables it).
     pac::SYSCFG.cfgr2().modify(|w| w.set_cll(true));
@@ -450,19 +463,20 @@ pub fn after_hal_init() {
         w.set_dcen(true);
     });
     use embassy_stm32::interrupt::{InterruptExt, Priority};
+    interrupt::TIM6_DAC.set_priority(Priority::P0); // the control tick (unmasked by start_tick)
     interrupt::TIM1_BRK_TIM15.set_priority(Priority::P2); // embassy-time driver (TIM15)
     interrupt::EXTI15_10.set_priority(Priority::P3); // B1
 }
 
-/// Hand the loop to the TIM6 interrupt and start it: highest priority, the watchdog, then TIM1
+/// Hand the loop to the TIM6 interrupt (priority 0, set in [`after_hal_init`] with every other
+/// interrupt priority) and start it: the watchdog, then TIM1
 /// and TIM6 restarted together from 0, so every tick event is a PWM period boundary (the shared
-/// board timing's convention: both count the same 170 MHz clock, 8500 and 17 000 counts per
+/// board timing's convention: both count the same 170 MHz clock, 4250 and 17 000 counts per
 /// period, so once aligned they stay aligned), then unmask. Returns TIM1's count minus TIM6's,
 /// read back to back right after the start (the start skew plus the spacing of the two reads,
 /// a few counts). A second call is refused.
 pub fn start_tick(mut control: ControlLoop<Stm32Control>) -> Result<i32, AlreadyStarted> {
-    use embassy_stm32::interrupt::{InterruptExt, Priority};
-    interrupt::TIM6_DAC.set_priority(Priority::P0);
+    use embassy_stm32::interrupt::InterruptExt;
     control.hw_mut().watchdog.unleash();
     CONTROL.install(control).map_err(|_| AlreadyStarted)?;
 

@@ -445,6 +445,7 @@ fn summarize(
         contact_state_s_in_process: report::state_time(
             reference.ticks.iter().map(|r| (r.state.name(), dt)),
         ),
+        output: report::OutputReport::of(trace, &s.timing),
         fault: fault.clone(),
     };
     fault.handled = judge(&summary, s);
@@ -485,6 +486,7 @@ fn check(summary: &Summary, budget: Option<&Path>) -> Result<(), String> {
             summary.max_duty_diff
         ));
     }
+    failures.extend(summary.output.failure());
     if !summary.fault.handled {
         failures.push(format!("fault {:?} not handled", summary.fault.name));
     }

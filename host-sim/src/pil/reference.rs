@@ -2,11 +2,16 @@
 //! firmware's configuration), the same plant, the same operator session and the same plant-side
 //! faults, tick by tick. The f32 operations are the same on both sides (Rust never contracts
 //! a·b+c into an FMA unless asked), so the bridge commands should agree to the bit.
+//!
+//! Output timing: the compares load at the PWM boundary the firmware's planned tick reaches
+//! (`OutputTiming::planned`: the first boundary after the tick event), which is where the board's
+//! do load as long as its writes land in the first PWM period (`pil --check` holds it to that).
 
 use super::operator::Operator;
 use super::session::Settings;
 use crate::plant::Plant;
 use softfinger_core::contact_state::ContactState;
+use softfinger_core::pipeline::output_timing::OutputTiming;
 use softfinger_core::pipeline::{BridgeCommands, Mode, Pipeline, PipelineConfig, RawInput};
 use softfinger_core::surface::Plane;
 use softfinger_core::Fast;
@@ -29,6 +34,8 @@ pub struct RefRun {
 pub fn run(plant: &Plant, config: PipelineConfig<Plane>, s: &Settings) -> Result<RefRun, String> {
     let mut plant = plant.clone();
     let timing = config.timing;
+    let planned = OutputTiming::planned(&timing);
+    let load_after = planned.effect_counts / planned.pwm_counts.max(1);
     let mut pipe = Pipeline::<Fast>::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
     plant.step_bridges(&BridgeCommands::OFF, &timing);
     let mut op = Operator::new(s.rate_hz());
@@ -51,7 +58,7 @@ pub fn run(plant: &Plant, config: PipelineConfig<Plane>, s: &Settings) -> Result
                 .edit_sample(k, s.fault_tick(op.scene_start()), &mut raw);
         }
         let out = pipe.tick(&raw);
-        plant.step_bridges(&out.bridges, &timing);
+        plant.step_bridges_loading_after(&out.bridges, &timing, load_after);
         if let Some(c) = command {
             // A refusal is the pipeline's answer, as on the board.
             let _ = pipe.command(c);

@@ -6,6 +6,8 @@ use super::reference::RefTick;
 use super::session::Trace;
 use super::wire::{enabled, signed_compare};
 use serde::Serialize;
+use softfinger_core::pipeline::output_timing::{OutputTiming, CCM_CYCLES_PER_INSTRUCTION};
+use softfinger_core::pipeline::BoardTiming;
 use std::collections::BTreeMap;
 
 /// Keys of the board's end-of-run figures (`Report` messages), in the board's order.
@@ -54,7 +56,96 @@ pub struct Summary {
     pub contact_state_s: BTreeMap<String, f64>,
     /// Seconds in each contact state in the in-process run (every tick).
     pub contact_state_s_in_process: BTreeMap<String, f64>,
+    pub output: OutputReport,
     pub fault: FaultReport,
+}
+
+/// Sample-to-output delay per tick, measured: encoder sample (the `Sense` message) to the PWM
+/// period boundary after the compare write (the `Drive` message) that loads it, both from the
+/// board's instruction count at `cycles_per_instruction` (see `session`).
+#[derive(Clone, Debug, Serialize)]
+pub struct OutputReport {
+    pub pwm_hz: u32,
+    pub pwm_periods_per_tick: u32,
+    /// Cycles per instruction of the tick's code in CCM SRAM (170 MHz timer clock).
+    pub cycles_per_instruction: f32,
+    /// Ticks measured (sample and write in the same period).
+    pub ticks: usize,
+    /// Latest sample and compare write after the tick event, instructions.
+    pub max_sample_instructions: u64,
+    pub max_write_instructions: u64,
+    /// Cycles per instruction at which the latest write would miss the first PWM period.
+    pub cpi_margin: f64,
+    /// Sample-to-output delay over the measured ticks, µs and fraction of the tick.
+    pub min_delay_us: f64,
+    pub max_delay_us: f64,
+    pub min_delay_ticks: f64,
+    pub max_delay_ticks: f64,
+    /// The delay the in-process run and `host-sim stability` assume (`OutputTiming::planned`).
+    pub planned_delay_ticks: f64,
+    /// Ticks whose compare loaded later than the planned boundary.
+    pub late_ticks: usize,
+}
+
+impl OutputReport {
+    /// The figures of `trace` on `timing`.
+    pub fn of(trace: &Trace, timing: &BoardTiming) -> OutputReport {
+        let planned = OutputTiming::planned(timing);
+        let us = |counts: u32| f64::from(counts) * 1e6 / f64::from(timing.timer_clock_hz.max(1));
+        let delays = trace.output.iter().map(|t| t.delay_counts());
+        let (min, max) = (delays.clone().min().unwrap_or(0), delays.max().unwrap_or(0));
+        let tick = f64::from(timing.tick_period_counts().max(1));
+        OutputReport {
+            pwm_hz: timing.pwm_hz,
+            pwm_periods_per_tick: timing.pwm_periods_per_tick(),
+            cycles_per_instruction: CCM_CYCLES_PER_INSTRUCTION,
+            ticks: trace.output.len(),
+            max_sample_instructions: trace.max_sample_instructions,
+            max_write_instructions: trace.max_write_instructions,
+            cpi_margin: f64::from(timing.pwm_period_counts())
+                / trace.max_write_instructions.max(1) as f64,
+            min_delay_us: us(min),
+            max_delay_us: us(max),
+            min_delay_ticks: f64::from(min) / tick,
+            max_delay_ticks: f64::from(max) / tick,
+            planned_delay_ticks: f64::from(planned.delay_ticks()),
+            late_ticks: trace
+                .output
+                .iter()
+                .filter(|t| t.effect_counts > planned.effect_counts)
+                .count(),
+        }
+    }
+
+    /// `--check`'s failure: no tick measured, or a compare loaded later than planned.
+    pub fn failure(&self) -> Option<String> {
+        (self.ticks == 0 || self.late_ticks > 0).then(|| {
+            format!(
+                "{} of {} ticks' compares loaded after the planned PWM boundary",
+                self.late_ticks, self.ticks
+            )
+        })
+    }
+
+    fn print(&self) {
+        println!(
+            "  sample to output ({} ticks, {} Hz PWM, {} periods per tick, {} cycles/instr in CCM): \
+             {:.2}..{:.2} µs = {:.3}..{:.3} of a tick (planned {:.3}); latest write {} instr \
+             (first PWM period held up to {:.2} cycles/instr), {} late",
+            self.ticks,
+            self.pwm_hz,
+            self.pwm_periods_per_tick,
+            self.cycles_per_instruction,
+            self.min_delay_us,
+            self.max_delay_us,
+            self.min_delay_ticks,
+            self.max_delay_ticks,
+            self.planned_delay_ticks,
+            self.max_write_instructions,
+            self.cpi_margin,
+            self.late_ticks
+        );
+    }
 }
 
 /// What the plant saw of the injected fault.
@@ -168,6 +259,7 @@ impl Summary {
             self.telemetry_records,
             self.telemetry_drops
         );
+        self.output.print();
         println!("  watchdog resets {}", self.watchdog_resets);
         let states: Vec<String> = self
             .contact_state_s

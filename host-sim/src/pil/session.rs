@@ -10,12 +10,19 @@
 //!
 //! Ticks: the tick timer's first event ends period 0; tick k samples in period k+1. The operator
 //! ([`Operator`]) acts before each sample; the run stops `scene_ticks` after the scene starts.
+//!
+//! Output timing: the compares a tick writes load at the first PWM period boundary after the
+//! write (`softfinger_core::pipeline::output_timing`). The write instant is the `Drive` message's
+//! offset from the tick event (the period start), in instructions (5 per 25 MHz count under
+//! `-icount shift=3`) at [`CCM_CYCLES_PER_INSTRUCTION`] cycles each of the 170 MHz timer clock;
+//! the sample instant is the `Sense` message's. Each tick's [`OutputTiming`] is kept.
 
 use super::faults::Fault;
 use super::operator::{command_code, Operator};
 use super::qemu::Emulator;
 use super::wire::{self, Message};
 use crate::plant::Plant;
+use softfinger_core::pipeline::output_timing::{OutputTiming, CCM_CYCLES_PER_INSTRUCTION};
 use softfinger_core::pipeline::{BoardTiming, BridgeCommands, Mode, RawInput};
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -39,6 +46,12 @@ pub struct Trace {
     pub scene_start: Option<u64>,
     /// Homing did not finish in time.
     pub homing_timed_out: bool,
+    /// Per tick that sampled and wrote in the same period: its sample-to-output timing, in
+    /// 170 MHz timer counts from the tick event.
+    pub output: Vec<OutputTiming>,
+    /// Largest sample and write instants, instructions after the tick event.
+    pub max_sample_instructions: u64,
+    pub max_write_instructions: u64,
 }
 
 /// The run's settings.
@@ -74,6 +87,15 @@ fn period_counts(rate_hz: u32) -> u64 {
     25_000_000 / u64::from(rate_hz)
 }
 
+/// Guest instructions per 25 MHz board count (`-icount shift=3`: 8 ns per instruction).
+pub const INSTRUCTIONS_PER_BOARD_COUNT: u64 = 5;
+
+/// Instructions at [`CCM_CYCLES_PER_INSTRUCTION`] in 170 MHz timer counts (rounded up).
+pub fn instructions_to_timer_counts(instructions: u64) -> u32 {
+    let c = (instructions as f64 * f64::from(CCM_CYCLES_PER_INSTRUCTION)).ceil();
+    c.min(f64::from(u32::MAX)) as u32
+}
+
 struct Lockstep<'a> {
     plant: Plant,
     s: &'a Settings,
@@ -89,6 +111,10 @@ struct Lockstep<'a> {
     /// When a reset is pending: the absolute time it happens.
     reset_at: Option<u64>,
     pins: BridgeCommands,
+    /// PWM periods from the current period's start to the load of `pins`' compares.
+    load_after: u32,
+    /// This period's sample instant, instructions after the tick event: (period, instructions).
+    sampled: Option<(u64, u64)>,
     trace: Trace,
 }
 
@@ -96,8 +122,42 @@ impl Lockstep<'_> {
     fn advance_to(&mut self, target: u64) {
         while self.period < target {
             self.trace.pins.push(self.pins);
-            self.plant.step_bridges(&self.pins, &self.s.timing);
+            self.plant
+                .step_bridges_loading_after(&self.pins, &self.s.timing, self.load_after);
+            // Loaded by the end of the step: a later period's step reloads the same values.
+            self.load_after = 1;
             self.period += 1;
+        }
+    }
+
+    /// (period, instructions after its tick event) of an absolute board time.
+    fn instant(&self, absolute: u64) -> (u64, u64) {
+        let per = period_counts(self.s.rate_hz());
+        (
+            absolute / per,
+            absolute % per * INSTRUCTIONS_PER_BOARD_COUNT,
+        )
+    }
+
+    /// New bridge commands at `absolute` board time: their compares load at the first PWM
+    /// boundary after the write; a tick that sampled in this period gets its output timing.
+    fn drive(&mut self, b: BridgeCommands, absolute: u64) {
+        self.pins = b;
+        let (period, write) = self.instant(absolute);
+        // No sample in this period (a fault handler's write): timing from the event.
+        let sampled = self.sampled.take().filter(|(p, _)| *p == period);
+        let sample = sampled.map_or(0, |(_, i)| i);
+        let t = OutputTiming::new(
+            &self.s.timing,
+            instructions_to_timer_counts(sample),
+            instructions_to_timer_counts(write)
+                .saturating_sub(instructions_to_timer_counts(sample)),
+        );
+        self.load_after = t.effect_counts / t.pwm_counts.max(1);
+        if sampled.is_some() {
+            self.trace.output.push(t);
+            self.trace.max_sample_instructions = self.trace.max_sample_instructions.max(sample);
+            self.trace.max_write_instructions = self.trace.max_write_instructions.max(write);
         }
     }
 
@@ -159,6 +219,8 @@ pub fn run_with_link(
         base: 0,
         reset_at: None,
         pins: BridgeCommands::OFF,
+        load_after: 1,
+        sampled: None,
         trace: Trace::default(),
     };
     let mut booted = false;
@@ -181,10 +243,11 @@ pub fn run_with_link(
         match st.message {
             Message::Hello { .. } => {}
             Message::Sense { mode } => {
+                l.sampled = Some(l.instant(l.base + st.time_counts));
                 let r = l.sense_reply(mode);
                 emu.reply(&r)?;
             }
-            Message::Drive(b) => l.pins = b,
+            Message::Drive(b) => l.drive(b, l.base + st.time_counts),
             Message::Report { key, value } => {
                 l.trace.reports.insert(key, value);
             }

@@ -3,10 +3,11 @@
 
 use super::faults::Fault;
 use super::reference::RefTick;
-use super::report::{self, FaultReport, Summary};
-use super::session::Trace;
+use super::report::{self, FaultReport, OutputReport, Summary};
+use super::session::{instructions_to_timer_counts, Trace};
 use softfinger_core::contact_state::ContactState;
-use softfinger_core::pipeline::{BridgeCommands, Mode};
+use softfinger_core::pipeline::output_timing::OutputTiming;
+use softfinger_core::pipeline::{BoardTiming, BridgeCommands, Mode};
 use std::collections::BTreeMap;
 
 fn on(compare: u16) -> BridgeCommands {
@@ -109,6 +110,7 @@ fn summary(max_tick: u32, latency: u32) -> Summary {
         watchdog_resets: 0,
         contact_state_s: BTreeMap::new(),
         contact_state_s_in_process: BTreeMap::new(),
+        output: OutputReport::of(&timed_trace(&[3_000]), &BoardTiming::STM32G474_10KHZ),
         fault: FaultReport {
             name: Fault::None,
             at_tick: None,
@@ -154,4 +156,46 @@ fn check_fails_just_above_the_budget_and_on_any_difference_or_overrun() {
         .unwrap_err()
         .contains("no baseline"));
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A trace whose ticks sampled 50 counts after the event and wrote at `write_counts`.
+fn timed_trace(write_counts: &[u32]) -> Trace {
+    let b = BoardTiming::STM32G474_10KHZ;
+    Trace {
+        output: write_counts
+            .iter()
+            .map(|&w| OutputTiming::new(&b, 50, w - 50))
+            .collect(),
+        max_sample_instructions: 40,
+        max_write_instructions: 2_000,
+        ..Trace::default()
+    }
+}
+
+#[test]
+fn output_report_measures_the_delay_and_fails_a_late_load() {
+    let b = BoardTiming::STM32G474_10KHZ;
+    // 2000 instructions at 1.25 cycles: 2500 counts of the 170 MHz timer clock.
+    assert_eq!(instructions_to_timer_counts(2_000), 2_500);
+    assert_eq!(instructions_to_timer_counts(1), 2);
+    // Writes up to 4249 counts load at the first 40 kHz boundary (4250): 4200 counts after the
+    // sample, 24.71 µs, 0.247 of the 17 000-count tick.
+    let r = OutputReport::of(&timed_trace(&[3_000, 4_249]), &b);
+    assert_eq!((r.ticks, r.late_ticks, r.pwm_periods_per_tick), (2, 0, 4));
+    assert!((r.max_delay_us - 4_200.0 / 170.0).abs() < 1e-9, "{r:?}");
+    assert!((r.max_delay_ticks - 4_200.0 / 17_000.0).abs() < 1e-12);
+    assert_eq!(r.min_delay_us, r.max_delay_us);
+    assert!((r.cpi_margin - 4_250.0 / 2_000.0).abs() < 1e-12);
+    assert!(r.failure().is_none());
+    // At 4250 the write misses that boundary: late, and --check fails.
+    let r = OutputReport::of(&timed_trace(&[3_000, 4_250]), &b);
+    assert_eq!(r.late_ticks, 1);
+    assert!((r.max_delay_ticks - 8_450.0 / 17_000.0).abs() < 1e-12);
+    let mut s = summary(1000, 5);
+    assert!(super::check(&s, None).is_ok());
+    s.output = r;
+    let e = super::check(&s, None).unwrap_err();
+    assert!(e.contains("1 of 2 ticks' compares"), "{e}");
+    // No measured tick fails too.
+    assert!(OutputReport::of(&Trace::default(), &b).failure().is_some());
 }

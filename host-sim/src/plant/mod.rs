@@ -191,25 +191,54 @@ impl Plant {
     /// enable and sleep act at once, the compares from the first PWM period boundary of the tick
     /// (`timing`'s PWM period; at the tick's end when the tick is one PWM period).
     pub fn step_bridges(&mut self, commands: &BridgeCommands, timing: &BoardTiming) {
+        self.step_bridges_loading_after(commands, timing, 1);
+    }
+
+    /// [`Self::step_bridges`] with the compares loaded at the start of PWM period
+    /// `pwm_periods` of the tick (≥ 1; 1 is the first boundary): a write that missed the first
+    /// boundary acts from a later one. At or beyond the tick's end the compares load at its end.
+    pub fn step_bridges_loading_after(
+        &mut self,
+        commands: &BridgeCommands,
+        timing: &BoardTiming,
+        pwm_periods: u32,
+    ) {
         let dt = 1.0 / f64::from(timing.control_hz.max(1));
-        let pwm_s = 1.0 / f64::from(timing.pwm_hz.max(1));
+        let pwm_s = f64::from(pwm_periods.max(1)) / f64::from(timing.pwm_hz.max(1));
         let full_scale = timing.pwm_period_counts().min(u32::from(u16::MAX)) as u16;
         self.bridge.write(commands);
         let n = self.params.substeps;
         let h = dt / n as f64;
-        // First sub-step starting at or after the boundary (a small tolerance for rounding).
-        let boundary = ((pwm_s / h) - 1e-9).ceil().max(1.0) as u32;
+        // The boundary, in sub-steps from the tick's start; the sub-step it falls inside is split
+        // there (a small tolerance for rounding: a boundary within 1e-9 of a sub-step's edge is
+        // that edge).
+        let at = pwm_s / h;
         let t0 = self.time_s;
+        let mut loaded = false;
         for k in 0..n {
-            if k == boundary {
+            let start = f64::from(k);
+            let mut pieces = [(start, 1.0), (0.0, 0.0)];
+            if !loaded && at <= start + 1e-9 {
                 self.bridge.load();
+                loaded = true;
+            } else if !loaded && at < start + 1.0 - 1e-9 {
+                pieces = [(start, at - start), (at, start + 1.0 - at)];
             }
-            self.applied = self.bridge.applied(full_scale);
-            self.bridge.note(h);
-            self.time_s = t0 + k as f64 * h;
-            self.substep(h);
+            for (i, (from, length)) in pieces.into_iter().enumerate() {
+                if length <= 0.0 {
+                    continue;
+                }
+                if i == 1 {
+                    self.bridge.load();
+                    loaded = true;
+                }
+                self.applied = self.bridge.applied(full_scale);
+                self.bridge.note(length * h);
+                self.time_s = t0 + from * h;
+                self.substep(length * h);
+            }
         }
-        if boundary >= n {
+        if !loaded {
             self.bridge.load();
         }
         self.time_s = t0 + dt;

@@ -228,10 +228,11 @@ mod tests {
     #[test]
     fn duties_are_quantised_to_the_timer_and_delayed_by_one_tick() {
         let d = DeviceParams::OMEGA_LIKE;
-        // 8500 counts per period: 0.1 + 0.4 count rounds down to 850/8500 exactly,
-        // -0.3 - 0.6 count rounds to -2551/8500, 2.0 saturates.
-        let cmd = DriveCommand::quantized(&d, [0.1 + 0.4 / 8500.0, -0.3 - 0.6 / 8500.0, 2.0], true);
-        assert_eq!(cmd.duties, [850.0 / 8500.0, -2551.0 / 8500.0, 1.0]);
+        // 4250 counts per period (40 kHz): 0.1 + 0.4 count rounds down to 425/4250 exactly,
+        // -0.3 - 0.6 count rounds to -1276/4250, 2.0 saturates.
+        assert_eq!(d.pwm_period_counts, 4250);
+        let cmd = DriveCommand::quantized(&d, [0.1 + 0.4 / 4250.0, -0.3 - 0.6 / 4250.0, 2.0], true);
+        assert_eq!(cmd.duties, [425.0 / 4250.0, -1276.0 / 4250.0, 1.0]);
         let mut latch = OutputLatch::new();
         assert_eq!(latch.shift(cmd), DriveCommand::IDLE);
         let next = DriveCommand::quantized(&d, [0.0; 3], false);

@@ -112,7 +112,7 @@ fn constant_duty_reaches_the_dc_motor_steady_speed() {
         ..PlantParams::OMEGA_LIKE.without_hand().without_gravity()
     };
     let mut p = plant(params, HandScript::hold(pose([0.3; 3])));
-    let duty = 0.03f32; // 255/8500 exactly: no quantisation error
+    let duty = 0.04f32; // 170/4250 exactly: no quantisation error
     run(&mut p, [duty, 0.0, 0.0], 0.2);
     let m = D.motor;
     let (kt, ke, r, n) = (
@@ -121,7 +121,7 @@ fn constant_duty_reaches_the_dc_motor_steady_speed() {
         m.resistance_ohm as f64,
         m.capstan_ratio as f64,
     );
-    let volts = 0.03 * D.supply_v as f64;
+    let volts = 0.04 * D.supply_v as f64;
     let (tc, bv) = (
         params.coulomb_friction_nm,
         params.viscous_friction_nm_s_per_rad,
@@ -319,4 +319,43 @@ fn the_arm_stops_hold_a_runaway_drive() {
         );
         assert!(t.arm_velocities_rad_s[k].abs() < 1e-3);
     }
+}
+
+/// The compares load at the PWM boundary asked for (40 kHz PWM at 10 kHz: four periods per tick):
+/// loaded after one period the duty drives the winding for 75 µs of the tick, after two for
+/// 50 µs, after four (the tick's end) not at all. The load after one period is `step_bridges`, and
+/// it matches the continuous delay model (`step_with_output_delay` at 0.25 tick).
+#[test]
+fn compares_load_at_the_asked_pwm_boundary() {
+    let params = PlantParams::OMEGA_LIKE.without_hand().without_gravity();
+    let timing = BoardTiming::STM32G474_10KHZ;
+    let cmd = BridgeCommands {
+        phase_forward: [true; 3],
+        compare: [2_125, 0, 0],
+        pwm_enable: true,
+        driver_awake: true,
+    };
+    let fresh = || plant(params, HandScript::hold(pose([0.5; 3])));
+    let current = |periods| {
+        let mut p = fresh();
+        p.step_bridges_loading_after(&cmd, &timing, periods);
+        p.truth().motor_currents_a[0]
+    };
+    let (i1, i2, i4) = (current(1), current(2), current(4));
+    assert_eq!(i4, 0.0);
+    // RL rise with τ = L/R = 0.24 mH / 2.18 Ω = 110 µs, the arm still at rest to first order:
+    // i(50 µs) / i(75 µs) = (1 − e^(−50/110)) / (1 − e^(−75/110)).
+    let tau = PlantParams::OMEGA_LIKE.motor_inductance_h / 2.18;
+    let ratio = (1.0 - (-50e-6 / tau).exp()) / (1.0 - (-75e-6 / tau).exp());
+    assert!(
+        i1 > 0.0 && (i2 / i1 - ratio).abs() < 0.01,
+        "{i1} {i2} {ratio}"
+    );
+    let mut p = fresh();
+    p.step_bridges(&cmd, &timing);
+    assert_eq!(p.truth().motor_currents_a[0], i1);
+    let mut q = fresh();
+    q.step_with_output_delay([0.5, 0.0, 0.0], true, DT, 0.25);
+    let iq = q.truth().motor_currents_a[0];
+    assert!(((iq - i1) / i1).abs() < 0.01, "{iq} vs {i1}");
 }

@@ -17,7 +17,9 @@
 //!
 //! **Diagnostic.** Every figure is also computed with the winding inductance made negligible
 //! ([`NEGLIGIBLE_INDUCTANCE_H`]): the current then follows the duty at once, and what remains is
-//! the sampled loop of the model in [`super::haptic`].
+//! the sampled loop of the model in [`super::haptic`]. The 3x wall is also run at the same K with
+//! the negligible winding and with a [`FINE_ENCODER_FACTOR`]× finer motor encoder (controller and
+//! plant), separating the winding lag from the encoder's quantisation.
 
 use crate::closed_loop;
 use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
@@ -60,6 +62,9 @@ pub struct DeviceLoop {
     /// Motor winding inductance, H (the plant's 0.24 mH; a near-zero value isolates the
     /// electrical lag).
     pub inductance_h: f64,
+    /// Motor encoder counts per motor turn, controller and plant (the device's 4096; a finer
+    /// encoder isolates the quantisation).
+    pub motor_counts_per_rev: u32,
 }
 
 fn script() -> HandScript {
@@ -74,15 +79,25 @@ fn script() -> HandScript {
     )
 }
 
-/// One run with wall stiffness `k` (N/m).
-pub fn run(l: &DeviceLoop, k: f64) -> Result<DeviceOutcome, String> {
+/// Run the wall of stiffness `k` (N/m) for `seconds`, calling `each(t, z, |force|)` after every
+/// tick with the effector height z (plant truth, m) and the rendered force (N).
+fn simulate(
+    l: &DeviceLoop,
+    k: f64,
+    seconds: f64,
+    mut each: impl FnMut(f64, f64, f64),
+) -> Result<u64, String> {
     let contact = ContactParams {
         normal_stiffness: k as f32,
         normal_damping: 0.0,
         ..ContactParams::DEFAULT
     };
+    // Controller and plant read the same (possibly finer) motor encoder.
+    let mut device = DeviceParams::OMEGA_LIKE;
+    device.motor_encoder_counts_per_rev = l.motor_counts_per_rev;
     let config = ControllerConfig {
         rate_hz: l.rate_hz as f32,
+        device,
         contact,
         object_origin_m: Vec3::new(0.0, 0.0, closed_loop::surface_top_z_m() as f32),
         ..ControllerConfig::default_plane()
@@ -99,12 +114,10 @@ pub fn run(l: &DeviceLoop, k: f64) -> Result<DeviceOutcome, String> {
         motor_inductance_h: l.inductance_h,
         ..PlantParams::OMEGA_LIKE
     };
-    let mut plant = Plant::new(DeviceParams::OMEGA_LIKE, params, script())
-        .map_err(|e| format!("plant: {e:?}"))?;
+    let mut plant = Plant::new(device, params, script()).map_err(|e| format!("plant: {e:?}"))?;
     let dt = 1.0 / l.rate_hz;
-    let ticks = (RUN_S * l.rate_hz).round() as u64;
-    let (mut early, mut late) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));
-    let (mut peak, mut damped) = (0.0f64, 0u64);
+    let ticks = (seconds * l.rate_hz).round() as u64;
+    let mut damped = 0u64;
     for i in 0..ticks {
         let out = ctrl.tick(&TickInput {
             counts: plant.counts(),
@@ -114,8 +127,17 @@ pub fn run(l: &DeviceLoop, k: f64) -> Result<DeviceOutcome, String> {
             damped += 1;
         }
         plant.step_with_output_delay(out.duties, out.enable, dt, l.delay_ticks);
-        let t = (i + 1) as f64 * dt;
-        let z = plant.effector_position_m()[2];
+        let force = f64::from(out.force_n.norm_squared()).sqrt();
+        each((i + 1) as f64 * dt, plant.effector_position_m()[2], force);
+    }
+    Ok(damped)
+}
+
+/// One run with wall stiffness `k` (N/m).
+pub fn run(l: &DeviceLoop, k: f64) -> Result<DeviceOutcome, String> {
+    let (mut early, mut late) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));
+    let mut peak = 0.0f64;
+    let damped = simulate(l, k, RUN_S, |t, z, force| {
         let win = if (0.35..0.45).contains(&t) {
             Some(&mut early)
         } else if t >= RUN_S - 0.1 {
@@ -126,8 +148,8 @@ pub fn run(l: &DeviceLoop, k: f64) -> Result<DeviceOutcome, String> {
         if let Some(w) = win {
             *w = (w.0.min(z), w.1.max(z));
         }
-        peak = peak.max(f64::from(out.force_n.norm_squared()).sqrt());
-    }
+        peak = peak.max(force);
+    })?;
     let (ea, la) = (early.1 - early.0, late.1 - late.0);
     Ok(DeviceOutcome {
         early_amp_m: ea,
@@ -136,6 +158,26 @@ pub fn run(l: &DeviceLoop, k: f64) -> Result<DeviceOutcome, String> {
         damped_ticks: damped,
         stable: la.is_finite() && la < SETTLED_AMPLITUDE_M,
     })
+}
+
+/// Length of the envelope run, s, and of its windows, s.
+pub const ENVELOPE_S: (f64, f64) = (2.0, 0.1);
+
+/// Peak-to-peak effector height (m) in each [`ENVELOPE_S`] window of a 2 s run of the wall of
+/// stiffness `k` after the press (from 0.3 s): equal values are a sustained oscillation, falling
+/// ones a decaying one.
+pub fn envelope(l: &DeviceLoop, k: f64) -> Result<Vec<f64>, String> {
+    let (seconds, window) = ENVELOPE_S;
+    let start = 0.3;
+    let n = ((seconds - start) / window).round() as usize;
+    let mut w = vec![(f64::MAX, f64::MIN); n];
+    simulate(l, k, seconds, |t, z, _| {
+        if t >= start {
+            let i = (((t - start) / window) as usize).min(n - 1);
+            w[i] = (w[i].0.min(z), w[i].1.max(z));
+        }
+    })?;
+    Ok(w.into_iter().map(|(lo, hi)| hi - lo).collect())
 }
 
 /// K_max: the sweep's first unstable K bisected against the last stable one (`None`: nothing in
@@ -181,12 +223,23 @@ pub struct DeviceRow {
     /// Late peak-to-peak amplitude of the 3x wall without and with passivity, m.
     pub passivity_3x_late_amp_without_m: Option<f64>,
     pub passivity_3x_late_amp_with_m: Option<f64>,
+    /// Peak-to-peak per 0.1 s window of a 2 s run of the 3x wall with passivity, from 0.3 s, m
+    /// ([`envelope`]).
+    pub passivity_3x_envelope_with_m: Option<Vec<f64>>,
     /// The same with the winding inductance at [`NEGLIGIBLE_INDUCTANCE_H`]: K_max for one tick and
     /// the firmware timing, N/m, and whether the 3x wall with passivity settles.
     pub no_lag_kmax_one_tick: Option<f64>,
     pub no_lag_kmax_firmware_timing: Option<f64>,
     pub no_lag_passivity_3x_stable: Option<bool>,
+    /// Late peak-to-peak amplitude of the same 3x wall (3 × `kmax_firmware_timing`) with passivity
+    /// and the winding inductance at [`NEGLIGIBLE_INDUCTANCE_H`], and with the device's winding but
+    /// a [`FINE_ENCODER_FACTOR`]× finer motor encoder, m: which of lag and quantisation sustains it.
+    pub passivity_3x_late_amp_no_lag_m: Option<f64>,
+    pub passivity_3x_late_amp_fine_encoder_m: Option<f64>,
 }
+
+/// The finer motor encoder of the quantisation diagnostic: this many times the device's counts.
+pub const FINE_ENCODER_FACTOR: u32 = 16;
 
 /// A winding inductance whose L/R (0.5 µs) is negligible against the tick, H.
 pub const NEGLIGIBLE_INDUCTANCE_H: f64 = 1e-6;
@@ -205,6 +258,7 @@ fn figures(rate_hz: f64, delay_ticks: f64, inductance_h: f64) -> Result<Figures,
         delay_ticks,
         passivity,
         inductance_h,
+        motor_counts_per_rev: DeviceParams::OMEGA_LIKE.motor_encoder_counts_per_rev,
     };
     let one = kmax(&mk(1.0, false))?;
     let fw = kmax(&mk(delay_ticks, false))?;
@@ -223,6 +277,26 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
     let l = PlantParams::OMEGA_LIKE.motor_inductance_h;
     let (one, fw, with, without) = figures(rate_hz, delay_ticks, l)?;
     let (n_one, n_fw, n_with, _) = figures(rate_hz, delay_ticks, NEGLIGIBLE_INDUCTANCE_H)?;
+    let pc = DeviceLoop {
+        rate_hz,
+        delay_ticks,
+        passivity: true,
+        inductance_h: l,
+        motor_counts_per_rev: DeviceParams::OMEGA_LIKE.motor_encoder_counts_per_rev,
+    };
+    let env = fw.map(|k| envelope(&pc, 3.0 * k)).transpose()?;
+    let no_lag = DeviceLoop {
+        inductance_h: NEGLIGIBLE_INDUCTANCE_H,
+        ..pc
+    };
+    let fine = DeviceLoop {
+        motor_counts_per_rev: pc.motor_counts_per_rev * FINE_ENCODER_FACTOR,
+        ..pc
+    };
+    let late = |l: &DeviceLoop| {
+        fw.map(|k| run(l, 3.0 * k).map(|o| o.late_amp_m))
+            .transpose()
+    };
     Ok(DeviceRow {
         rate_hz,
         firmware_delay_ticks: delay_ticks,
@@ -233,8 +307,11 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
         passivity_3x_peak_force_n: with.map(|o| o.peak_force_n),
         passivity_3x_late_amp_without_m: without.map(|o| o.late_amp_m),
         passivity_3x_late_amp_with_m: with.map(|o| o.late_amp_m),
+        passivity_3x_envelope_with_m: env,
         no_lag_kmax_one_tick: n_one,
         no_lag_kmax_firmware_timing: n_fw,
         no_lag_passivity_3x_stable: n_with.map(|o| o.stable),
+        passivity_3x_late_amp_no_lag_m: late(&no_lag)?,
+        passivity_3x_late_amp_fine_encoder_m: late(&fine)?,
     })
 }

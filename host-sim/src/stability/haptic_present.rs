@@ -453,6 +453,7 @@ pub fn device_table(rows: &[DeviceRow]) -> Table {
             "3x wall p-p without (um)",
             "3x wall p-p with passivity (um)",
             "settled with passivity",
+            "3x with passivity, p-p first / last 0.1 s of 2 s (um)",
             "L ~ 0: K_max one tick / firmware (N/m)",
             "L ~ 0: 3x settled with passivity",
         ],
@@ -473,6 +474,10 @@ pub fn device_table(rows: &[DeviceRow]) -> Table {
             um(r.passivity_3x_late_amp_without_m),
             um(r.passivity_3x_late_amp_with_m),
             r.passivity_3x_stable.map_or("-".into(), |s| s.to_string()),
+            match r.passivity_3x_envelope_with_m.as_deref() {
+                Some([first, .., last]) => format!("{} / {}", um(Some(*first)), um(Some(*last))),
+                _ => "-".into(),
+            },
             format!(
                 "{} / {}",
                 k(r.no_lag_kmax_one_tick),

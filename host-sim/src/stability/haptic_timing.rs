@@ -1,10 +1,12 @@
 //! Part 3, continued: the largest passive wall at the firmware's output timing, and what the
 //! passivity controller buys beyond it (sampled-wall model of [`super::haptic`]).
 //!
-//! **Firmware timing** per control rate: the low-latency board timing of
+//! **Firmware timing** per control rate: the board timing the firmware runs
+//! ([`crate::closed_loop::board_timing`], from `BoardTiming::STM32G474_10KHZ`, the constant
+//! `firmware/src/config.rs` asserts on) with the output timing of
 //! [`softfinger_core::pipeline::output_timing`] — 40 kHz PWM (an integer multiple of every rate
-//! here), the tick triggered by the PWM update, the encoders sampled at the interrupt's start and
-//! the compare written as soon as the force is known; the compare takes effect at the next PWM
+//! here), the tick starting on a PWM period boundary, the encoders sampled at the interrupt's start
+//! and the compare written as soon as the force is known; the compare takes effect at the next PWM
 //! period start. The compute time is the planned pipeline tick
 //! ([`PIPELINE_TICK_INSTRUCTIONS`] instructions at [`CCM_CYCLES_PER_INSTRUCTION`] cycles each,
 //! 170 MHz), a parameter of [`firmware_delay_ticks`].
@@ -15,16 +17,11 @@
 //! never exceeds [`BOUNDED_ENERGY_FACTOR`] times the hit's.
 
 use super::haptic::{self, Device, Loop, Outcome};
-use softfinger_core::pipeline::board::BoardTiming;
 use softfinger_core::pipeline::output_timing::{
     OutputTiming, CCM_CYCLES_PER_INSTRUCTION, PIPELINE_TICK_INSTRUCTIONS,
 };
 use softfinger_core::pipeline::passivity::PassivityConfig;
 
-/// PWM frequency of the low-latency timing, Hz.
-pub const LOW_LATENCY_PWM_HZ: u32 = 40_000;
-/// Timer clock of the STM32G474, Hz.
-pub const TIMER_CLOCK_HZ: u32 = 170_000_000;
 /// A passivity run is bounded when its oscillation energy stays below this multiple of the hit's.
 pub const BOUNDED_ENERGY_FACTOR: f64 = 2.0;
 /// Stiffness multiple of the largest passive wall for the passivity test.
@@ -33,12 +30,7 @@ pub const PASSIVITY_MULTIPLE: f64 = 3.0;
 /// The firmware's sample-to-output delay at `rate_hz`, in ticks, for a tick of `instructions`
 /// instructions at `cpi` cycles each. `None` when the rate gives no valid board timing.
 pub fn firmware_delay_ticks(rate_hz: f64, instructions: u32, cpi: f32) -> Option<f64> {
-    let board = BoardTiming {
-        timer_clock_hz: TIMER_CLOCK_HZ,
-        pwm_hz: LOW_LATENCY_PWM_HZ,
-        control_hz: rate_hz.round() as u32,
-    };
-    board.validate().ok()?;
+    let board = crate::closed_loop::board_timing(rate_hz).ok()?;
     Some(OutputTiming::from_instructions(&board, instructions, cpi).delay_ticks() as f64)
 }
 
@@ -182,7 +174,12 @@ mod tests {
         // 3 400 instructions at 1.25 miss the first PWM period: half a tick at 10 kHz.
         let d = firmware_delay_ticks(10_000.0, 3_400, 1.25).unwrap();
         assert!((d - (8_500.0 - 51.0) / 17_000.0).abs() < 1e-6, "{d}");
-        // 30 kHz control is not a divisor of 40 kHz PWM.
+        // 30 kHz control is not a divisor of 40 kHz PWM, and 30 kHz PWM has no integer period
+        // at 170 MHz.
         assert!(firmware_delay_ticks(30_000.0, 2_500, 1.25).is_none());
+        // Every rate of the experiment has a board timing.
+        for rate in haptic::RATES_HZ {
+            assert!(firmware_delay_ticks(rate, 2_500, 1.25).is_some(), "{rate}");
+        }
     }
 }

@@ -70,11 +70,11 @@ fn pressing_and_faults(c: &mut Checker) {
     // 1 mm into the 2000 N/m plane: 2 N along +z; encoder quantisation moves the probe by up to
     // ~13 µm per count per axis (±0.05 N here): 0.1 N.
     c.close("pressing: wall force 2 N", out.control.force_n.z, 2.0, 0.1);
-    // 8500 counts per 20 kHz PWM period at 170 MHz; the duty limit 0.9 is 7650 counts.
+    // 4250 counts per 40 kHz PWM period at 170 MHz; the duty limit 0.9 is 3825 counts.
     c.ok(
-        "pressing: compares driven, within 0.9 of 8500",
+        "pressing: compares driven, within 0.9 of 4250",
         out.bridges.compare.iter().any(|&x| x > 0)
-            && out.bridges.compare.iter().all(|&x| x <= 7650),
+            && out.bridges.compare.iter().all(|&x| x <= 3825),
     );
     let mut raw = rig.raw(press);
     raw.driver_fault = true;
