@@ -216,7 +216,10 @@ fn each_refusal_of_the_pipeline_has_its_error_code() {
         error_code(CommandError::InvalidModel(ModelError::BadPose)),
         ErrorCode::InvalidValue
     );
-    assert_eq!(error_code(CommandError::Unsupported), ErrorCode::Unsupported);
+    assert_eq!(
+        error_code(CommandError::Unsupported),
+        ErrorCode::Unsupported
+    );
 }
 
 #[test]

@@ -33,7 +33,10 @@ fn pressed(x: f32, pen_m: f32) -> Vec3 {
 fn touching(vel: Vec3) -> ContactModel<Libm, Plane> {
     let mut m = model();
     let o = m.contact_step(&sample(Quat::IDENTITY, pressed(0.0, 0.001), vel));
-    assert_eq!((o.state, o.reason), (ContactState::Rolling, Reason::MadeContact));
+    assert_eq!(
+        (o.state, o.reason),
+        (ContactState::Rolling, Reason::MadeContact)
+    );
     m
 }
 
@@ -42,21 +45,32 @@ fn probe_position_gate_is_the_euclidean_norm_against_max_probe_m() {
     for (r, flagged) in [(0.5 * MAX_PROBE_M, false), (MAX_PROBE_M * 1.001, true)] {
         let mut m = model();
         let o = m.contact_step(&sample(Quat::IDENTITY, Vec3::new(r, 0.0, 0.0), Vec3::ZERO));
-        assert_eq!(o.flags.contains(Flags::OUT_OF_RANGE), flagged, "|p| = {r} m");
+        assert_eq!(
+            o.flags.contains(Flags::OUT_OF_RANGE),
+            flagged,
+            "|p| = {r} m"
+        );
     }
 }
 
 #[test]
 fn probe_speed_gate_is_the_euclidean_norm_against_max_probe_speed() {
     // 0.5·max is far above 1 m/s and √(2·max) m/s: the gate is max², nothing smaller.
-    for (v, flagged) in [(0.5 * MAX_PROBE_SPEED_M_S, false), (MAX_PROBE_SPEED_M_S * 1.001, true)] {
+    for (v, flagged) in [
+        (0.5 * MAX_PROBE_SPEED_M_S, false),
+        (MAX_PROBE_SPEED_M_S * 1.001, true),
+    ] {
         let mut m = model();
         let o = m.contact_step(&sample(
             Quat::IDENTITY,
             Vec3::new(0.0, 0.0, 0.05),
             Vec3::new(0.0, v, 0.0),
         ));
-        assert_eq!(o.flags.contains(Flags::OUT_OF_RANGE), flagged, "|v| = {v} m/s");
+        assert_eq!(
+            o.flags.contains(Flags::OUT_OF_RANGE),
+            flagged,
+            "|v| = {v} m/s"
+        );
     }
 }
 
@@ -65,10 +79,18 @@ fn probe_speed_gate_is_the_euclidean_norm_against_max_probe_speed() {
 fn normal_damping_opposes_the_normal_velocity() {
     for v_n in [-0.1f32, 0.1] {
         let mut m = touching(Vec3::ZERO);
-        let o = m.contact_step(&sample(Quat::IDENTITY, pressed(0.0, 0.001), Vec3::new(0.0, 0.0, v_n)));
+        let o = m.contact_step(&sample(
+            Quat::IDENTITY,
+            pressed(0.0, 0.001),
+            Vec3::new(0.0, 0.0, v_n),
+        ));
         let expected = P.normal_stiffness * 0.001 - P.normal_damping * v_n;
         // f32 arithmetic on O(1) N: 1e-5 N is ~100 ulps.
-        assert!((o.force_n.z - expected).abs() < 1e-5, "v_n {v_n}: {} vs {expected}", o.force_n.z);
+        assert!(
+            (o.force_n.z - expected).abs() < 1e-5,
+            "v_n {v_n}: {} vs {expected}",
+            o.force_n.z
+        );
     }
 }
 
@@ -77,12 +99,27 @@ fn normal_damping_opposes_the_normal_velocity() {
 fn zero_penetration_gives_no_normal_force_even_moving_in() {
     let mut m = touching(Vec3::ZERO);
     let surface_touch = Vec3::new(0.0, 0.0, P.fingertip_radius_m);
-    assert_eq!(Plane::default().penetration::<Libm>(surface_touch, P.fingertip_radius_m), 0.0);
-    let o = m.contact_step(&sample(Quat::IDENTITY, surface_touch, Vec3::new(0.0, 0.0, -0.5)));
+    assert_eq!(
+        Plane::default().penetration::<Libm>(surface_touch, P.fingertip_radius_m),
+        0.0
+    );
+    let o = m.contact_step(&sample(
+        Quat::IDENTITY,
+        surface_touch,
+        Vec3::new(0.0, 0.0, -0.5),
+    ));
     assert_eq!(o.force_n.z, 0.0);
     // Just inside, the damping force appears: K·δ + B·0.5.
-    let o = m.contact_step(&sample(Quat::IDENTITY, pressed(0.0, 1e-6), Vec3::new(0.0, 0.0, -0.5)));
-    assert!(o.force_n.z > 0.9 * P.normal_damping * 0.5, "{}", o.force_n.z);
+    let o = m.contact_step(&sample(
+        Quat::IDENTITY,
+        pressed(0.0, 1e-6),
+        Vec3::new(0.0, 0.0, -0.5),
+    ));
+    assert!(
+        o.force_n.z > 0.9 * P.normal_damping * 0.5,
+        "{}",
+        o.force_n.z
+    );
 }
 
 /// The coupling spring's damper acts on the anchor's velocity relative to the probe: a probe
@@ -94,7 +131,11 @@ fn tangential_damping_opposes_the_probe_velocity_over_the_anchor() {
     let o = m.contact_step(&sample(Quat::IDENTITY, pressed(0.0, 0.001), v));
     assert_eq!(o.state, ContactState::Rolling);
     let expected = -P.tangential_damping * 0.01;
-    assert!((o.force_n.x - expected).abs() < 1e-6, "{} vs {expected}", o.force_n.x);
+    assert!(
+        (o.force_n.x - expected).abs() < 1e-6,
+        "{} vs {expected}",
+        o.force_n.x
+    );
 }
 
 /// Separation needs f_N ≤ ε_f and, with the gap still within ε_gap, a separating normal
@@ -104,7 +145,11 @@ fn separation_within_the_gap_tolerance_is_told_by_the_acceleration_sign() {
     let gap = 0.5 * P.gap_eps_m;
     for (v_n, separated) in [(0.01f32, true), (-0.01, false)] {
         let mut m = touching(Vec3::ZERO);
-        let o = m.contact_step(&sample(Quat::IDENTITY, pressed(0.0, -gap), Vec3::new(0.0, 0.0, v_n)));
+        let o = m.contact_step(&sample(
+            Quat::IDENTITY,
+            pressed(0.0, -gap),
+            Vec3::new(0.0, 0.0, v_n),
+        ));
         // a_N = ±0.01/1e-4 = ±100 m/s², far beyond ε_a = 0.05 either way.
         let expected = if separated {
             (ContactState::Broken, Reason::Separated)
@@ -123,7 +168,7 @@ fn slip_velocity_in_rolling_is_the_probe_over_the_rolling_anchor() {
     let stick = P.stick_speed;
     let v = 3.0 * stick;
     let omega = v / P.fingertip_radius_m; // 0.6 rad/s: tilt rate far below the twist threshold.
-    // Offset so |f_T| = 1.5·μ_s·f_N (outside the cone with its 5 % hysteresis).
+                                          // Offset so |f_T| = 1.5·μ_s·f_N (outside the cone with its 5 % hysteresis).
     let f_n = P.normal_stiffness * 0.001;
     let d = 1.5 * P.mu_s * f_n / P.tangential_stiffness;
     for (wrist_rolls, slides) in [(true, false), (false, true)] {
@@ -150,12 +195,17 @@ fn haptic_rule_slides_only_when_rolling_agrees_with_the_user_force() {
     let f_n = P.normal_stiffness * 0.001;
     let d = 1.5 * P.mu_s * f_n / P.tangential_stiffness;
     let v = Vec3::new(0.05, 0.0, 0.0); // moving: |v| ≫ v_stick
-    // About +y the contact rolls towards +x (with the user's force), about −y against it.
+                                       // About +y the contact rolls towards +x (with the user's force), about −y against it.
     for (angle, slides) in [(1e-4f32, true), (-1e-4, false)] {
         let mut m = touching(v);
         let q = Quat::from_axis_angle::<Libm>(Vec3::Y, angle);
         let o = m.contact_step(&sample(q, pressed(d, 0.001), v));
-        assert_eq!(o.state == ContactState::Sliding, slides, "roll {angle} rad: {:?}", o.reason);
+        assert_eq!(
+            o.state == ContactState::Sliding,
+            slides,
+            "roll {angle} rad: {:?}",
+            o.reason
+        );
     }
 }
 
@@ -193,7 +243,10 @@ fn orientation_is_tracked_while_apart() {
     let o = m.contact_step(&sample(q, pressed(0.002, 0.001), Vec3::ZERO));
     assert_eq!(o.reason, Reason::MadeContact);
     let placed = o.object_point_m;
-    assert!((placed - Vec3::new(0.002, 0.0, 0.0)).norm_squared() < 1e-14, "{placed:?}");
+    assert!(
+        (placed - Vec3::new(0.002, 0.0, 0.0)).norm_squared() < 1e-14,
+        "{placed:?}"
+    );
     let o = m.contact_step(&sample(q, pressed(0.002, 0.001), Vec3::ZERO));
     assert_eq!(o.object_point_m, placed);
     assert_eq!(o.force_n.x, 0.0);
@@ -208,10 +261,18 @@ fn a_bad_orientation_sample_changes_no_state() {
         ..Quat::IDENTITY
     };
     let mut apart = model();
-    apart.contact_step(&sample(Quat::IDENTITY, Vec3::new(0.001, 0.0, 0.05), Vec3::ZERO));
+    apart.contact_step(&sample(
+        Quat::IDENTITY,
+        Vec3::new(0.001, 0.0, 0.05),
+        Vec3::ZERO,
+    ));
     for mut m in [apart, touching(Vec3::ZERO)] {
         let before = std::format!("{m:?}");
-        let o = m.contact_step(&sample(bad, pressed(0.004, 0.001), Vec3::new(0.1, 0.0, 0.0)));
+        let o = m.contact_step(&sample(
+            bad,
+            pressed(0.004, 0.001),
+            Vec3::new(0.1, 0.0, 0.0),
+        ));
         assert!(o.flags.contains(Flags::NON_FINITE_INPUT));
         assert_eq!(std::format!("{m:?}"), before);
     }
@@ -245,11 +306,20 @@ fn twist_held_in_the_spring_shrinks_the_tangential_budget() {
     let f_n = P.normal_stiffness * 0.001;
     for (load, slides) in [(0.75f32, false), (0.9, true)] {
         let (mut m, q, o) = twisted(0.6 * tau_max / P.spin_stiffness);
-        assert!((o.tau_n_nm.abs() / tau_max - 0.6).abs() < 0.01, "{}", o.tau_n_nm);
+        assert!(
+            (o.tau_n_nm.abs() / tau_max - 0.6).abs() < 0.01,
+            "{}",
+            o.tau_n_nm
+        );
         let d = load * P.mu_s * f_n / P.tangential_stiffness;
         let v = Vec3::new(0.05, 0.0, 0.0);
         m.contact_step(&sample(q, pressed(0.0, 0.001), v));
         let o = m.contact_step(&sample(q, pressed(d, 0.001), v));
-        assert_eq!(o.state == ContactState::Sliding, slides, "load {load}: {:?}", o.reason);
+        assert_eq!(
+            o.state == ContactState::Sliding,
+            slides,
+            "load {load}: {:?}",
+            o.reason
+        );
     }
 }

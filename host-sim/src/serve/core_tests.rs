@@ -179,7 +179,10 @@ fn every_scene_surface_is_the_initial_local_model() {
     ] {
         let scene = Scene::load(name).unwrap();
         let (_, spec) = scene_model(&scene).unwrap();
-        assert!(format!("{:?}", spec.kind).to_lowercase().starts_with(kind), "{name}");
+        assert!(
+            format!("{:?}", spec.kind).to_lowercase().starts_with(kind),
+            "{name}"
+        );
         let z = spec.pose.position_m.z;
         assert!((z - centre_z).abs() < 1e-6, "{name}: centre z {z}");
     }
