@@ -1,5 +1,5 @@
 //! Round trip of every message kind: each host and device message variant (every request, every
-//! error code, every frame-error kind, both surface shapes) is encoded, fed byte by byte to a
+//! error code, every frame-error kind, every surface shape) is encoded, fed byte by byte to a
 //! decoder and must come back equal. Coverage is checked with exhaustive `match`es, so a new
 //! variant does not compile here until it is added to the list.
 
@@ -57,14 +57,16 @@ fn request_index(r: &Request) -> u32 {
         Request::SetLocalModel(m) => match m.shape {
             SurfaceShape::Plane => 9,
             SurfaceShape::Sphere { .. } => 10,
+            SurfaceShape::Bowl { .. } => 11,
+            SurfaceShape::Cylinder { .. } => 12,
         },
-        Request::SetStream { .. } => 11,
-        Request::SetWatchdog { .. } => 12,
-        Request::DriveHand(_) => 13,
-        Request::ReleaseHand => 14,
+        Request::SetStream { .. } => 13,
+        Request::SetWatchdog { .. } => 14,
+        Request::DriveHand(_) => 15,
+        Request::ReleaseHand => 16,
     }
 }
-const REQUEST_KINDS: u32 = 15;
+const REQUEST_KINDS: u32 = 17;
 
 fn device_index(m: &DeviceMsg) -> u32 {
     match m {
@@ -150,6 +152,16 @@ fn host_messages(c: &mut Checker) {
         Request::ClearFaults,
         Request::SetContactParams(PARAMS),
         Request::SetLocalModel(plane_model()),
+        Request::SetLocalModel(LocalModel {
+            seq: 4,
+            shape: SurfaceShape::Bowl { radius_m: 0.05 },
+            ..plane_model()
+        }),
+        Request::SetLocalModel(LocalModel {
+            seq: 5,
+            shape: SurfaceShape::Cylinder { radius_m: 0.03 },
+            ..plane_model()
+        }),
         Request::SetWatchdog { timeout_ms: 250 },
         Request::DriveHand(HandTarget {
             position_m: [0.01, -0.02, 0.15],
@@ -191,7 +203,9 @@ fn device_messages(c: &mut Checker) {
     let filled = name.push_str("softfinger bench é").is_ok()
         && version.push_str("0.1.0").is_ok()
         && surfaces.push(SurfaceKind::Plane).is_ok()
-        && surfaces.push(SurfaceKind::Sphere).is_ok();
+        && surfaces.push(SurfaceKind::Sphere).is_ok()
+        && surfaces.push(SurfaceKind::Bowl).is_ok()
+        && surfaces.push(SurfaceKind::Cylinder).is_ok();
     c.ok("round trip: info fields fit", filled);
     let info = DeviceInfo {
         protocol_version: PROTOCOL_VERSION,
