@@ -195,6 +195,14 @@ impl DeviceParams {
         TAU / (self.motor_encoder_counts_per_rev as f32 * self.motor.capstan_ratio)
     }
 
+    /// Probe displacement of one motor encoder count at the upper arm's tip, m: the arm angle per
+    /// count times the upper arm's length (the probe moves by about this much when one motor's
+    /// count changes; 12.8 µm on the Omega-like device).
+    #[inline]
+    pub fn probe_m_per_motor_count(&self) -> f32 {
+        self.arm_rad_per_motor_count() * self.delta.upper_arm_m
+    }
+
     /// Wrist joint angle per wrist encoder count, rad: 2π / counts per rev.
     #[inline]
     pub fn wrist_rad_per_count(&self) -> f32 {

@@ -229,3 +229,19 @@ fn wrist_joint_zero_is_identity_and_joint_two_turns_the_handle_x_axis() {
         Quat::IDENTITY
     );
 }
+
+/// One motor count at the probe: 2π/(counts per rev · capstan) · upper arm (f64 closed form); the
+/// Omega-like device gives 12.8 µm, the size of the probe's count dither in a closed-loop hold.
+#[test]
+fn probe_displacement_of_one_motor_count() {
+    let p = DeviceParams::OMEGA_LIKE;
+    let expected = std::f64::consts::TAU
+        / (p.motor_encoder_counts_per_rev as f64 * p.motor.capstan_ratio as f64)
+        * p.delta.upper_arm_m as f64;
+    let got = p.probe_m_per_motor_count() as f64;
+    assert!(
+        (got - expected).abs() < 1e-6 * expected,
+        "{got} vs {expected}"
+    );
+    assert!((12.0e-6..13.5e-6).contains(&got), "{got}");
+}

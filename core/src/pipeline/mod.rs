@@ -134,6 +134,9 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
         controller
             .set_passivity(passivity::PassivityConfig {
                 output_delay_ticks: delay.min(1.0),
+                // The motor encoders' resolution at the probe: a held probe's count dither is
+                // not energy the wall generates.
+                position_quantum_m: config.device.params.probe_m_per_motor_count(),
                 ..passivity::PassivityConfig::DEFAULT
             })
             .map_err(PipelineError::Params)?;

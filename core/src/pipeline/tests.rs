@@ -667,3 +667,14 @@ proptest! {
 
 #[path = "local_model_tests.rs"]
 mod local_model_tests;
+
+/// The pipeline's passivity stage knows the motor encoders' resolution at the probe (so a held
+/// probe's count dither is not taken for generated energy), and the board's output delay.
+#[test]
+fn passivity_stage_gets_the_device_quantum() {
+    let pipe = pipeline();
+    let c = pipe.controller().passivity().config();
+    let q = OMEGA_LIKE.params.probe_m_per_motor_count();
+    assert_eq!(c.position_quantum_m, q);
+    assert!(q > 0.0);
+}
