@@ -16,6 +16,7 @@ pub mod pareto;
 pub mod points;
 pub mod speed_accuracy;
 pub mod style;
+pub mod surfaces;
 pub mod trajectories;
 
 use std::fmt::Write;
@@ -93,6 +94,11 @@ pub fn run(args: &Args) -> Result<ChartReport, String> {
 
     let path = args.out.join("fig3-trajectories.svg");
     style::write_svg(&path, &trajectories::svg(&fig3()?)?)?;
+    files.push(path);
+
+    let (_, surface_errors) = crate::validate::surfaces::run_with_series()?;
+    let path = args.out.join("surfaces-validation.svg");
+    style::write_svg(&path, &surfaces::svg(&surface_errors)?)?;
     files.push(path);
 
     let mcu_path = args

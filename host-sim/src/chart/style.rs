@@ -4,8 +4,8 @@
 use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 use plotters::style::full_palette::{
-    BLUE_300, BLUE_600, BLUE_900, DEEPORANGE_400, GREEN_400, GREEN_700, GREEN_900, GREY_500,
-    ORANGE_700, PURPLE, RED_900,
+    BLUE_300, BLUE_600, BLUE_700, BLUE_900, DEEPORANGE_400, GREEN_400, GREEN_700, GREEN_900,
+    GREY_500, ORANGE_700, PURPLE, RED_700, RED_900,
 };
 use softfinger_core::decompose::Method;
 use std::io::Write;
@@ -79,6 +79,9 @@ pub fn variant_color(m: Method, b: Backend) -> RGBColor {
 pub const RK45_COLORS: [RGBColor; 2] = [BLACK, PURPLE];
 /// Colour of the Pareto staircase.
 pub const FRONT_COLOR: RGBColor = GREY_500;
+
+/// One colour per surface (plane, sphere, bowl, cylinder), in that order.
+pub const SURFACE_COLORS: [RGBColor; 4] = [BLUE_700, RED_700, GREEN_700, ORANGE_700];
 
 /// Draws `pts` with one marker shape and style, optionally with a legend entry.
 pub fn draw_markers<'a, 'b: 'a, CT>(

@@ -34,6 +34,26 @@ pub struct SurfaceRow {
     pub reference_cross_check_mm: f64,
 }
 
+/// One surface's error along the run (Fast backend, exact method): the distance of each sample's
+/// contact points from the reference, mm, against time, s.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SurfaceErrors {
+    pub surface: &'static str,
+    pub t_s: Vec<f64>,
+    pub object_mm: Vec<f64>,
+    pub finger_mm: Vec<f64>,
+}
+
+/// Distance of each point of `a` from the matching point of `b`, mm.
+fn distances_mm(a: &[[f64; 3]], b: &[[f64; 3]]) -> Vec<f64> {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| {
+            1e3 * ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+        })
+        .collect()
+}
+
 /// The motion: a roll about a slowly turning tangent axis (≈0.6 rad/s) with a spin (≈0.4 rad/s).
 pub fn samples() -> Vec<UnitQuaternion<f64>> {
     let n = (DURATION_S * RATE_HZ) as usize + 1;
@@ -73,10 +93,16 @@ fn ours<M: Math, S: Surface>(
 
 /// Every surface with the libm and fast backends.
 pub fn run() -> Result<Vec<SurfaceRow>, String> {
+    run_with_series().map(|(rows, _)| rows)
+}
+
+/// [`run`], with each surface's error along the run for the charts.
+pub fn run_with_series() -> Result<(Vec<SurfaceRow>, Vec<SurfaceErrors>), String> {
     let s = samples();
     let dt = 1.0 / RATE_HZ;
     let big = OBJECT_R as f32;
     let mut rows = Vec::new();
+    let mut series = Vec::new();
     let objects = [
         ("plane", Object::Plane),
         ("sphere", Object::Sphere(OBJECT_R)),
@@ -111,6 +137,14 @@ pub fn run() -> Result<Vec<SurfaceRow>, String> {
                 (Object::Cylinder(_), "libm") => ours::<Libm, _>(Cylinder::new(big), &s),
                 (Object::Cylinder(_), _) => ours::<Fast, _>(Cylinder::new(big), &s),
             };
+            if backend == "fast" {
+                series.push(SurfaceErrors {
+                    surface: name,
+                    t_s: (0..o.len()).map(|k| k as f64 * dt).collect(),
+                    object_mm: distances_mm(&o, &montana.plane),
+                    finger_mm: distances_mm(&f, &montana.sphere),
+                });
+            }
             rows.push(SurfaceRow {
                 surface: name,
                 backend,
@@ -120,7 +154,7 @@ pub fn run() -> Result<Vec<SurfaceRow>, String> {
             });
         }
     }
-    Ok(rows)
+    Ok((rows, series))
 }
 
 /// The rows as a text table.
@@ -158,8 +192,21 @@ mod tests {
         // (plane), 3.9e-12 (sphere), 4.7e-12 (bowl), 4.7e-12 mm (cylinder): asserted 1.5e-11 mm. The
         // core's worst path error is 1.38e-4 mm (sphere object point): all rows inside the issue's
         // 0.001 mm target, and nonzero (an f32 path is never exact).
-        let rows = run().unwrap();
+        let (rows, series) = run_with_series().unwrap();
         assert_eq!(rows.len(), 8);
+        // The charted series are the rows' own errors, sample by sample (Fast backend).
+        assert_eq!(series.len(), 4);
+        for e in &series {
+            let row = rows
+                .iter()
+                .find(|r| r.surface == e.surface && r.backend == "fast")
+                .unwrap();
+            let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+            assert_eq!(max(&e.object_mm), row.object_max_error_mm, "{row:?}");
+            assert_eq!(max(&e.finger_mm), row.finger_max_error_mm, "{row:?}");
+            assert_eq!(e.t_s.len(), samples().len());
+            assert_eq!(e.t_s[1], 1.0 / RATE_HZ);
+        }
         for r in &rows {
             assert!(r.reference_cross_check_mm < 1.5e-11, "{r:?}");
             assert!(
