@@ -57,6 +57,7 @@ fn session<const TX: usize>() -> LinkSession<TX> {
             control_rate_hz: RATE_HZ,
             max_force_n: ContactParams::DEFAULT.max_force_n,
             min_stream_divisor: MIN_DIVISOR,
+            watchdog_ms: 0,
         },
         device: DeviceParams::OMEGA_LIKE,
         contact: ContactParams::DEFAULT,
@@ -155,7 +156,16 @@ fn device_info_names_the_device_rate_limits_and_surfaces() {
     assert_eq!(info.control_rate_hz, RATE_HZ);
     assert_eq!(info.min_stream_divisor, MIN_DIVISOR);
     assert_eq!(info.max_force_n, ContactParams::DEFAULT.max_force_n);
-    assert_eq!(info.surfaces.as_slice(), &[SurfaceKind::Plane]);
+    assert_eq!(
+        info.surfaces.as_slice(),
+        &[
+            SurfaceKind::Plane,
+            SurfaceKind::Sphere,
+            SurfaceKind::Bowl,
+            SurfaceKind::Cylinder
+        ]
+    );
+    assert_eq!(info.watchdog_ms, 0, "off at power-up (bench mode)");
     assert!(!info.virtual_device);
     assert!(q.commands.is_empty());
 }
@@ -270,47 +280,146 @@ fn a_full_command_queue_is_answered_busy_and_nothing_is_queued() {
     );
 }
 
+fn sphere_model(seq: u32) -> LocalModel {
+    LocalModel {
+        seq,
+        shape: SurfaceShape::Sphere { radius_m: 0.03 },
+        position_m: [0.01, -0.02, -0.19],
+        orientation: [0.0, 1.0, 0.0, 0.0],
+        stiffness_n_per_m: 900.0,
+        damping_n_s_per_m: 1.5,
+        mu_s: 0.7,
+        mu_k: 0.4,
+        spin_stiffness_nm_per_rad: 0.02,
+        max_age_ms: 250,
+    }
+}
+
 #[test]
-fn local_model_watchdog_and_the_simulated_hand_are_unsupported_here() {
+fn local_model_and_watchdog_go_to_the_pipeline_the_simulated_hand_is_unsupported() {
     let (mut s, mut q) = (session::<1024>(), queue());
-    let model = LocalModel {
-        seq: 1,
-        shape: SurfaceShape::Plane,
-        position_m: [0.0, 0.0, -0.17],
-        orientation: [1.0, 0.0, 0.0, 0.0],
-        stiffness_n_per_m: 1000.0,
-        damping_n_s_per_m: 1.0,
-        mu_s: 0.8,
-        mu_k: 0.6,
-        spin_stiffness_nm_per_rad: 0.01,
-        max_age_ms: 100,
-    };
+    let model = sphere_model(1);
     feed(&mut s, &mut q, &request(1, Request::SetLocalModel(model)));
     feed(
         &mut s,
         &mut q,
-        &request(2, Request::SetWatchdog { timeout_ms: 100 }),
+        &request(2, Request::SetWatchdog { timeout_ms: 150 }),
     );
     feed(&mut s, &mut q, &request(3, Request::ReleaseHand));
-    let unsupported = AckResult::Err(ErrorCode::Unsupported);
+    // The model as host-sim's virtual device converts it (an independent copy of the mapping).
+    let want = host_sim::serve::convert::model_spec(&model);
+    assert_eq!(
+        q.commands,
+        vec![
+            Command::SetLocalModel(want),
+            Command::SetWatchdog { timeout_s: 0.15 }
+        ]
+    );
+    assert_eq!(
+        sent(&mut s),
+        vec![DeviceMsg::Ack {
+            seq: 3,
+            result: AckResult::Err(ErrorCode::Unsupported)
+        }],
+        "only the hand is answered before the tick applies the others"
+    );
+    s.outcome(
+        &Command::SetLocalModel(want),
+        Err(CommandError::InvalidModel(
+            softfinger_core::local_model::ModelError::StaleSequence,
+        )),
+    );
+    s.outcome(&Command::SetWatchdog { timeout_s: 0.15 }, Ok(()));
     assert_eq!(
         sent(&mut s),
         vec![
             DeviceMsg::Ack {
                 seq: 1,
-                result: unsupported
+                result: AckResult::Err(ErrorCode::StaleSequence)
             },
             DeviceMsg::Ack {
                 seq: 2,
-                result: unsupported
-            },
-            DeviceMsg::Ack {
-                seq: 3,
-                result: unsupported
+                result: AckResult::Ok
             },
         ]
     );
-    assert!(q.commands.is_empty());
+    // The device info reports the watchdog the tick accepted.
+    feed(&mut s, &mut q, &request(4, Request::GetInfo));
+    let msgs = sent(&mut s);
+    let [DeviceMsg::Info { info, .. }] = msgs.as_slice() else {
+        panic!("{msgs:?}");
+    };
+    assert_eq!(info.watchdog_ms, 150);
+}
+
+#[test]
+fn a_refused_watchdog_leaves_the_reported_one() {
+    let (mut s, mut q) = (session::<1024>(), queue());
+    feed(
+        &mut s,
+        &mut q,
+        &request(1, Request::SetWatchdog { timeout_ms: 65_000 }),
+    );
+    assert_eq!(q.commands, vec![Command::SetWatchdog { timeout_s: 65.0 }]);
+    s.outcome(
+        &Command::SetWatchdog { timeout_s: 65.0 },
+        Err(CommandError::InvalidParams(
+            softfinger_core::params::ParamError::OutOfRange("watchdog_timeout_s"),
+        )),
+    );
+    feed(&mut s, &mut q, &request(2, Request::GetInfo));
+    let msgs = sent(&mut s);
+    let [DeviceMsg::Ack { seq: 1, result }, DeviceMsg::Info { info, .. }] = msgs.as_slice() else {
+        panic!("{msgs:?}");
+    };
+    assert_eq!(*result, AckResult::Err(ErrorCode::InvalidValue));
+    assert_eq!(info.watchdog_ms, 0);
+}
+
+/// Every shape and field maps as host-sim's virtual device maps it.
+#[test]
+fn every_wire_shape_converts_as_the_virtual_device_converts_it() {
+    for shape in [
+        SurfaceShape::Plane,
+        SurfaceShape::Sphere { radius_m: 0.02 },
+        SurfaceShape::Bowl { radius_m: 0.05 },
+        SurfaceShape::Cylinder { radius_m: 0.015 },
+    ] {
+        let m = LocalModel {
+            shape,
+            max_age_ms: 65_535,
+            ..sphere_model(7)
+        };
+        assert_eq!(
+            link::requests::model_spec(&m),
+            host_sim::serve::convert::model_spec(&m)
+        );
+    }
+}
+
+/// The communication watchdog's food: true for every frame that decodes (link-level messages
+/// included), false for every byte that does not end one and for a rejected frame.
+#[test]
+fn every_valid_frame_and_only_a_valid_frame_feeds_the_watchdog() {
+    let (mut s, mut q) = (session::<1024>(), queue());
+    let count = |s: &mut LinkSession<1024>, q: &mut Queue, bytes: &[u8]| {
+        bytes.iter().filter(|&&b| s.receive(b, q)).count()
+    };
+    let hello = frame(&HostMsg::Hello {
+        min_version: 1,
+        max_version: PROTOCOL_VERSION,
+    });
+    assert_eq!(count(&mut s, &mut q, &hello), 1);
+    assert_eq!(count(&mut s, &mut q, &request(1, Request::GetCounters)), 1);
+    assert_eq!(count(&mut s, &mut q, &request(2, Request::Ping)), 1);
+    assert_eq!(count(&mut s, &mut q, &request(3, Request::Home)), 1);
+    let mut bad = request(4, Request::Ping);
+    bad[3] ^= 0x40;
+    assert_eq!(count(&mut s, &mut q, &bad), 0, "a wrong CRC is no food");
+    assert_eq!(count(&mut s, &mut q, &[0x05, 0x11, 0x00]), 0, "garbage");
+    // An empty frame (a resynchronising delimiter) is no frame.
+    assert_eq!(count(&mut s, &mut q, &[0]), 0);
+    assert_eq!(count(&mut s, &mut q, &request(5, Request::Ping)), 1);
 }
 
 #[test]

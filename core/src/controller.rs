@@ -449,7 +449,11 @@ impl<M: Math, S: Scene> Controller<M, S> {
         // Passivity: observe the energy into the user, damp it away when it turns positive. The
         // arming ramp scales a stored force up in place (a deliberate, bounded energy source):
         // the observer starts when the ramp is done.
-        let force_n = if trusted && self.force_scale >= 1.0 {
+        // While the communication watchdog holds the force down (COMM_TIMEOUT) the observer
+        // stands aside too: its damper would keep pushing on a moving probe after the
+        // application fell silent, and the watchdog's fade must end at zero force.
+        let held_down = contact.flags.intersects(Flags::COMM_TIMEOUT);
+        let force_n = if trusted && self.force_scale >= 1.0 && !held_down {
             self.passivity
                 .step(force_n, probe_dev, self.probe_vel)
                 .force_n

@@ -4,8 +4,11 @@
 
 use softfinger_core::delta::DeltaGeometry;
 use softfinger_core::devices::{DeviceDefinition, OMEGA_LIKE};
+#[cfg(feature = "local-model")]
+use softfinger_core::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
 use softfinger_core::params::ContactParams;
 use softfinger_core::pipeline::{BoardTiming, PipelineConfig};
+#[cfg(not(feature = "local-model"))]
 use softfinger_core::surface::Plane;
 use softfinger_core::Vec3;
 
@@ -47,15 +50,63 @@ pub const PWM_FREQ_HZ: u32 = TIMING.pwm_hz;
 pub const PWM_FULL_SCALE: u16 = TIMING.pwm_period_counts() as u16;
 const _: () = assert!(TIMING.pwm_period_counts() <= u16::MAX as u32);
 
-/// The pipeline's configuration: the device on this board's timing, with the default scene (a
-/// plane 10 mm below the centre of the workspace, the default contact parameters).
-pub fn pipeline_config() -> PipelineConfig<Plane> {
+/// Top of the plane rendered at power-up, base frame, m: 10 mm below the centre of the
+/// workspace (the default scene's plane).
+pub const INITIAL_PLANE_TOP_M: Vec3 = Vec3::new(
+    0.0,
+    0.0,
+    DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M.z - 0.010,
+);
+const _: () = assert!(
+    DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M.x == 0.0
+        && DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M.y == 0.0
+);
+
+/// The communication watchdog's timeout at power-up, ms: off. The button-only bench mode has no
+/// application to feed it; an application turns it on with `SetWatchdog`.
+#[cfg_attr(not(feature = "local-model"), allow(dead_code))] // the plane has no watchdog
+pub const BENCH_WATCHDOG_MS: u16 = 0;
+
+/// The scene the tick renders: the application's local model (feature `local-model`, which a
+/// host link brings), initially the default scene's plane; without it, that plane, fixed.
+#[cfg(feature = "local-model")]
+pub type TickScene = LocalModelScene;
+/// The scene the tick renders: the application's local model (feature `local-model`, which a
+/// host link brings), initially the default scene's plane; without it, that plane, fixed.
+#[cfg(not(feature = "local-model"))]
+pub type TickScene = Plane;
+
+/// The local model until an application sends one: the default scene's plane (top at
+/// [`INITIAL_PLANE_TOP_M`], the default contact material, never stale), the watchdog off
+/// ([`BENCH_WATCHDOG_MS`]). Model poses are in the base frame (object origin zero), as the
+/// host-link protocol sends them.
+#[cfg(feature = "local-model")]
+fn scene(contact: &ContactParams) -> (TickScene, Vec3) {
+    let initial = LocalModelSpec::plane(0, ModelPose::at(INITIAL_PLANE_TOP_M), contact);
+    let scene = LocalModelScene {
+        watchdog_timeout_s: f32::from(BENCH_WATCHDOG_MS) * 1e-3,
+        ..LocalModelScene::new(initial)
+    };
+    (scene, Vec3::ZERO)
+}
+
+/// The fixed plane, its top at [`INITIAL_PLANE_TOP_M`] (the object frame's origin).
+#[cfg(not(feature = "local-model"))]
+fn scene(_contact: &ContactParams) -> (TickScene, Vec3) {
+    (Plane::default(), INITIAL_PLANE_TOP_M)
+}
+
+/// The pipeline's configuration: the device on this board's timing, the default contact
+/// parameters, the scene above.
+pub fn pipeline_config() -> PipelineConfig<TickScene> {
+    let contact = ContactParams::DEFAULT;
+    let (surface, object_origin_m) = scene(&contact);
     PipelineConfig {
         device: DEVICE,
         timing: TIMING,
-        contact: ContactParams::DEFAULT,
-        surface: Plane::default(),
-        object_origin_m: DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M - Vec3::new(0.0, 0.0, 0.010),
+        contact,
+        surface,
+        object_origin_m,
         log_rate_hz: LOG_RATE_HZ,
     }
 }

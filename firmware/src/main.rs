@@ -38,8 +38,7 @@ use defmt::{error, info};
 use defmt_rtt as _;
 use embassy_executor::{Executor, Spawner};
 use heapless::spsc::{Consumer, Producer, Queue};
-use softfinger_core::pipeline::{Command, Pipeline, PipelineRecord, TimingSummary};
-use softfinger_core::Fast;
+use softfinger_core::pipeline::{Command, PipelineRecord, TimingSummary};
 use tap::Tap;
 use tick::{CommandOutcome, ControlLoop, TickQueues};
 
@@ -154,6 +153,7 @@ async fn usb_link_task(
                         config::CONTROL_RATE_HZ,
                         config::LOG_RATE_HZ,
                     ),
+                    watchdog_ms: config::BENCH_WATCHDOG_MS,
                 },
                 device: config::DEVICE.params,
                 contact: pipeline.contact,
@@ -173,7 +173,7 @@ async fn start(spawner: Spawner) {
         config::LOG_RATE_HZ
     );
     // The whole configuration is validated (the pipeline built) before the peripherals are taken.
-    let pipeline = Pipeline::<Fast>::new(config::pipeline_config());
+    let pipeline = tick::TickPipeline::new(config::pipeline_config());
     let periph = embassy_stm32::init(bsp::hal_config());
     bsp::after_hal_init();
     let pipeline = match pipeline {

@@ -3,11 +3,15 @@
 //! tick interrupt, which runs at the highest priority and owns a [`ControlLoop`] through
 //! `isr_cell::IsrCell`.
 //!
-//! The tick shares nothing with tasks except through atomics ([`STATUS`]) and lock-free SPSC
-//! queues (commands in; outcomes, telemetry and summaries out), so it never waits for a task, and
-//! a task never delays it (see `critical_section_basepri`).
+//! The tick shares nothing with tasks except through atomics ([`STATUS`], [`LINK_ACTIVITY`]) and
+//! lock-free SPSC queues (commands in; outcomes, telemetry and summaries out), so it never waits
+//! for a task, and a task never delays it (see `critical_section_basepri`).
+//!
+//! With a host link the pipeline renders the application's local model (`config::TickScene`); the
+//! link reports every valid frame it receives through [`note_link_activity`], which the tick
+//! passes on to the pipeline's communication watchdog at its next boundary.
 
-use core::sync::atomic::{AtomicU32, AtomicU8, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 
 use heapless::spsc::{Consumer, Producer};
 use softfinger_core::pipeline::{
@@ -16,6 +20,21 @@ use softfinger_core::pipeline::{
 use softfinger_core::Fast;
 
 use crate::board::ControlHw;
+
+/// The pipeline the tick runs: the tick's fast math, the configuration's scene (the application's
+/// local model with a host link, the fixed plane without).
+pub type TickPipeline = Pipeline<Fast, crate::config::TickScene>;
+
+/// Set by a host link for every valid frame it receives; taken (cleared) by the tick, which then
+/// feeds the pipeline's communication watchdog. A flag, not a counter: the watchdog needs to know
+/// only that something arrived since the last tick.
+pub static LINK_ACTIVITY: AtomicBool = AtomicBool::new(false);
+
+/// A valid frame arrived on a host link (any task; never waits).
+#[allow(dead_code)] // a build without a host link (the STM32 build without `usb`) never calls it
+pub fn note_link_activity() {
+    LINK_ACTIVITY.store(true, Ordering::Relaxed);
+}
 
 /// An operator command and what the pipeline made of it, for the log.
 #[derive(Clone, Copy, Debug)]
@@ -65,7 +84,7 @@ pub struct TickQueues {
 /// Everything one tick reads and writes.
 pub struct ControlLoop<H: ControlHw> {
     hw: H,
-    pipeline: Pipeline<Fast>,
+    pipeline: TickPipeline,
     queues: TickQueues,
     /// Timer counts from the previous tick's event to the end of its hardware writes
     /// (`u32::MAX`: they ended after the next event).
@@ -74,7 +93,7 @@ pub struct ControlLoop<H: ControlHw> {
 
 impl<H: ControlHw> ControlLoop<H> {
     /// The loop, ready for its first tick.
-    pub fn new(hw: H, pipeline: Pipeline<Fast>, queues: TickQueues) -> Self {
+    pub fn new(hw: H, pipeline: TickPipeline, queues: TickQueues) -> Self {
         ControlLoop {
             hw,
             pipeline,
@@ -129,8 +148,15 @@ impl<H: ControlHw> ControlLoop<H> {
         self.account();
     }
 
-    /// Apply queued operator commands (at the tick boundary: they act from the next tick).
+    /// Feed the communication watchdog if a link saw a valid frame, then apply queued operator
+    /// commands (at the tick boundary: they act from the next tick).
     fn serve_commands(&mut self) {
+        // Load, then clear only if set: the tick preempts every task, so no store of a task can
+        // fall between the two (and the common case, nothing new, writes nothing).
+        if LINK_ACTIVITY.load(Ordering::Relaxed) {
+            LINK_ACTIVITY.store(false, Ordering::Relaxed);
+            self.pipeline.note_link_activity();
+        }
         while let Some(command) = self.queues.commands.dequeue() {
             let result = self.pipeline.command(command);
             // Outcomes are for the log only; a full queue loses the report, not the command.

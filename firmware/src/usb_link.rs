@@ -119,7 +119,9 @@ pub async fn run<const TX: usize>(
             match select(class.read_packet(&mut rx), Timer::after_millis(POLL_MS)).await {
                 Either::First(Ok(n)) => {
                     for &b in &rx[..n] {
-                        session.receive(b, &mut commands);
+                        if session.receive(b, &mut commands) {
+                            crate::tick::note_link_activity();
+                        }
                     }
                 }
                 // Disconnected (or the host reset the endpoint): wait for the next connection.

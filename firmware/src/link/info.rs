@@ -16,7 +16,17 @@ pub struct InfoSource {
     pub max_force_n: f32,
     /// Smallest stream divisor (see [`min_stream_divisor`]).
     pub min_stream_divisor: u16,
+    /// Communication watchdog timeout in force, ms (0: off).
+    pub watchdog_ms: u16,
 }
+
+/// The surfaces the firmware's local-model renderer draws (`softfinger_core::local_model::ModelKind`).
+pub const SURFACES: [SurfaceKind; 4] = [
+    SurfaceKind::Plane,
+    SurfaceKind::Sphere,
+    SurfaceKind::Bowl,
+    SurfaceKind::Cylinder,
+];
 
 /// The smallest stream divisor: the stream is built from the tick's telemetry records, one every
 /// `control_rate_hz / record_rate_hz` ticks, so no faster stream exists. At least 1.
@@ -36,11 +46,8 @@ fn text<const N: usize>(s: &str) -> Text<N> {
     t
 }
 
-/// The description. The firmware renders the plane only and has no communication watchdog yet.
+/// The description: the local model's surfaces, the watchdog in force.
 pub fn device_info(src: &InfoSource) -> DeviceInfo {
-    let mut surfaces = heapless::Vec::new();
-    // Cannot fail: capacity 8.
-    let _ = surfaces.push(SurfaceKind::Plane);
     DeviceInfo {
         protocol_version: PROTOCOL_VERSION,
         name: text(src.name),
@@ -49,7 +56,8 @@ pub fn device_info(src: &InfoSource) -> DeviceInfo {
         control_rate_hz: src.control_rate_hz,
         max_force_n: src.max_force_n,
         min_stream_divisor: src.min_stream_divisor,
-        surfaces,
-        watchdog_ms: 0,
+        // Cannot fail: 4 kinds, capacity 8.
+        surfaces: heapless::Vec::from_slice(&SURFACES).unwrap_or_default(),
+        watchdog_ms: src.watchdog_ms,
     }
 }

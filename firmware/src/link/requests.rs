@@ -1,9 +1,11 @@
 //! What each request becomes: a pipeline command for the tick, an answer the link gives itself,
 //! or a typed refusal.
 
+use softfinger_core::local_model::{LocalModelSpec, ModelKind, ModelPose};
 use softfinger_core::params::ContactParams;
 use softfinger_core::pipeline::Command;
-use softfinger_protocol::{ContactParamsWire, ErrorCode, Request};
+use softfinger_core::{Quat, Vec3};
+use softfinger_protocol::{ContactParamsWire, ErrorCode, LocalModel, Request, SurfaceShape};
 
 /// Where a request goes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -35,7 +37,10 @@ pub fn route(req: &Request, contact: &ContactParams) -> Route {
         Request::SetContactParams(w) => {
             Route::Pipeline(Command::SetContactParams(contact_params(w, contact)))
         }
-        Request::SetLocalModel(_) | Request::SetWatchdog { .. } => awaiting_core_commands(req),
+        Request::SetLocalModel(m) => Route::Pipeline(Command::SetLocalModel(model_spec(m))),
+        Request::SetWatchdog { timeout_ms } => Route::Pipeline(Command::SetWatchdog {
+            timeout_s: watchdog_s(*timeout_ms),
+        }),
         // The simulated hand exists on the virtual device only.
         Request::DriveHand(_) | Request::ReleaseHand => Route::Refuse(ErrorCode::Unsupported),
         // Answered by the endpoint before routing; refused if one ever gets here.
@@ -43,18 +48,37 @@ pub fn route(req: &Request, contact: &ContactParams) -> Route {
     }
 }
 
-/// The route of `SetLocalModel` and `SetWatchdog`. The core pipeline has no such commands yet, so
-/// both are refused with [`ErrorCode::Unsupported`] (nothing changes on the device). When the
-/// pipeline gains `Command::SetLocalModel` and `Command::SetWatchdog`, this is the one function to
-/// change: return `Route::Pipeline` with the converted command (as host-sim's
-/// `serve::convert::core_request` converts them).
-pub fn awaiting_core_commands(req: &Request) -> Route {
-    match req {
-        Request::SetLocalModel(_model) => Route::Refuse(ErrorCode::Unsupported),
-        Request::SetWatchdog { timeout_ms: _ } => Route::Refuse(ErrorCode::Unsupported),
-        // Only the two requests above are routed here.
-        _ => Route::Refuse(ErrorCode::Unsupported),
+/// A wire model as the core's spec, field for field (validated by the pipeline's renderer when
+/// the tick applies it: a bad pose, size, age or material is refused there, with its error code).
+/// Poses are in the base frame (the firmware's `object_origin_m` is zero); the quaternion is
+/// `[w, x, y, z]`; the maximum age goes from ms to s.
+pub fn model_spec(m: &LocalModel) -> LocalModelSpec {
+    let kind = match m.shape {
+        SurfaceShape::Plane => ModelKind::Plane,
+        SurfaceShape::Sphere { radius_m } => ModelKind::Sphere { radius_m },
+        SurfaceShape::Bowl { radius_m } => ModelKind::Bowl { radius_m },
+        SurfaceShape::Cylinder { radius_m } => ModelKind::Cylinder { radius_m },
+    };
+    let [w, x, y, z] = m.orientation;
+    LocalModelSpec {
+        seq: m.seq,
+        kind,
+        pose: ModelPose {
+            position_m: Vec3::from_array(m.position_m),
+            orientation: Quat::new(w, x, y, z),
+        },
+        stiffness_n_per_m: m.stiffness_n_per_m,
+        damping_n_s_per_m: m.damping_n_s_per_m,
+        mu_s: m.mu_s,
+        mu_k: m.mu_k,
+        spin_stiffness_nm_per_rad: m.spin_stiffness_nm_per_rad,
+        max_age_s: f32::from(m.max_age_ms) * 1e-3,
     }
+}
+
+/// A wire watchdog timeout (ms; 0: off) in seconds. The pipeline checks the range.
+pub fn watchdog_s(timeout_ms: u16) -> f32 {
+    f32::from(timeout_ms) * 1e-3
 }
 
 /// The wire contact parameters over `base` (fields the wire does not carry are kept). Validation

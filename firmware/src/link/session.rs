@@ -54,6 +54,8 @@ pub struct LinkSession<const TX: usize, M: Math = Libm> {
     window: Option<u64>,
     /// State samples this connection could not send.
     stream_dropped: u32,
+    /// Valid frames received, as last seen (see [`LinkSession::receive`]).
+    rx_frames: u32,
 }
 
 impl<const TX: usize, M: Math> LinkSession<TX, M> {
@@ -68,17 +70,30 @@ impl<const TX: usize, M: Math> LinkSession<TX, M> {
             tx: TxRing::new(),
             window: None,
             stream_dropped: 0,
+            rx_frames: 0,
         }
     }
 
-    /// Take one received byte; requests for the pipeline go to `sink`.
-    pub fn receive(&mut self, byte: u8, sink: &mut impl CommandSink) {
+    /// Take one received byte; requests for the pipeline go to `sink`. Returns true when the
+    /// byte completed a valid frame (any message, link-level ones included: the communication
+    /// watchdog's food, which the caller passes on to the tick).
+    pub fn receive(&mut self, byte: u8, sink: &mut impl CommandSink) -> bool {
         let tx = &mut self.tx;
         let mut send = |f: &[u8]| tx.push_frame(f);
-        let Some((seq, req)) = self.endpoint.receive(byte, &mut send) else {
-            return;
-        };
-        self.request(seq, &req, sink);
+        let request = self.endpoint.receive(byte, &mut send);
+        let valid = byte == 0 && self.note_frames();
+        if let Some((seq, req)) = request {
+            self.request(seq, &req, sink);
+        }
+        valid
+    }
+
+    /// Whether the decoder counted a new valid frame since the last call.
+    fn note_frames(&mut self) -> bool {
+        let frames = self.endpoint.counters().rx_frames;
+        let new = frames != self.rx_frames;
+        self.rx_frames = frames;
+        new
     }
 
     /// Answer or forward request `seq`.
@@ -115,10 +130,15 @@ impl<const TX: usize, M: Math> LinkSession<TX, M> {
     }
 
     /// The tick applied (or refused) `command`: acknowledge the request it came from, if it came
-    /// from this link, and keep the contact parameters in force up to date.
+    /// from this link, and keep the contact parameters and the watchdog in force up to date.
     pub fn outcome(&mut self, command: &Command, result: Result<(), CommandError>) {
-        if let (Command::SetContactParams(p), Ok(())) = (command, result) {
-            self.contact = *p;
+        match (command, result) {
+            (Command::SetContactParams(p), Ok(())) => self.contact = *p,
+            (Command::SetWatchdog { timeout_s }, Ok(())) => {
+                // In range (the pipeline accepted it): 0..=60 s.
+                self.info.watchdog_ms = (timeout_s * 1000.0 + 0.5) as u16;
+            }
+            _ => {}
         }
         if let Some((seq, ack)) = self.acks.resolve(command, result) {
             let tx = &mut self.tx;

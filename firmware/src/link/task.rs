@@ -53,7 +53,9 @@ pub fn poll<const TX: usize, M: Math>(
         let Some(b) = transport.read_byte() else {
             break;
         };
-        session.receive(b, commands);
+        if session.receive(b, commands) {
+            crate::tick::note_link_activity();
+        }
     }
     q.forward_news(session);
     let tx = session.tx();

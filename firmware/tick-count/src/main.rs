@@ -38,8 +38,7 @@ use cortex_m::peripheral::SYST;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use heapless::spsc::{Consumer, Producer, Queue};
-use softfinger_core::pipeline::{Command, Mode, Pipeline, PipelineRecord, TimingSummary};
-use softfinger_core::Fast;
+use softfinger_core::pipeline::{Command, Mode, PipelineRecord, TimingSummary};
 
 use fake_hw::{outputs, FakeStm32, Outputs, ENC_CNT, GPIOB_IDR, TIM1_SR, TIM6_CNT};
 use isr_cell::IsrCell;
@@ -174,7 +173,7 @@ fn main() -> ! {
     cp.SYST.clear_current();
     cp.SYST.enable_counter();
 
-    let Ok(pipeline) = Pipeline::<Fast>::new(config::pipeline_config()) else {
+    let Ok(pipeline) = tick::TickPipeline::new(config::pipeline_config()) else {
         fail("pipeline configuration")
     };
     let (Some(cq), Some(oq), Some(rq), Some(sq)) = (

@@ -1,9 +1,10 @@
 //! `host-sim pil --link-check`: the firmware's host link exercised on the emulated board. QEMU's
 //! UART0 is a Unix socket; this side connects and sends real frames while the plant runs in lock
 //! step: hello, device info, a stream request (one below the minimum divisor, then the minimum),
-//! garbage, wrong-CRC, truncated and wrong-version frames, the two requests the firmware does not
-//! support yet, arming before homing, home, arm; it decodes the state frames and checks each
-//! answer, the link counters, and that the link stays usable after every bad frame.
+//! garbage, wrong-CRC, truncated and wrong-version frames, local models the pipeline refuses,
+//! arming before homing, home, arm, then the local model and the communication watchdog
+//! (`link_model`); it decodes the state frames and checks each answer, the link counters, and
+//! that the link stays usable after every bad frame.
 //!
 //! A separate run from the scene runs: the host link owns the board's command queue (the plant's
 //! operator is ignored) and the link's timing depends on the host, so this run is not compared
@@ -28,7 +29,7 @@ pub const UART_SOCKET: &str = "uart0.sock";
 
 /// Longest wait for one answer or state, wall clock (the emulated board runs about 6x slower
 /// than real time under the lock-step plant, measured on the 10 kHz default scene).
-const ANSWER_TIMEOUT: Duration = Duration::from_secs(30);
+pub(super) const ANSWER_TIMEOUT: Duration = Duration::from_secs(30);
 
 /// Longest wait for homing to finish (2.4 s of board time in the default scene), wall clock.
 const HOMING_TIMEOUT: Duration = Duration::from_secs(120);
@@ -47,7 +48,7 @@ pub struct LinkReport {
 }
 
 impl LinkReport {
-    fn check(&mut self, what: &str, ok: bool, detail: String) {
+    pub(super) fn check(&mut self, what: &str, ok: bool, detail: String) {
         self.checks.push((what.to_string(), ok, detail));
     }
 
@@ -58,12 +59,12 @@ impl LinkReport {
 }
 
 /// One connection to the board's UART0.
-struct Client {
+pub(super) struct Client {
     stream: UnixStream,
     decoder: FrameDecoder,
     /// Decoded messages not yet looked at.
     inbox: std::collections::VecDeque<DeviceMsg>,
-    states: Vec<StateSample>,
+    pub(super) states: Vec<StateSample>,
     seq: u16,
 }
 
@@ -105,7 +106,7 @@ impl Client {
     }
 
     /// Send request `req`; returns its sequence number.
-    fn request(&mut self, req: Request) -> Result<u16, String> {
+    pub(super) fn request(&mut self, req: Request) -> Result<u16, String> {
         self.seq = self.seq.wrapping_add(1);
         let seq = self.seq;
         self.send(&HostMsg::Request { seq, req })?;
@@ -151,11 +152,33 @@ impl Client {
     }
 
     /// Wait for the acknowledgement of `seq`.
-    fn ack(&mut self, seq: u16) -> Result<AckResult, String> {
+    pub(super) fn ack(&mut self, seq: u16) -> Result<AckResult, String> {
         match self.next(ANSWER_TIMEOUT)? {
             DeviceMsg::Ack { seq: s, result } if s == seq => Ok(result),
             other => Err(format!("expected the ack of {seq}, got {other:?}")),
         }
+    }
+
+    /// Wait until `done` holds for the states received, up to [`ANSWER_TIMEOUT`].
+    pub(super) fn wait_for(&mut self, done: impl Fn(&[StateSample]) -> bool) -> Result<(), String> {
+        let deadline = Instant::now() + ANSWER_TIMEOUT;
+        while !done(&self.states) {
+            if Instant::now() > deadline {
+                return Err(format!(
+                    "the state stream did not show what was expected within {} s (last {:?})",
+                    ANSWER_TIMEOUT.as_secs(),
+                    self.states.last()
+                ));
+            }
+            self.pump()?;
+        }
+        Ok(())
+    }
+
+    /// Wait until `n` states have arrived; all of them.
+    pub(super) fn wait_states(&mut self, n: usize) -> Result<&[StateSample], String> {
+        self.wait_for(|s| s.len() >= n)?;
+        Ok(&self.states)
     }
 
     /// Wait for a state sample in `mode`, up to `timeout`.
@@ -226,7 +249,14 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
         DeviceMsg::Info { seq: s, info } if s == seq => {
             let ok = info.control_rate_hz == rate_hz
                 && !info.virtual_device
-                && info.surfaces.as_slice() == [SurfaceKind::Plane]
+                && info.surfaces.as_slice()
+                    == [
+                        SurfaceKind::Plane,
+                        SurfaceKind::Sphere,
+                        SurfaceKind::Bowl,
+                        SurfaceKind::Cylinder,
+                    ]
+                && info.watchdog_ms == 0
                 && info.min_stream_divisor >= 1
                 && !info.name.is_empty()
                 && !info.firmware_version.is_empty();
@@ -313,27 +343,32 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
         other => return Err(format!("expected counters, got {other:?}")),
     }
 
-    let model = LocalModel {
-        seq: 1,
+    // Models before homing: refused by the pipeline's validation, with their codes.
+    let initial_seq = LocalModel {
+        seq: 0,
         shape: SurfaceShape::Plane,
         position_m: [0.0, 0.0, -0.175],
         orientation: [1.0, 0.0, 0.0, 0.0],
-        stiffness_n_per_m: 1000.0,
-        damping_n_s_per_m: 1.0,
+        stiffness_n_per_m: 2000.0,
+        damping_n_s_per_m: 2.0,
         mu_s: 0.8,
         mu_k: 0.6,
         spin_stiffness_nm_per_rad: 0.01,
-        max_age_ms: 100,
+        max_age_ms: 0,
     };
-    let seq = c.request(Request::SetLocalModel(model))?;
-    let lm = c.ack(seq)?;
-    let seq = c.request(Request::SetWatchdog { timeout_ms: 100 })?;
-    let wd = c.ack(seq)?;
-    let unsupported = AckResult::Err(ErrorCode::Unsupported);
+    let seq = c.request(Request::SetLocalModel(initial_seq))?;
+    let stale = c.ack(seq)?;
+    let seq = c.request(Request::SetLocalModel(LocalModel {
+        seq: 1,
+        orientation: [0.5, 0.0, 0.0, 0.0],
+        ..initial_seq
+    }))?;
+    let bad_pose = c.ack(seq)?;
     r.check(
-        "local model and watchdog: unsupported (not in the core pipeline yet)",
-        lm == unsupported && wd == unsupported,
-        format!("{lm:?} {wd:?}"),
+        "local models the pipeline refuses: the initial model's sequence, a non-unit quaternion",
+        stale == AckResult::Err(ErrorCode::StaleSequence)
+            && bad_pose == AckResult::Err(ErrorCode::InvalidValue),
+        format!("{stale:?} {bad_pose:?}"),
     );
 
     let seq = c.request(Request::Arm)?;
@@ -357,12 +392,10 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
     let arm = c.ack(seq)?;
     r.check("arm accepted", arm == AckResult::Ok, format!("{arm:?}"));
     let armed = c.wait_mode(Mode::Armed, ANSWER_TIMEOUT)?;
-    // A few more samples while armed.
-    let want = c.states.len() + 5;
-    let deadline = Instant::now() + ANSWER_TIMEOUT;
-    while c.states.len() < want && Instant::now() < deadline {
-        c.pump()?;
-    }
+    // A few more samples while armed (the force ramps in over 0.5 s).
+    let ramped = armed.tick + u64::from(rate_hz) * 6 / 10;
+    c.wait_for(|s| s.last().is_some_and(|x| x.tick >= ramped))?;
+    super::link_model::check(c, rate_hz, min_divisor, r)?;
     let ticks: Vec<u64> = c.states.iter().map(|s| s.tick).collect();
     let spaced = ticks
         .windows(2)

@@ -7,6 +7,7 @@
 
 pub mod faults;
 pub mod link_check;
+mod link_model;
 pub mod operator;
 pub mod qemu;
 pub mod reference;
@@ -70,6 +71,11 @@ pub struct Args {
     /// check.
     #[arg(long)]
     pub link_check: bool,
+    /// The board runs the local-model build (`firmware/pil` with `--features local-model`, the
+    /// scene of the STM32 build's host-link builds); the in-process reference then runs the same
+    /// scene (`reference::firmware_config`). Without it: the default build's fixed plane.
+    #[arg(long)]
+    pub local_model: bool,
     /// Instruction budget file (JSON: tolerance_percent, baseline {rate: {name: instructions}}).
     #[arg(long)]
     pub budget: Option<PathBuf>,
@@ -344,7 +350,16 @@ pub fn main(args: &Args) -> Result<(), String> {
         ..scene
     };
     let config = closed_loop::plane_config(&scene, contact)?;
-    let reference = reference::run(&plant, config, &s)?;
+    let reference = if args.local_model {
+        // The scene's plane is where the firmware's initial model is (checked in `pil::tests`).
+        reference::run(
+            &plant,
+            reference::firmware_config(config.timing, contact),
+            &s,
+        )?
+    } else {
+        reference::run(&plant, config, &s)?
+    };
     let log = telemetry::decode(&read(&args.elf)?, &raw)?;
     let rows = telemetry::telemetry_rows(&log);
     if let Some(path) = &args.telemetry_csv {

@@ -1,5 +1,5 @@
-//! The in-process reference: the same pipeline as the board's tick (`Pipeline::<Fast>`, the
-//! firmware's configuration), the same plant, the same operator session and the same plant-side
+//! The in-process reference: the same pipeline as the board's tick (`Pipeline::<Fast, S>` on the
+//! board's scene: the fixed plane of the default build, or the local model, [`firmware_config`]), the same plant, the same operator session and the same plant-side
 //! faults, tick by tick. The f32 operations are the same on both sides (Rust never contracts
 //! a·b+c into an FMA unless asked), so the bridge commands should agree to the bit.
 //!
@@ -11,10 +11,13 @@ use super::operator::Operator;
 use super::session::Settings;
 use crate::plant::Plant;
 use softfinger_core::contact_state::ContactState;
+use softfinger_core::controller::Scene;
+use softfinger_core::delta::DeltaGeometry;
+use softfinger_core::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
+use softfinger_core::params::ContactParams;
 use softfinger_core::pipeline::output_timing::OutputTiming;
 use softfinger_core::pipeline::{BridgeCommands, Mode, Pipeline, PipelineConfig, RawInput};
-use softfinger_core::surface::Plane;
-use softfinger_core::Fast;
+use softfinger_core::{Fast, Vec3};
 
 /// One reference tick.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,13 +33,41 @@ pub struct RefRun {
     pub scene_start: Option<u64>,
 }
 
+/// The firmware's pipeline configuration (`firmware/src/config.rs`, `pipeline_config`) on
+/// `timing`: the local-model scene whose initial model is the plane 10 mm below the workspace
+/// centre with `contact`'s material, watchdog off, poses in the base frame. The plane's height
+/// is computed as the firmware computes it (in f32), so both sides render the same bits.
+pub fn firmware_config(
+    timing: softfinger_core::pipeline::BoardTiming,
+    contact: ContactParams,
+) -> PipelineConfig<LocalModelScene> {
+    let top = Vec3::new(
+        0.0,
+        0.0,
+        DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M.z - 0.010,
+    );
+    let initial = LocalModelSpec::plane(0, ModelPose::at(top), &contact);
+    PipelineConfig {
+        device: softfinger_core::devices::OMEGA_LIKE,
+        timing,
+        contact,
+        surface: LocalModelScene::new(initial),
+        object_origin_m: Vec3::ZERO,
+        log_rate_hz: softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ,
+    }
+}
+
 /// Run until the scene's end. Mirrors the session's timing: one idle period, then tick k.
-pub fn run(plant: &Plant, config: PipelineConfig<Plane>, s: &Settings) -> Result<RefRun, String> {
+pub fn run<S: Scene>(
+    plant: &Plant,
+    config: PipelineConfig<S>,
+    s: &Settings,
+) -> Result<RefRun, String> {
     let mut plant = plant.clone();
     let timing = config.timing;
     let planned = OutputTiming::planned(&timing);
     let load_after = planned.effect_counts / planned.pwm_counts.max(1);
-    let mut pipe = Pipeline::<Fast>::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
+    let mut pipe = Pipeline::<Fast, S>::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
     plant.step_bridges(&BridgeCommands::OFF, &timing);
     let mut op = Operator::new(s.rate_hz());
     let mut prev_mode = Mode::Unhomed;

@@ -199,3 +199,23 @@ fn output_report_measures_the_delay_and_fails_a_late_load() {
     // No measured tick fails too.
     assert!(OutputReport::of(&Trace::default(), &b).failure().is_some());
 }
+
+/// The reference's initial local model is the plane the scene runs render (same top, same
+/// material), so the PIL's default scene keeps its meaning with the firmware's local model.
+#[test]
+fn the_firmware_configs_initial_model_is_the_scenes_plane() {
+    use crate::closed_loop;
+    use crate::scene::Scene;
+    use softfinger_core::local_model::ModelKind;
+    let scene = Scene::load("finger-on-plane").unwrap();
+    let contact = closed_loop::contact_params(&scene).unwrap();
+    let plane = closed_loop::plane_config(&scene, contact).unwrap();
+    let lm = super::reference::firmware_config(plane.timing, contact);
+    let m = lm.surface.initial;
+    assert_eq!(m.kind, ModelKind::Plane);
+    assert_eq!(m.pose.position_m, plane.object_origin_m);
+    assert_eq!(m.contact_params(&contact), contact);
+    assert_eq!(m.max_age_s, 0.0);
+    assert_eq!(lm.surface.watchdog_timeout_s, 0.0);
+    assert_eq!(lm.object_origin_m, softfinger_core::Vec3::ZERO);
+}

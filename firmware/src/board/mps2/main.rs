@@ -53,9 +53,8 @@ use embassy_executor::Spawner;
 use embassy_time::Timer;
 use heapless::spsc::{Consumer, Producer, Queue};
 use softfinger_core::pipeline::{
-    BoardTiming, Command, Pipeline, PipelineConfig, PipelineRecord, TimingSummary,
+    BoardTiming, Command, PipelineConfig, PipelineRecord, TimingSummary,
 };
-use softfinger_core::Fast;
 
 use cmsdk::{FreeRunning, Irq, PCLK_HZ};
 use host_link::info::{min_stream_divisor, InfoSource};
@@ -99,7 +98,7 @@ async fn host_link_task(
 }
 
 /// What the host link says about this board at `rate_hz`.
-fn host_link_config(rate_hz: u32, pipeline: &PipelineConfig) -> LinkConfig {
+fn host_link_config(rate_hz: u32, pipeline: &PipelineConfig<config::TickScene>) -> LinkConfig {
     LinkConfig {
         info: InfoSource {
             name: config::DEVICE.name,
@@ -107,6 +106,7 @@ fn host_link_config(rate_hz: u32, pipeline: &PipelineConfig) -> LinkConfig {
             control_rate_hz: rate_hz,
             max_force_n: pipeline.contact.max_force_n,
             min_stream_divisor: min_stream_divisor(rate_hz, pipeline.log_rate_hz),
+            watchdog_ms: config::BENCH_WATCHDOG_MS,
         },
         device: pipeline.device.params,
         contact: pipeline.contact,
@@ -148,7 +148,7 @@ async fn finish() -> ! {
 }
 
 /// The firmware's pipeline configuration at `rate_hz` (the STM32 build's, rate aside).
-fn pipeline_config(rate_hz: u32) -> PipelineConfig {
+fn pipeline_config(rate_hz: u32) -> PipelineConfig<config::TickScene> {
     PipelineConfig {
         timing: BoardTiming {
             control_hz: rate_hz,
@@ -194,7 +194,7 @@ async fn main(spawner: Spawner) {
         exit(false);
     }
     let config = pipeline_config(rate_hz);
-    let pipeline = match Pipeline::<Fast>::new(config) {
+    let pipeline = match tick::TickPipeline::new(config) {
         Ok(p) => p,
         Err(e) => {
             error!("configuration rejected: {}; control loop not started", e);
