@@ -9,8 +9,8 @@
 //!    plane's spring on the penetration the stream shows, k·(top + r − z). While the probe moves, the
 //!    pipeline's passivity damper (up to 50 N·s/m, on in the firmware) acts on top: the switch
 //!    pushed the probe, which the observer counts as energy into the hand.
-//! 3. A 50 ms watchdog, then silence: COMM_TIMEOUT latches no earlier than 50 ms after the
-//!    last state seen before the request, stays latched with the mode Armed, and the force is
+//! 3. A 50 ms watchdog: while pings arrive back to back for 150 ms no timeout; then silence:
+//!    COMM_TIMEOUT latches no earlier than 50 ms after the last state seen before it, stays latched with the mode Armed, and the force is
 //!    exactly zero from the fade's length (20 ms) after the first flagged sample; turning the
 //!    watchdog off and re-arming clears it.
 
@@ -202,13 +202,39 @@ pub(super) fn check(
         ),
     );
 
-    let before = c.states.last().ok_or("no state yet")?.tick;
     let seq = c.request(Request::SetWatchdog {
         timeout_ms: WATCHDOG_MS,
     })?;
     let ack = c.ack(seq)?;
-    // Silence from here: wait for the timeout, then for the fade to end.
+    // Pings back to back (each answered) for three timeouts of board time: every valid frame
+    // feeds the watchdog, so it must not fire.
     let timed_out = |s: &StateSample| s.flags & Flags::COMM_TIMEOUT.0 != 0;
+    let fed_from = c.states.last().ok_or("no state yet")?.tick + stream;
+    let fed_until = fed_from + 3 * ticks(f32::from(WATCHDOG_MS) * 1e-3);
+    let mut pings = 0u32;
+    while c.states.last().is_none_or(|s| s.tick < fed_until) {
+        let seq = c.request(Request::Ping)?;
+        if c.ack(seq)? != AckResult::Ok {
+            return Err("a ping was refused".into());
+        }
+        pings += 1;
+    }
+    let fed: Vec<&StateSample> = c
+        .states
+        .iter()
+        .filter(|s| (fed_from..fed_until).contains(&s.tick))
+        .collect();
+    r.check(
+        "link activity feeds the watchdog: no timeout while pings arrive",
+        !fed.is_empty() && !fed.iter().any(|s| timed_out(s)),
+        format!(
+            "{pings} pings; {} samples from tick {fed_from} to {fed_until}, flagged: {}",
+            fed.len(),
+            fed.iter().filter(|s| timed_out(s)).count()
+        ),
+    );
+    // Silence from here: wait for the timeout, then for the fade to end.
+    let before = c.states.last().ok_or("no state yet")?.tick;
     c.wait_for(|s| s.iter().any(timed_out))?;
     let t1 = c
         .states
