@@ -329,18 +329,16 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
                 let d = e_t.norm::<M>();
                 let (sf, st) = project(d * k_t, tau, p.mu_k * f_n, tau_max_k, k_t, k_z);
                 let e_t = e_t * sf;
-                let tau = if st < 1.0 {
+                // The spring slipped if its own limit held it or the projection took torque
+                // (a zero torque is not limited).
+                let (tau, slipped) = if st < 1.0 && tau != 0.0 {
                     self.spin.slip_to(self.spin.elastic_rad * st);
-                    k_z * self.spin.elastic_rad
+                    (k_z * self.spin.elastic_rad, true)
                 } else {
-                    tau
+                    (tau, sat)
                 };
                 self.restart_at(probe + e_t, q_now);
-                (
-                    surface.along_normal(f_n) + e_t * k_t,
-                    tau,
-                    sat || sf < 1.0 && st < 1.0,
-                )
+                (surface.along_normal(f_n) + e_t * k_t, tau, slipped)
             }
         };
         if saturated && f_n > p.force_eps_n {
