@@ -140,3 +140,86 @@ fn a_non_finite_arm_angle_bound_is_rejected() {
     }
     assert_eq!(Limits::OMEGA_LIKE.validate(), Ok(()));
 }
+
+/// Pressed 1 mm (a force is rendered when the kinematics is trusted) with the arm-angle range
+/// ending one float below the largest arm angle of the pose: OUT_OF_RANGE alone (the kinematics
+/// itself solves) gives no force and zero duties; with the range ending at that angle (inclusive)
+/// the force is rendered.
+#[test]
+fn an_arm_angle_out_of_range_alone_untrusts_the_kinematics() {
+    let counts = counts_at(touching(0.001), [0; 3]);
+    let dev = DeviceParams::OMEGA_LIKE;
+    let top = (0..3)
+        .map(|i| dev.motor_counts_to_arm_angle_rad(counts[i]))
+        .fold(f32::NEG_INFINITY, f32::max);
+    for (hi, trusted) in [(top.next_down(), false), (top, true)] {
+        let mut cfg = ControllerConfig::default_plane();
+        cfg.limits.arm_angle_range_rad = [-1.05, hi];
+        let mut c: Controller<Libm, Plane> = Controller::new(cfg).unwrap();
+        let out = (0..3).map(|_| c.tick(&input(counts))).last().unwrap();
+        assert!(
+            !out.flags.contains(Flags::KINEMATICS_SINGULAR),
+            "{:?}",
+            out.flags
+        );
+        assert_eq!(
+            out.flags.contains(Flags::OUT_OF_RANGE),
+            !trusted,
+            "{:?}",
+            out.flags
+        );
+        if trusted {
+            assert!(out.force_n.z > 1.5, "{:?}", out.force_n);
+        } else {
+            assert_eq!(out.force_n, Vec3::ZERO);
+            assert_eq!(out.duties, [0.0; 3]);
+        }
+    }
+}
+
+/// Arm angles inside the allowed range (widened here to ±3.1 rad) whose elbows cannot meet (no
+/// forward-kinematics solution): KINEMATICS_SINGULAR alone gives no force and zero duties, and
+/// the contact stage is not stepped with that pose: a rolling contact is reported as it was and
+/// goes on rolling when the kinematics solves again.
+#[test]
+fn singular_kinematics_alone_untrusts_the_kinematics() {
+    let dev = DeviceParams::OMEGA_LIKE;
+    let per = dev.arm_rad_per_motor_count();
+    let count = |a: f32| libm::roundf((a - dev.arm_angle_at_zero_count_rad) / per) as i32;
+    // The first pose of a coarse grid over the range that has no solution.
+    let grid = |i: i32| -3.0 + 0.5 * i as f32;
+    let mut found = None;
+    'search: for i in 0..13 {
+        for j in 0..13 {
+            for k in 0..13 {
+                let a = [grid(i), grid(j), grid(k)];
+                let (_, f) = dev.delta.forward::<Libm>(a);
+                if f.contains(Flags::KINEMATICS_SINGULAR) {
+                    found = Some([count(a[0]), count(a[1]), count(a[2]), 0, 0, 0]);
+                    break 'search;
+                }
+            }
+        }
+    }
+    let counts = found.expect("a pose without a solution inside the range");
+    let mut cfg = ControllerConfig::default_plane();
+    cfg.limits.arm_angle_range_rad = [-3.1, 3.1];
+    let mut c: Controller<Libm, Plane> = Controller::new(cfg).unwrap();
+    let pressed = counts_at(touching(0.001), [0; 3]);
+    assert_eq!(c.tick(&input(pressed)).state, ContactState::Rolling);
+    let out = c.tick(&input(counts));
+    assert_eq!(
+        out.state,
+        ContactState::Rolling,
+        "the contact stage was not stepped"
+    );
+    assert!(
+        out.flags.contains(Flags::KINEMATICS_SINGULAR),
+        "{:?}",
+        out.flags
+    );
+    assert!(!out.flags.contains(Flags::OUT_OF_RANGE), "{:?}", out.flags);
+    assert_eq!(out.force_n, Vec3::ZERO);
+    assert_eq!(out.duties, [0.0; 3]);
+    assert_eq!(c.tick(&input(pressed)).state, ContactState::Rolling);
+}
