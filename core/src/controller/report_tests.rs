@@ -223,3 +223,74 @@ fn singular_kinematics_alone_untrusts_the_kinematics() {
     assert_eq!(out.duties, [0.0; 3]);
     assert_eq!(c.tick(&input(pressed)).state, ContactState::Rolling);
 }
+
+/// The joint-torque limit, bracketed at the pose's own largest torque: a limit equal to it
+/// raises no OUTPUT_LIMITED (only a torque above the limit is limited), one float below it does.
+/// The torques are recomputed from the tick's force and pose with the same kinematics.
+#[test]
+fn the_joint_torque_limit_is_bracketed_at_the_largest_torque() {
+    let counts = counts_at(touching(0.001), [0; 3]);
+    let dev = DeviceParams::OMEGA_LIKE;
+    let mut c = controller();
+    let out = (0..3).map(|_| c.tick(&input(counts))).last().unwrap();
+    assert!(
+        !out.flags.contains(Flags::OUTPUT_LIMITED),
+        "{:?}",
+        out.flags
+    );
+    let angles = [0, 1, 2].map(|i| dev.motor_counts_to_arm_angle_rad(counts[i]));
+    let (pose, _) = dev.delta.pose::<Libm>(angles);
+    let (torques, f) = dev.delta.torques_at(&pose, out.force_n);
+    assert!(f.is_empty());
+    let top = torques.iter().fold(0.0f32, |m, t| m.max(t.abs()));
+    assert!(top > 0.0);
+    for (limit, limited) in [(top, false), (top.next_down(), true)] {
+        let mut cfg = ControllerConfig::default_plane();
+        cfg.limits.max_arm_torque_nm = limit;
+        let mut c: Controller<Libm, Plane> = Controller::new(cfg).unwrap();
+        let o = (0..3).map(|_| c.tick(&input(counts))).last().unwrap();
+        assert_eq!(o.force_n, out.force_n, "the same force at the same pose");
+        assert_eq!(
+            o.flags.contains(Flags::OUTPUT_LIMITED),
+            limited,
+            "limit {limit}"
+        );
+    }
+}
+
+/// The spin torque is reported through the guard and scaled by the arming ramp like the force:
+/// twisting the pressed wrist gives τn ≠ 0, and at force scale 0.5 exactly half of it.
+#[test]
+fn the_spin_torque_is_reported_and_scaled_by_the_arming_ramp() {
+    let pressed = counts_at(touching(0.001), [0; 3]);
+    let run = |scale: f32| {
+        let mut c = controller();
+        c.set_force_scale(scale);
+        let mut out = c.tick(&input(pressed));
+        for w in 1..=20 {
+            // A wrist twist of `w` counts on the first wrist axis.
+            let mut counts = pressed;
+            counts[3] = w;
+            out = c.tick(&input(counts));
+        }
+        out
+    };
+    let (full, half) = (run(1.0), run(0.5));
+    assert_eq!(full.state, ContactState::Rolling);
+    assert!(full.tau_n_nm.abs() > 1e-5, "{full:?}");
+    assert_eq!(half.tau_n_nm, 0.5 * full.tau_n_nm);
+}
+
+/// The passivity observer starts from the energy stored in the stiffest spring of the contact:
+/// E = −|F|²/(2·max(K_n, K_t)) on the first tick it sees a force (no motion yet).
+#[test]
+fn the_passivity_observer_starts_from_the_stiffest_springs_energy() {
+    let mut c = controller();
+    let out = c.tick(&input(counts_at(touching(0.001), [0; 3])));
+    assert!(out.force_n.z > 1.5);
+    let p = &c.config().contact;
+    let k = p.normal_stiffness.max(p.tangential_stiffness);
+    let expected = -0.5 * out.force_n.norm_squared() / k;
+    let e = c.passivity().energy_j();
+    assert!((e / expected - 1.0).abs() < 1e-6, "{e} vs {expected}");
+}
