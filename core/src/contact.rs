@@ -172,6 +172,40 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         self.prev_anchor = self.anchor();
     }
 
+    /// The sliding state's force and torque: the kinetic limit surface. The anchor spring and the
+    /// torsion spring slip together to the closest point of the ellipse (slip along its normal),
+    /// and the sliding proxy is left where the slip put it. Returns (force N, τn N·m, whether the
+    /// spring slipped: its own limit held it, or the projection took a non-zero torque). Out of
+    /// line: the common path is rolling.
+    #[cold]
+    #[inline(never)]
+    fn slide(
+        &mut self,
+        probe: Vec3,
+        q_now: Quat,
+        dphi: f32,
+        f_n: f32,
+        patch: f32,
+    ) -> (Vec3, f32, bool) {
+        let p = self.params;
+        let (k_t, k_z) = (p.tangential_stiffness, p.spin_stiffness);
+        let surface = self.rolling.surface;
+        let tau_max_k = torsion_limit(p.mu_k, f_n, patch);
+        let (tau, sat) = self.spin.update(dphi, k_z, tau_max_k);
+        let (_, e_t) = surface.split(self.anchor() - probe);
+        let d = e_t.norm::<M>();
+        let (sf, st) = project(d * k_t, tau, p.mu_k * f_n, tau_max_k, k_t, k_z);
+        let e_t = e_t * sf;
+        let (tau, slipped) = if st < 1.0 && tau != 0.0 {
+            self.spin.slip_to(self.spin.elastic_rad * st);
+            (k_z * self.spin.elastic_rad, true)
+        } else {
+            (tau, sat)
+        };
+        self.restart_at(probe + e_t, q_now);
+        (surface.along_normal(f_n) + e_t * k_t, tau, slipped)
+    }
+
     fn output(&self, flags: Flags) -> ContactOutput {
         ContactOutput {
             state: self.state,
@@ -319,29 +353,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
                 );
                 (surface.along_normal(f_n) + f_t, tau, sat)
             }
-            ContactState::Sliding => {
-                // Kinetic limit surface: the anchor spring and the torsion spring slip together to
-                // the closest point of the ellipse (slip along its normal).
-                let tau_max_k = torsion_limit(p.mu_k, f_n, patch);
-                let (tau, sat) = self.spin.update(roll.angles.phi, k_z, tau_max_k);
-                let (_, e_t) = surface.split(anchor - probe);
-                let k_t = p.tangential_stiffness;
-                let d = e_t.norm::<M>();
-                let (sf, st) = project(d * k_t, tau, p.mu_k * f_n, tau_max_k, k_t, k_z);
-                let e_t = e_t * sf;
-                let tau = if st < 1.0 {
-                    self.spin.slip_to(self.spin.elastic_rad * st);
-                    k_z * self.spin.elastic_rad
-                } else {
-                    tau
-                };
-                self.restart_at(probe + e_t, q_now);
-                (
-                    surface.along_normal(f_n) + e_t * k_t,
-                    tau,
-                    sat || sf < 1.0 && st < 1.0,
-                )
-            }
+            ContactState::Sliding => self.slide(probe, q_now, roll.angles.phi, f_n, patch),
         };
         if saturated && f_n > p.force_eps_n {
             flags |= Flags::SPIN_SATURATED;

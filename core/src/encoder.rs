@@ -131,6 +131,17 @@ mod tests {
         (i64::from(start) + true_position).rem_euclid(65_536) as u16
     }
 
+    /// `last_raw` is the last sample fed, wrapped or not (the start reading before any).
+    #[test]
+    fn last_raw_is_the_last_sample_fed() {
+        let mut e = CountExtender::new(65_530, 100);
+        assert_eq!(e.last_raw(), 65_530);
+        for raw in [65_535u16, 3, 2, 40] {
+            e.update(raw);
+            assert_eq!(e.last_raw(), raw);
+        }
+    }
+
     #[test]
     fn first_sample_is_position_zero() {
         let mut e = CountExtender::new(40_000, 100);

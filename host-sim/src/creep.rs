@@ -12,9 +12,10 @@
 //!   `--hold-s` simulated seconds with the wrist tilted and one wrist count dithering every tick:
 //!   the largest rendered tangential force after the press has settled, against the force of one
 //!   motor-encoder count of displacement (tangential stiffness × effector displacement of one count);
-//! - the same hold through the encoders ([`crate::hold_quantisation`], exact method, libm), with
-//!   and without the passivity stage, still and with the hand drifting 0.65 µm/s: the
-//!   instantaneous tangential force (max, p99, median), the mean over the first and last windows
+//! - the same hold through the encoders ([`crate::hold_quantisation`], exact method, every
+//!   backend), with and without the passivity stage, still and with the hand drifting 0.65 µm/s:
+//!   the instantaneous tangential force (max, its elastic part, p99, median), the mean over the
+//!   first and last windows
 //!   and its change, the count changes and the anchor's walk.
 
 use crate::closed_loop;
@@ -346,8 +347,13 @@ pub fn main(args: &Args) -> Result<(), String> {
                 drift_m_per_s: drift,
                 window_s: (args.hold_s / 6.0).min(10.0),
             };
-            let p = hold_quantisation::measure::<Libm>(setup)?;
-            println!("{}", hold_quantisation::line(&setup, &p));
+            for (name, p) in [
+                ("libm", hold_quantisation::measure::<Libm>(setup)?),
+                ("micromath", hold_quantisation::measure::<Micromath>(setup)?),
+                ("fast", hold_quantisation::measure::<Fast>(setup)?),
+            ] {
+                println!("{name:<9} {}", hold_quantisation::line(&setup, &p));
+            }
         }
     }
     Ok(())

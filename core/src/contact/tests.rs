@@ -4,6 +4,8 @@ use super::*;
 use crate::math::Libm;
 use crate::surface::Plane;
 
+#[path = "budget_tests.rs"]
+mod budget_tests;
 #[path = "scenario_tests.rs"]
 mod scenario_tests;
 #[path = "step_rule_tests.rs"]

@@ -4,6 +4,9 @@ use super::*;
 use crate::device::DeviceParams;
 use crate::math::Libm;
 
+#[path = "report_tests.rs"]
+mod report_tests;
+
 fn controller() -> Controller<Libm, Plane> {
     Controller::new(ControllerConfig::default_plane()).unwrap()
 }
