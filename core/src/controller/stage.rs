@@ -124,3 +124,57 @@ impl<M: Math, S: Surface> ContactStage for ContactModel<M, S> {
         self.rolling.surface.contact_point()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact_state::Reason;
+    use crate::math::Libm;
+    use crate::surface::Plane;
+
+    fn stage() -> ContactModel<Libm, Plane> {
+        Plane::default()
+            .stage::<Libm>(ContactParams::DEFAULT, 1e-4)
+            .unwrap()
+    }
+
+    fn pressed(x: f32) -> ContactInput {
+        ContactInput {
+            q: Quat::IDENTITY,
+            probe_m: Vec3::new(x, 0.0, ContactParams::DEFAULT.fingertip_radius_m - 0.001),
+            probe_vel: Vec3::ZERO,
+        }
+    }
+
+    /// A fixed scene's stage reports the contact model's state and contact point, has no local
+    /// model (sequence 0) and no watchdog (0 s), and refuses the local-model commands.
+    #[test]
+    fn a_fixed_scene_forwards_to_its_contact_model() {
+        let mut s = stage();
+        let o = ContactStage::step(&mut s, &pressed(0.002));
+        assert_eq!(ContactStage::state(&s), ContactState::Rolling);
+        assert_eq!(ContactStage::state(&s), o.state);
+        assert_eq!(s.contact_point_m(), Vec3::new(0.002, 0.0, 0.0));
+        assert_eq!(s.model_seq(), 0);
+        assert_eq!(s.watchdog_s(), 0.0);
+        assert_eq!(s.set_watchdog(0.1), Err(CommandError::Unsupported));
+        assert_eq!(s.watchdog_s(), 0.0);
+    }
+
+    /// A restart breaks the contact (the next press makes it afresh where the probe is), and keeps
+    /// the parameters.
+    #[test]
+    fn a_restart_breaks_the_contact_and_keeps_the_parameters() {
+        let mut s = stage();
+        ContactStage::step(&mut s, &pressed(0.0));
+        ContactStage::restart(&mut s);
+        assert_eq!(ContactStage::state(&s), ContactState::Broken);
+        assert_eq!(ContactStage::params(&s), &ContactParams::DEFAULT);
+        let o = ContactStage::step(&mut s, &pressed(0.003));
+        assert_eq!(
+            (o.state, o.reason),
+            (ContactState::Rolling, Reason::MadeContact)
+        );
+        assert_eq!(s.contact_point_m(), Vec3::new(0.003, 0.0, 0.0));
+    }
+}

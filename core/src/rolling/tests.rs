@@ -315,3 +315,16 @@ fn relative_curvature_adds_the_two_curvatures() {
         );
     }
 }
+
+/// A restart takes the given orientation as the new reference: the next sample equal to it rolls
+/// nothing, whatever came before.
+#[test]
+fn restart_takes_the_orientation_as_the_reference() {
+    let mut r = Rolling::new(Plane::default(), 0.01, Quat::IDENTITY, Method::Exact);
+    let q = Quat::from_axis_angle::<Libm>(Vec3::new(0.0, 1.0, 0.0), 0.3);
+    r.restart(q);
+    assert_eq!(r.q_prev, q);
+    let before = r.surface.contact_point();
+    let step = r.step::<Libm>(q);
+    assert_eq!(r.surface.contact_point(), before, "{step:?}");
+}

@@ -276,3 +276,14 @@ fn contact_frames_are_consistent() {
     check(s);
     let _ = Quat::IDENTITY;
 }
+
+/// The curvature each surface reports is its closed form (the trait's doc): plane 0, sphere 1/R,
+/// bowl −1/R (concave), cylinder 1/R across its axis.
+#[test]
+fn curvatures_are_the_closed_forms() {
+    let r = 0.04f32;
+    assert_eq!(Plane::default().curvature(), 0.0);
+    assert_eq!(Sphere::new(r).curvature(), 1.0 / r);
+    assert_eq!(Bowl::new(r).curvature(), -1.0 / r);
+    assert_eq!(Cylinder::new(r).curvature(), 1.0 / r);
+}
