@@ -155,3 +155,24 @@ impl Surface for Cylinder {
         self.radius_m + r - M::sqrt(c.y * c.y + c.z * c.z)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Libm;
+
+    /// sinc(h) = sin(h)/h against f64 on both branches (series below 0.01, the division above) and
+    /// at 0. Measured worst relative error 7.8e-8 (f32 rounding); bound 2.4e-7.
+    #[test]
+    fn sinc_matches_sin_over_h() {
+        assert_eq!(sinc::<Libm>(0.0), 1.0);
+        let mut worst = 0.0f64;
+        for i in 1..=400 {
+            let h = i as f32 * 1e-4; // 1e-4 .. 0.04: both branches
+            let exact = (h as f64).sin() / h as f64;
+            worst = worst.max((sinc::<Libm>(h) as f64 / exact - 1.0).abs());
+        }
+        std::println!("sinc worst relative error {worst:e}");
+        assert!(worst < 2.4e-7, "{worst:e}");
+    }
+}
