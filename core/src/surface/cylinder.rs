@@ -79,6 +79,13 @@ impl Cylinder {
     }
 }
 
+/// ⌊(a0 + a1)/2⌋ without overflow, symmetric in a0 and a1 (so a step and its reverse share
+/// their mid-step angle bit for bit).
+#[inline]
+fn midpoint(a0: i64, a1: i64) -> i64 {
+    (a0 >> 1) + (a1 >> 1) + (a0 & a1 & 1)
+}
+
 /// sin(h)/h for h ≥ 0 (series below 0.01, where its truncation is below 1e-12).
 fn sinc<M: Math>(h: f32) -> f32 {
     if h < 0.01 {
@@ -119,8 +126,7 @@ impl Surface for Cylinder {
         let d_alpha = Fixed::from_f32(-r * w.x / (self.radius_m + r));
         let a0 = self.alpha.0;
         let a1 = a0.saturating_add(d_alpha.0);
-        // (a0 + a1)/2 without overflow, symmetric in a0 and a1.
-        let mid = Fixed((a0 >> 1) + (a1 >> 1) + (a0 & a1 & 1));
+        let mid = Fixed(midpoint(a0, a1));
         self.mid_sc = M::sin_cos(mid.to_f32());
         let (sm, cm) = self.mid_sc;
         let half = Fixed(d_alpha.0.saturating_abs()).to_f32() * 0.5;
@@ -160,6 +166,72 @@ impl Surface for Cylinder {
 mod tests {
     use super::*;
     use crate::math::Libm;
+
+    /// The midpoint is the floor of the exact mean (i128), at the extremes and for odd pairs.
+    #[test]
+    fn midpoint_is_the_floor_of_the_mean() {
+        let vals = [
+            i64::MIN,
+            i64::MIN + 1,
+            -7,
+            -2,
+            -1,
+            0,
+            1,
+            2,
+            3,
+            7,
+            i64::MAX - 1,
+            i64::MAX,
+        ];
+        for a in vals {
+            for b in vals {
+                let exact = (i128::from(a) + i128::from(b)).div_euclid(2);
+                assert_eq!(i128::from(midpoint(a, b)), exact, "{a} {b}");
+                assert_eq!(midpoint(a, b), midpoint(b, a));
+            }
+        }
+    }
+
+    /// At α ≠ 0 a spin about the object's z axis (not the normal) rolls the contact along the
+    /// axis: Δx = −r·w_z·sin α (Δα = 0, sinc(0) = 1), and `roll` returns the contact point's
+    /// displacement.
+    #[test]
+    fn a_z_rotation_off_the_top_rolls_along_the_axis() {
+        let (big, r, a) = (0.05f32, 0.01f32, 0.5f32);
+        let mut c = Cylinder::new(big);
+        c.place_under::<Libm>(Vec3::new(0.0, libm::sinf(a), libm::cosf(a)) * (big + r));
+        assert!((c.angle_rad() - a).abs() < 1e-6);
+        let before = c.contact_point();
+        let d = c.roll::<Libm>(Vec3::new(0.0, 0.0, 0.1), r);
+        let expected = -r * 0.1 * libm::sinf(a);
+        assert!((d.x - expected).abs() < 1e-9, "{d:?} vs {expected}");
+        assert_eq!(d, c.contact_point() - before);
+        assert!(d.y.abs() < 1e-9 && d.z.abs() < 1e-9, "{d:?}");
+    }
+
+    /// Placing under a centre sets α = atan2(c_y, c_z), back to 0 on top; a centre within
+    /// 1e-10 m of the axis (c_y² + c_z² ≤ 1e-20 m²) keeps α. Bracketed with a centre whose
+    /// c_y² + c_z² is exactly 1e-20 in f32 and one a float farther.
+    #[test]
+    fn place_under_sets_the_angle_except_on_the_axis() {
+        let big = 0.05f32;
+        let mut c = Cylinder::new(big);
+        c.place_under::<Libm>(Vec3::new(0.0, libm::sinf(0.5), libm::cosf(0.5)) * 0.06);
+        assert!((c.angle_rad() - 0.5).abs() < 1e-6);
+        c.place_under::<Libm>(Vec3::new(0.001, 0.0, 0.06));
+        assert_eq!(c.angle_rad(), 0.0);
+        assert_eq!(c.contact_point(), Vec3::new(0.001, 0.0, big));
+        let (y, z) = (f32::from_bits(0x2e9b_7dcb), f32::from_bits(0x2e9b_7f5a));
+        assert_eq!(y * y + z * z, 1e-20);
+        for (z, moves) in [(z, false), (z.next_up(), true)] {
+            let mut c = Cylinder::new(big);
+            c.place_under::<Libm>(Vec3::new(0.0, libm::sinf(0.5), libm::cosf(0.5)) * 0.06);
+            c.place_under::<Libm>(Vec3::new(0.0, y, z));
+            let a = c.angle_rad();
+            assert_eq!((a - 0.5).abs() > 0.1, moves, "z {z:e}: α {a}");
+        }
+    }
 
     /// sinc(h) = sin(h)/h against f64 on both branches (series below 0.01, the division above) and
     /// at 0. Measured worst relative error 7.8e-8 (f32 rounding); bound 2.4e-7.
