@@ -325,3 +325,64 @@ fn the_cylinders_step_frame_is_the_mid_step_frame() {
         );
     }
 }
+
+/// Step by step against the RK4 reference along `ws` (rad per step), on a sphere and a bowl; the
+/// worst contact-point error, m.
+fn steps_error(ws: &[V]) -> f64 {
+    let r = 0.01;
+    let mut worst = 0.0f64;
+    for shape in [Shape::Sphere(0.05), Shape::Bowl(0.05)] {
+        let (mut sphere, mut bowl) = (Sphere::new(0.05), Bowl::new(0.05));
+        let mut c = shape.start_centre(r);
+        for w in ws {
+            let wf = Vec3::new(w[0] as f32, w[1] as f32, w[2] as f32);
+            let q = match shape {
+                Shape::Sphere(_) => {
+                    sphere.roll::<Libm>(wf, r as f32);
+                    sphere.contact_point()
+                }
+                _ => {
+                    bowl.roll::<Libm>(wf, r as f32);
+                    bowl.contact_point()
+                }
+            };
+            c = reference_step(shape, c, *w, r, 200);
+            let p = shape.contact(c, r);
+            let e = ((q.x as f64 - p[0]).powi(2)
+                + (q.y as f64 - p[1]).powi(2)
+                + (q.z as f64 - p[2]).powi(2))
+            .sqrt();
+            worst = worst.max(e);
+        }
+    }
+    worst
+}
+
+/// Rolls about a single axis (x alone, y alone, z alone off the top), a held sample (a zero step) between a step and
+/// its exact reverse, and a step whose x component alone reverses the previous one: each follows
+/// the RK4 reference on the sphere and the bowl (none is mistaken for a zero step or an undo).
+/// Measured worst 3.1e-9 m; bound 1e-8 m. The zero step between a step and its reverse also
+/// returns the contact bit for bit.
+#[test]
+fn single_axis_rolls_held_samples_and_partial_reversals_follow_the_reference() {
+    let cases: [&[V]; 5] = [
+        &[[0.02, 0.0, 0.0], [0.02, 0.0, 0.0]],
+        &[[0.02, 0.0, 0.0], [0.0, 0.0, 0.03]],
+        &[[0.0, 0.02, 0.0], [0.0, -0.01, 0.0]],
+        &[[0.01, 0.02, 0.0], [0.0, 0.0, 0.0], [-0.01, -0.02, 0.0]],
+        &[[0.01, 0.02, 0.0], [-0.01, 0.05, 0.0]],
+    ];
+    let mut worst = 0.0f64;
+    for ws in cases {
+        let e = steps_error(ws);
+        std::println!("{ws:?}: {e:e} m");
+        worst = worst.max(e);
+    }
+    assert!(worst < 1e-8, "{worst:e}");
+    let mut s = Sphere::new(0.05);
+    let start = s.contact_point();
+    for w in [[0.01f32, 0.02, 0.0], [0.0, 0.0, 0.0], [-0.01, -0.02, 0.0]] {
+        s.roll::<Libm>(Vec3::new(w[0], w[1], w[2]), 0.01);
+    }
+    assert_eq!(s.contact_point(), start);
+}
