@@ -434,3 +434,39 @@ fn the_spherical_step_frame_is_the_mid_step_frame() {
         }
     }
 }
+
+/// A centre at the origin or non-finite has no direction: placing the contact under it changes
+/// nothing, not even the last step's record, so the next step's exact reverse still returns the
+/// contact bit for bit. The frame accessors give the contact frame (its z axis is the normal).
+#[test]
+fn placing_under_no_direction_changes_nothing_on_spherical_surfaces() {
+    let w = Vec3::new(0.01, 0.02, 0.0);
+    for bad in [
+        Vec3::ZERO,
+        Vec3::new(f32::NAN, 0.0, 0.0),
+        Vec3::new(f32::INFINITY, 0.0, 1.0),
+    ] {
+        let mut s = Sphere::new(0.05);
+        let start = s.contact_point();
+        s.roll::<Libm>(w, 0.01);
+        let rolled = s;
+        s.place_under::<Libm>(bad);
+        assert_eq!(s, rolled, "{bad:?}");
+        s.roll::<Libm>(-w, 0.01);
+        assert_eq!(s.contact_point(), start, "{bad:?}");
+        let mut b = Bowl::new(0.05);
+        b.roll::<Libm>(w, 0.01);
+        let rolled = b;
+        b.place_under::<Libm>(bad);
+        assert_eq!(b, rolled, "{bad:?}");
+    }
+    let w = w * 10.0;
+    let mut s = Sphere::new(0.05);
+    s.roll::<Libm>(w, 0.01);
+    assert!((s.frame().rotate(Vec3::Z) - s.normal()).norm::<Libm>() < 1e-7);
+    assert!(s.frame().rotate(Vec3::Z).z < 0.9999, "the frame turned");
+    let mut b = Bowl::new(0.05);
+    b.roll::<Libm>(w, 0.01);
+    assert!((b.frame().rotate(Vec3::Z) - b.normal()).norm::<Libm>() < 1e-7);
+    assert!(b.frame().rotate(Vec3::Z).z < 0.9999, "the frame turned");
+}
