@@ -220,3 +220,29 @@ fn spin_saturation_is_flagged_only_above_the_force_threshold() {
         );
     }
 }
+
+/// Sliding with a twist, then one tick with the probe's position and the wrist held (its velocity
+/// input unchanged, so the contact stays sliding): the trial is where the last slip left it, on or inside the kinetic ellipse, so
+/// nothing slips and the torque is not flagged as limited; the torque stays what the slip left.
+#[test]
+fn a_still_tick_after_a_slip_limits_nothing() {
+    let tau_s = tau_max(P.mu_s) as f32;
+    let (mut m, _) = loaded_and_twisted(P, 0.0, 0.6 * tau_s / P.spin_stiffness);
+    let q = twist(0.6 * tau_s / P.spin_stiffness);
+    let v = Vec3::new(SLIP_V, 0.0, 0.0);
+    m.contact_step(&sample(q, pressed(0.0, 0.001), v));
+    let d = 0.9 * P.mu_s * F_N / P.tangential_stiffness;
+    let slid = m.contact_step(&sample(q, pressed(d, 0.001), v));
+    assert!(slid.flags.contains(Flags::SPIN_SATURATED));
+    let o = m.contact_step(&sample(q, pressed(d, 0.001), v));
+    std::println!(
+        "{:?} {:?} τ {} -> {}",
+        o.state,
+        o.flags,
+        slid.tau_n_nm,
+        o.tau_n_nm
+    );
+    assert_eq!(o.state, ContactState::Sliding);
+    assert!(!o.flags.contains(Flags::SPIN_SATURATED), "{:?}", o.flags);
+    assert_eq!(o.tau_n_nm, slid.tau_n_nm);
+}
