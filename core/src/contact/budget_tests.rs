@@ -7,6 +7,7 @@
 
 use super::*;
 extern crate std;
+use super::step_rule_tests::{pressed, sample};
 use crate::math::Libm;
 use crate::surface::Plane;
 use std::eprintln;
@@ -20,19 +21,6 @@ const SLIP_V: f32 = 0.05;
 
 fn model(p: ContactParams) -> ContactModel<Libm, Plane> {
     ContactModel::new(p, Plane::default(), Quat::IDENTITY, DT).unwrap()
-}
-
-fn sample(q: Quat, probe: Vec3, vel: Vec3) -> ContactInput {
-    ContactInput {
-        q,
-        probe_m: probe,
-        probe_vel: vel,
-    }
-}
-
-/// Probe centre `pen_m` below the free position z = ρ, `x` along the plane.
-fn pressed(x: f32, pen_m: f32) -> Vec3 {
-    Vec3::new(x, 0.0, P.fingertip_radius_m - pen_m)
 }
 
 fn twist(angle: f32) -> Quat {
@@ -65,6 +53,20 @@ fn loaded_and_twisted(
         assert_eq!(o.state, ContactState::Rolling, "step {k}: {:?}", o.reason);
     }
     (m, o)
+}
+
+/// Twisted to 0.6 of the static torsional limit, then pushed sideways to 0.9 of the cone at the
+/// slip speed: the contact slides. Returns the model, the wrist orientation, the probe velocity,
+/// the probe's offset (m) and the sliding step's output.
+fn slid_with_twist() -> (ContactModel<Libm, Plane>, Quat, Vec3, f32, ContactOutput) {
+    let tau_s = tau_max(P.mu_s) as f32;
+    let (mut m, _) = loaded_and_twisted(P, 0.0, 0.6 * tau_s / P.spin_stiffness);
+    let q = twist(0.6 * tau_s / P.spin_stiffness);
+    let v = Vec3::new(SLIP_V, 0.0, 0.0);
+    m.contact_step(&sample(q, pressed(0.0, 0.001), v));
+    let d = 0.9 * P.mu_s * F_N / P.tangential_stiffness;
+    let o = m.contact_step(&sample(q, pressed(d, 0.001), v));
+    (m, q, v, d, o)
 }
 
 #[test]
@@ -131,12 +133,7 @@ fn a_twist_and_a_load_in_the_same_step_share_the_budget() {
 #[test]
 fn sliding_proxy_and_torsion_spring_slip_together_onto_the_kinetic_ellipse() {
     let tau_s = tau_max(P.mu_s) as f32;
-    let (mut m, _) = loaded_and_twisted(P, 0.0, 0.6 * tau_s / P.spin_stiffness);
-    let q = twist(0.6 * tau_s / P.spin_stiffness);
-    let v = Vec3::new(SLIP_V, 0.0, 0.0);
-    m.contact_step(&sample(q, pressed(0.0, 0.001), v));
-    let d = 0.9 * P.mu_s * F_N / P.tangential_stiffness;
-    let o = m.contact_step(&sample(q, pressed(d, 0.001), v));
+    let (mut m, q, v, d, o) = slid_with_twist();
     assert_eq!(o.state, ContactState::Sliding);
     let (f_max, t_max) = (P.mu_k * F_N, tau_max(P.mu_k) as f32);
     let trial_tau = 0.6 * tau_s;
@@ -222,26 +219,13 @@ fn spin_saturation_is_flagged_only_above_the_force_threshold() {
 }
 
 /// Sliding with a twist, then one tick with the probe's position and the wrist held (its velocity
-/// input unchanged, so the contact stays sliding): the trial is where the last slip left it, on or inside the kinetic ellipse, so
-/// nothing slips and the torque is not flagged as limited; the torque stays what the slip left.
+/// input unchanged, so the contact stays sliding): the trial is where the last slip left it, on
+/// or inside the kinetic ellipse, so nothing slips and the torque is not flagged as limited; the torque stays what the slip left.
 #[test]
 fn a_still_tick_after_a_slip_limits_nothing() {
-    let tau_s = tau_max(P.mu_s) as f32;
-    let (mut m, _) = loaded_and_twisted(P, 0.0, 0.6 * tau_s / P.spin_stiffness);
-    let q = twist(0.6 * tau_s / P.spin_stiffness);
-    let v = Vec3::new(SLIP_V, 0.0, 0.0);
-    m.contact_step(&sample(q, pressed(0.0, 0.001), v));
-    let d = 0.9 * P.mu_s * F_N / P.tangential_stiffness;
-    let slid = m.contact_step(&sample(q, pressed(d, 0.001), v));
+    let (mut m, q, v, d, slid) = slid_with_twist();
     assert!(slid.flags.contains(Flags::SPIN_SATURATED));
     let o = m.contact_step(&sample(q, pressed(d, 0.001), v));
-    std::println!(
-        "{:?} {:?} τ {} -> {}",
-        o.state,
-        o.flags,
-        slid.tau_n_nm,
-        o.tau_n_nm
-    );
     assert_eq!(o.state, ContactState::Sliding);
     assert!(!o.flags.contains(Flags::SPIN_SATURATED), "{:?}", o.flags);
     assert_eq!(o.tau_n_nm, slid.tau_n_nm);

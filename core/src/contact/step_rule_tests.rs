@@ -15,7 +15,7 @@ fn model() -> ContactModel<Libm, Plane> {
     ContactModel::new(P, Plane::default(), Quat::IDENTITY, DT).unwrap()
 }
 
-fn sample(q: Quat, probe: Vec3, vel: Vec3) -> ContactInput {
+pub(super) fn sample(q: Quat, probe: Vec3, vel: Vec3) -> ContactInput {
     ContactInput {
         q,
         probe_m: probe,
@@ -24,7 +24,7 @@ fn sample(q: Quat, probe: Vec3, vel: Vec3) -> ContactInput {
 }
 
 /// Probe centre `pen_m` below the free position z = ρ (plane z = 0).
-fn pressed(x: f32, pen_m: f32) -> Vec3 {
+pub(super) fn pressed(x: f32, pen_m: f32) -> Vec3 {
     Vec3::new(x, 0.0, P.fingertip_radius_m - pen_m)
 }
 

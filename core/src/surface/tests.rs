@@ -85,6 +85,11 @@ fn w_at(k: usize) -> V {
     ]
 }
 
+/// |q − p|, m: a model point (f32) against a reference point (f64).
+fn distance(q: Vec3, p: V) -> f64 {
+    ((q.x as f64 - p[0]).powi(2) + (q.y as f64 - p[1]).powi(2) + (q.z as f64 - p[2]).powi(2)).sqrt()
+}
+
 fn path_error<S: Surface>(s: S, shape: Shape, r: f64, steps: usize) -> f64 {
     path_error_scaled(s, shape, r, steps, 1.0)
 }
@@ -99,11 +104,7 @@ fn path_error_scaled<S: Surface>(mut s: S, shape: Shape, r: f64, steps: usize, s
         c = reference_step(shape, c, w, r, 200);
         let p = shape.contact(c, r);
         let q = s.contact_point();
-        let e = ((q.x as f64 - p[0]).powi(2)
-            + (q.y as f64 - p[1]).powi(2)
-            + (q.z as f64 - p[2]).powi(2))
-        .sqrt();
-        worst = worst.max(e);
+        worst = worst.max(distance(q, p));
     }
     worst
 }
@@ -348,11 +349,7 @@ fn steps_error(ws: &[V]) -> f64 {
             };
             c = reference_step(shape, c, *w, r, 200);
             let p = shape.contact(c, r);
-            let e = ((q.x as f64 - p[0]).powi(2)
-                + (q.y as f64 - p[1]).powi(2)
-                + (q.z as f64 - p[2]).powi(2))
-            .sqrt();
-            worst = worst.max(e);
+            worst = worst.max(distance(q, p));
         }
     }
     worst
