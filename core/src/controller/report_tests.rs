@@ -329,3 +329,27 @@ fn arm_velocities_filter_the_angle_steps_into_the_back_emf_duty() {
         v *= 1.0 - a;
     }
 }
+
+/// A fault zeroes the reported spin torque with the force: twisted and pressed (τn ≠ 0), the tick
+/// with nFAULT reports τn = 0, and so does every tick until the faults are cleared.
+#[test]
+fn a_fault_zeroes_the_reported_spin_torque() {
+    let pressed = counts_at(touching(0.001), [0; 3]);
+    let mut c = controller();
+    c.tick(&input(pressed));
+    let mut twisted = pressed;
+    let mut out = TickOutput::default();
+    for w in 1..=20 {
+        twisted[3] = w;
+        out = c.tick(&input(twisted));
+    }
+    assert!(out.tau_n_nm.abs() > 1e-5, "{out:?}");
+    let out = c.tick(&TickInput {
+        counts: twisted,
+        driver_fault: true,
+        overrun: false,
+    });
+    assert!(!out.enable);
+    assert_eq!((out.force_n, out.tau_n_nm), (Vec3::ZERO, 0.0));
+    assert_eq!(c.tick(&input(twisted)).tau_n_nm, 0.0);
+}
