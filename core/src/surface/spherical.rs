@@ -59,12 +59,15 @@ impl SphericalContact {
         self.last_w = w;
     }
 
-    /// The frame midway through the last roll: nlerp of the two ends, symmetric in them.
+    /// The frame midway through the last roll: the normalised sum of the two ends, symmetric in
+    /// them. The end is the start turned by dq = (cos θ/2, u·sin θ/2) (θ the frame's turn in the
+    /// step), so a + b = (1 + dq)·a ∝ (cos θ/4, u·sin θ/4)·a, the frame turned by θ/2 along the
+    /// step's own path, for any θ < 2π. No sign flip: a flip would take the shorter arc, which for
+    /// θ > π (a bowl barely larger than the fingertip turns its frame by r/(R − r) times the
+    /// step) is not the path the contact took.
     fn mid_frame<M: Math>(&self) -> Quat {
         let (a, b) = (self.prev_frame, self.frame);
-        let d = a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
-        let s = if d < 0.0 { -1.0 } else { 1.0 };
-        let m = Quat::new(a.w + s * b.w, a.x + s * b.x, a.y + s * b.y, a.z + s * b.z);
+        let m = Quat::new(a.w + b.w, a.x + b.x, a.y + b.y, a.z + b.z);
         let (m, _) = m.normalized_checked::<M>();
         m
     }

@@ -430,6 +430,21 @@ fn the_spherical_step_frame_is_the_mid_step_frame() {
             assert!(e[0] < bound && e[1] < bound, "{u:?} {ns:?}: {e:?}");
         }
     }
+    // A bowl barely larger than the fingertip turns its frame by κ = −r/(R − r) = −20 times the
+    // step: one step of 0.2 rad turns it by −4 rad, more than π, and the mid-step frame is the one
+    // turned by −2 rad along that path (not the shorter arc's midpoint). Measured 0 (to f32);
+    // bound 1.8e-7, the one-step case's.
+    let (big, w) = (0.0105f32, 0.2f32);
+    let k = -r / (big - r);
+    let mut bowl = Bowl::new(big);
+    bowl.roll::<Libm>(Vec3::X * w, r);
+    let mid = Quat::from_axis_angle::<Libm>(Vec3::X, k * w / 2.0);
+    let e = [Vec3::X, Vec3::Y, Vec3::Z]
+        .iter()
+        .map(|&e| (bowl.to_step_contact::<Libm>(mid.rotate(e)) - e).norm::<Libm>())
+        .fold(0.0f32, f32::max);
+    std::println!("bowl turning -4 rad in one step: mid-step frame error {e:e}");
+    assert!(e < 1.8e-7, "{e:e}");
 }
 
 /// A centre at the origin or non-finite has no direction: placing the contact under it changes
