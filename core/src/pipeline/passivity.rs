@@ -408,10 +408,9 @@ mod tests {
         assert!(Passivity::new(PassivityConfig::DEFAULT, 1e-4, 1e4, 0.0).is_err());
     }
 
-    /// An active +2 N push over 1 µm (2 µJ into the user), then one more tick at 0.01 m/s, on a
-    /// stage with sensor quantum `q` (no output delay).
-    fn pushed(q: f32) -> PassivityStep {
-        let mut p = Passivity::new(
+    /// A 10 kHz stage with sensor quantum `q` and no output delay.
+    fn stage(q: f32) -> Passivity {
+        Passivity::new(
             PassivityConfig {
                 output_delay_ticks: 0.0,
                 position_quantum_m: q,
@@ -421,7 +420,13 @@ mod tests {
             1e4,
             12.0,
         )
-        .unwrap();
+        .unwrap()
+    }
+
+    /// An active +2 N push over 1 µm (2 µJ into the user), then one more tick at 0.01 m/s, on a
+    /// stage with sensor quantum `q` (no output delay).
+    fn pushed(q: f32) -> PassivityStep {
+        let mut p = stage(q);
         let f = Vec3::new(2.0, 0.0, 0.0);
         let _ = p.step(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
         let _ = p.step(f, Vec3::ZERO, Vec3::ZERO);
@@ -448,17 +453,7 @@ mod tests {
     #[test]
     fn positive_energy_leaks_one_counts_work_per_leak_time() {
         let q = 1e-7f32;
-        let mut p = Passivity::new(
-            PassivityConfig {
-                output_delay_ticks: 0.0,
-                position_quantum_m: q,
-                ..PassivityConfig::DEFAULT
-            },
-            1e-4,
-            1e4,
-            12.0,
-        )
-        .unwrap();
+        let mut p = stage(q);
         let f = Vec3::new(2.0, 0.0, 0.0);
         let x = Vec3::new(1e-6, 0.0, 0.0);
         let _ = p.step(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
