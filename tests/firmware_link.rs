@@ -5,25 +5,32 @@
 #[allow(dead_code)] // items the firmware's link task uses and these tests do not
 #[path = "../firmware/src/link/mod.rs"]
 mod link;
+#[allow(dead_code)] // `NoStream`: the STM32 build without a link
+#[path = "../firmware/src/stream.rs"]
+mod stream;
+#[path = "../firmware/src/stream_point.rs"]
+mod stream_point;
 
-use link::info::{min_stream_divisor, InfoSource};
+use link::info::{min_stream_divisor, InfoSource, MAX_STREAM_HZ};
 use link::session::{CommandSink, LinkConfig, LinkSession};
 use link::state::{StateBuilder, TickExtender};
 use link::tx::TxRing;
 use softfinger_core::contact_state::ContactState;
-use softfinger_core::device::DeviceParams;
 use softfinger_core::devices::OMEGA_LIKE;
 use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::{Command, CommandError, Mode as CoreMode, PipelineRecord};
-use softfinger_core::{Flags, Libm, Vec3};
+use softfinger_core::pipeline::{Command, CommandError, Mode as CoreMode};
+use softfinger_core::Flags;
 use softfinger_protocol::frame::encode_frame_with_version;
 use softfinger_protocol::{
     encode_frame, AckResult, ContactStateWire, DeviceMsg, ErrorCode, FrameDecoder, FrameErrorKind,
     HostMsg, LocalModel, Mode, Request, SurfaceKind, SurfaceShape, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
+use stream_point::StreamPoint;
 
 const RATE_HZ: u32 = 10_000;
-const MIN_DIVISOR: u16 = 100;
+const MIN_DIVISOR: u16 = 5;
+/// The tick timer's clock of the test sessions (the STM32's 170 MHz).
+const TIMER_HZ: u32 = 170_000_000;
 
 /// The tick's command queue, as a list (`capacity`: how many it takes).
 #[derive(Default)]
@@ -59,7 +66,7 @@ fn session<const TX: usize>() -> LinkSession<TX> {
             min_stream_divisor: MIN_DIVISOR,
             watchdog_ms: 0,
         },
-        device: DeviceParams::OMEGA_LIKE,
+        timer_clock_hz: TIMER_HZ,
         contact: ContactParams::DEFAULT,
     })
 }
@@ -93,19 +100,23 @@ fn sent<const TX: usize>(s: &mut LinkSession<TX>) -> Vec<DeviceMsg> {
     out
 }
 
-fn record(tick: u32, motor_counts: [i32; 3]) -> PipelineRecord {
-    PipelineRecord {
+/// A stream point at `tick`, in rolling contact.
+fn point(tick: u32) -> StreamPoint {
+    StreamPoint {
         tick,
         mode: CoreMode::Armed,
         state: ContactState::Rolling,
         flags: Flags::OUTPUT_LIMITED,
-        motor_counts,
-        wrist_counts: [0; 3],
-        force_mn: [100, -2500, 12000],
-        compare: [0; 3],
-        latency_counts: 0,
-        write_counts: 0,
-        dropped_before: 0,
+        probe_m: [0.01, -0.02, 0.13],
+        probe_vel_m_s: [0.1, 0.0, -0.05],
+        force_n: [0.1, -2.5, 12.0],
+        spin_torque_nm: 1.5e-3,
+        contact_point_m: [0.01, -0.02, 0.12],
+        model_seq: 7,
+        max_tick_counts: 3400,
+        sum_tick_counts: 5 * 3000,
+        ticks: 5,
+        overruns: 2,
     }
 }
 
@@ -549,9 +560,9 @@ fn the_stream_follows_the_divisor_and_refuses_one_below_the_minimum() {
             },
         ),
     );
-    // Records every 100 ticks: ticks 0, 100, ..., 500; divisor 200 keeps 0, 200, 400.
-    for i in 0..6 {
-        s.record(&record(i * 100, [0; 3]));
+    // The tick streams the multiples of the divisor: 0, 10, 20.
+    for i in 0..3 {
+        s.stream(&point(i * 2 * u32::from(MIN_DIVISOR)));
     }
     let msgs = sent(&mut s);
     assert_eq!(
@@ -574,7 +585,8 @@ fn the_stream_follows_the_divisor_and_refuses_one_below_the_minimum() {
             _ => None,
         })
         .collect();
-    assert_eq!(ticks, vec![0, 200, 400]);
+    assert_eq!(ticks, vec![0, 10, 20]);
+    assert_eq!(s.stream_divisor(), 2 * MIN_DIVISOR, "handed to the tick");
     let DeviceMsg::State(st) = &msgs[2] else {
         panic!()
     };
@@ -582,13 +594,14 @@ fn the_stream_follows_the_divisor_and_refuses_one_below_the_minimum() {
     assert_eq!(st.contact, ContactStateWire::Rolling);
     assert_eq!(st.flags, Flags::OUTPUT_LIMITED.0);
     assert_eq!(st.force_n, [0.1, -2.5, 12.0]);
+    assert_eq!(st.dropped, 0);
     // Divisor 0 stops it.
     feed(
         &mut s,
         &mut q,
         &request(3, Request::SetStream { divisor: 0 }),
     );
-    s.record(&record(600, [0; 3]));
+    s.stream(&point(30));
     assert_eq!(
         sent(&mut s),
         vec![DeviceMsg::Ack {
@@ -596,10 +609,78 @@ fn the_stream_follows_the_divisor_and_refuses_one_below_the_minimum() {
             result: AckResult::Ok
         }]
     );
+    assert_eq!(s.stream_divisor(), 0);
 }
 
 #[test]
-fn records_off_the_divisor_give_one_sample_per_window() {
+fn a_sample_carries_every_field_of_the_point_timing_in_ns() {
+    let mut b = StateBuilder::new(TIMER_HZ);
+    let st = b.sample(&point(40));
+    let p = point(40);
+    assert_eq!(st.tick, 40);
+    assert_eq!(st.probe_m, p.probe_m);
+    assert_eq!(st.probe_vel_m_s, p.probe_vel_m_s);
+    assert_eq!(st.force_n, p.force_n);
+    assert_eq!(st.spin_torque_nm, p.spin_torque_nm);
+    assert_eq!(st.contact, ContactStateWire::Rolling);
+    assert_eq!(st.contact_point_m, p.contact_point_m);
+    assert_eq!(st.flags, Flags::OUTPUT_LIMITED.0);
+    assert_eq!(st.mode, Mode::Armed);
+    assert_eq!(st.model_seq, 7);
+    // 3400 counts at 170 MHz = 20 000 ns; the mean 3000 counts = 17 647.06 ns (truncated).
+    assert_eq!(st.tick_stats.max_duration_ns, 20_000);
+    assert_eq!(st.tick_stats.mean_duration_ns, 17_647);
+    assert_eq!(st.tick_stats.overruns, 2);
+    // No tick since the previous point: a mean of 0, not a division by zero.
+    let idle = b.sample(&StreamPoint {
+        ticks: 0,
+        sum_tick_counts: 0,
+        ..point(45)
+    });
+    assert_eq!(idle.tick_stats.mean_duration_ns, 0);
+}
+
+/// The tick's side (`firmware/src/stream.rs`), the only test that sets the divisor (a static).
+#[test]
+fn the_tick_streams_the_multiples_of_the_divisor_with_the_timing_between() {
+    use stream::{set_divisor, StreamTap};
+    let mut tap = StreamTap::default();
+    let mut run = |tap: &mut StreamTap, ticks: u32| {
+        let mut points = Vec::new();
+        for i in 0..ticks {
+            if tap.due() {
+                let mut p = StreamPoint::default();
+                tap.stamp(&mut p);
+                points.push(p);
+            }
+            // Tick durations 100, 101, ... counts; every seventh one overran.
+            tap.account(100 + i, i % 7 == 6);
+        }
+        points
+    };
+    // No divisor: nothing, whatever the tick.
+    set_divisor(0);
+    assert!(run(&mut tap, 12).is_empty());
+    // Divisor 5 from tick 12: the next multiple is 15.
+    set_divisor(5);
+    let points = run(&mut tap, 13);
+    let ticks: Vec<u32> = points.iter().map(|p| p.tick).collect();
+    assert_eq!(ticks, vec![15, 20]);
+    // Between 15 and 20 the tick accounted the durations of ticks 15..=19 of this run's
+    // numbering: i = 3..=7, 103..=107 counts; i = 6 overran (the 2nd overrun since start-up,
+    // after the first run's i = 6).
+    let p = &points[1];
+    assert_eq!((p.ticks, p.max_tick_counts), (5, 107));
+    assert_eq!(p.sum_tick_counts, 103 + 104 + 105 + 106 + 107);
+    assert_eq!(p.overruns, 2);
+    // The first point holds everything since start-up: 12 + 3 ticks.
+    assert_eq!(points[0].ticks, 15);
+    set_divisor(0);
+    assert!(run(&mut tap, 10).is_empty());
+}
+
+#[test]
+fn points_the_tick_could_not_queue_are_counted_as_dropped() {
     let (mut s, mut q) = (session::<4096>(), queue());
     feed(
         &mut s,
@@ -607,28 +688,29 @@ fn records_off_the_divisor_give_one_sample_per_window() {
         &request(
             1,
             Request::SetStream {
-                divisor: 2 * MIN_DIVISOR,
+                divisor: MIN_DIVISOR,
             },
         ),
     );
-    // The decimator's records at ticks 99, 199, ...: windows of 200 ticks hold two each.
-    for i in 0..6 {
-        s.record(&record(99 + i * 100, [0; 3]));
+    let d = u32::from(MIN_DIVISOR);
+    // Points 0, 5, then 20: the tick lost 10 and 15.
+    for t in [0, d, 4 * d] {
+        s.stream(&point(t));
     }
-    let ticks: Vec<u64> = sent(&mut s)
+    let dropped: Vec<u32> = sent(&mut s)
         .iter()
         .filter_map(|m| match m {
-            DeviceMsg::State(st) => Some(st.tick),
+            DeviceMsg::State(st) => Some(st.dropped),
             _ => None,
         })
         .collect();
-    assert_eq!(ticks, vec![99, 299, 499]);
+    assert_eq!(dropped, vec![0, 0, 2]);
 }
 
 #[test]
 fn a_host_that_stops_reading_loses_samples_counted_never_blocks() {
     // Room for about two state frames.
-    let (mut s, mut q) = (session::<160>(), queue());
+    let (mut s, mut q) = (session::<200>(), queue());
     feed(
         &mut s,
         &mut q,
@@ -640,8 +722,9 @@ fn a_host_that_stops_reading_loses_samples_counted_never_blocks() {
         ),
     );
     assert_eq!(sent(&mut s).len(), 1);
+    let d = u32::from(MIN_DIVISOR);
     for i in 0..10 {
-        s.record(&record(i * 100, [0; 3]));
+        s.stream(&point(i * d));
     }
     let states: Vec<_> = sent(&mut s)
         .into_iter()
@@ -654,58 +737,11 @@ fn a_host_that_stops_reading_loses_samples_counted_never_blocks() {
     let lost = 10 - states.len() as u32;
     assert_eq!(s.counters().tx_dropped, lost);
     // The host reads again: the next sample reports the samples it lost.
-    s.record(&record(1000, [0; 3]));
+    s.stream(&point(10 * d));
     let Some(DeviceMsg::State(next)) = sent(&mut s).pop() else {
         panic!()
     };
     assert_eq!(next.dropped, lost);
-}
-
-#[test]
-fn the_probe_position_is_the_kinematics_of_the_homed_counts() {
-    // Reference: the workspace centre through the inverse kinematics (libm backend) to counts.
-    let device = DeviceParams::OMEGA_LIKE;
-    let centre = softfinger_core::delta::DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
-    let (angles, flags) = device.delta.inverse::<Libm>(centre);
-    assert!(flags.is_empty());
-    let counts = angles.map(|a| {
-        ((a - device.arm_angle_at_zero_count_rad) / device.arm_rad_per_motor_count()).round() as i32
-    });
-    let mut b: StateBuilder = StateBuilder::new(device, RATE_HZ);
-    let s0 = b.sample(&record(0, counts));
-    let err = (Vec3::from_array(s0.probe_m) - centre).norm::<Libm>();
-    // Measured 7.6e-6 m (count quantisation and the fast math); bound about 3x.
-    assert!(err < 2.5e-5, "{err}");
-    assert_eq!(s0.probe_vel_m_s, [0.0; 3], "no previous record");
-    // One motor count later, 100 ticks (10 ms) on: velocity = displacement / 10 ms.
-    let s1 = b.sample(&record(100, [counts[0] + 1, counts[1], counts[2]]));
-    for i in 0..3 {
-        let expected = (s1.probe_m[i] - s0.probe_m[i]) / 0.01;
-        assert!((s1.probe_vel_m_s[i] - expected).abs() <= 1e-6 * expected.abs().max(1.0));
-    }
-    assert!(Vec3::from_array(s1.probe_vel_m_s).norm::<Libm>() > 0.0);
-}
-
-#[test]
-fn no_velocity_across_the_end_of_homing() {
-    // Raw counts while homing, homed counts after: the jump is the homing offset, not a motion.
-    let mut b: StateBuilder = StateBuilder::new(DeviceParams::OMEGA_LIKE, RATE_HZ);
-    let homing = PipelineRecord {
-        mode: CoreMode::Homing,
-        ..record(0, [5000, 5000, 5000])
-    };
-    let disarmed = PipelineRecord {
-        mode: CoreMode::Disarmed,
-        ..record(100, [0, 0, 0])
-    };
-    let _ = b.sample(&homing);
-    assert_eq!(b.sample(&disarmed).probe_vel_m_s, [0.0; 3]);
-    // Within one frame, a change of counts is a velocity.
-    let moved = PipelineRecord {
-        mode: CoreMode::Disarmed,
-        ..record(200, [10, 0, 0])
-    };
-    assert!(Vec3::from_array(b.sample(&moved).probe_vel_m_s).norm::<Libm>() > 0.0);
 }
 
 #[test]
@@ -717,11 +753,15 @@ fn ticks_extend_past_the_32_bit_wrap() {
 }
 
 #[test]
-fn the_minimum_divisor_is_the_record_interval() {
-    assert_eq!(min_stream_divisor(10_000, 100), 100);
-    assert_eq!(min_stream_divisor(20_000, 100), 200);
-    assert_eq!(min_stream_divisor(50, 100), 1);
-    assert_eq!(min_stream_divisor(10_000, 0), 10_000);
+fn the_minimum_divisor_keeps_the_stream_at_or_below_its_fastest_rate() {
+    assert_eq!(MAX_STREAM_HZ, 2_000);
+    assert_eq!(min_stream_divisor(10_000), 5);
+    assert_eq!(min_stream_divisor(20_000), 10);
+    // Just above a multiple: the next divisor (10 001 / 5 would be 2 000.2 Hz).
+    assert_eq!(min_stream_divisor(10_001), 6);
+    assert_eq!(min_stream_divisor(2_000), 1);
+    assert_eq!(min_stream_divisor(1_000), 1);
+    assert_eq!(min_stream_divisor(0), 1);
 }
 
 #[test]

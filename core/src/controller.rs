@@ -276,7 +276,10 @@ impl<M: Math, S: Scene> Controller<M, S> {
             force_scale: 1.0,
             pending: Flags::NONE,
             passivity: Passivity::new(
-                PassivityConfig::DEFAULT,
+                PassivityConfig {
+                    enabled: S::PASSIVITY_DAMPS,
+                    ..PassivityConfig::DEFAULT
+                },
                 dt_s,
                 stored_spring(&config.contact),
                 config.contact.max_force_n,

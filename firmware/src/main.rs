@@ -27,6 +27,8 @@ mod isr_cell;
 mod link;
 mod logger;
 mod operator;
+mod stream;
+mod stream_point;
 mod supervisor;
 mod tap;
 mod tick;
@@ -49,11 +51,6 @@ pub type CommandTx = Producer<'static, Command>;
 #[cfg(feature = "usb")]
 pub type CommandTx = usb_link::SharedCommands;
 
-/// Where the logger forwards records (`NoTap`: nowhere; with USB: the link's queue).
-#[cfg(not(feature = "usb"))]
-type RecordTap = tap::NoTap;
-#[cfg(feature = "usb")]
-type RecordTap = Producer<'static, PipelineRecord>;
 /// Where the supervisor forwards command outcomes (`NoTap`: nowhere; with USB: the link's queue).
 #[cfg(not(feature = "usb"))]
 type OutcomeTap = tap::NoTap;
@@ -64,9 +61,8 @@ type OutcomeTap = Producer<'static, CommandOutcome>;
 async fn logger_task(
     records: Consumer<'static, PipelineRecord>,
     summaries: Consumer<'static, TimingSummary>,
-    mut tap: RecordTap,
 ) {
-    logger::run(records, summaries, |r| tap.forward(r)).await
+    logger::run(records, summaries, |_| {}).await
 }
 
 #[embassy_executor::task]
@@ -100,19 +96,20 @@ fn main() -> ! {
     })
 }
 
-/// The USB device and the link tasks; returns the queues the logger and the supervisor forward
-/// to, and the operator's share of the command queue.
+/// The USB device and the link tasks; returns the queue the supervisor forwards to, the tick's
+/// end of the stream queue, and the operator's share of the command queue.
 #[cfg(feature = "usb")]
 fn start_usb_link(
     spawner: &Spawner,
     usb: bsp::UsbParts,
     commands: Producer<'static, Command>,
-) -> Option<((RecordTap, OutcomeTap), CommandTx)> {
-    let link_records =
-        cortex_m::singleton!(: Queue<PipelineRecord, {usb_link::LINK_QUEUE_LEN}> = Queue::new())?;
+) -> Option<(OutcomeTap, bsp::StreamTx, CommandTx)> {
+    let link_stream = cortex_m::singleton!(
+        : Queue<stream::StreamPoint, {usb_link::STREAM_QUEUE_LEN}> = Queue::new()
+    )?;
     let link_outcomes =
         cortex_m::singleton!(: Queue<CommandOutcome, {usb_link::LINK_QUEUE_LEN}> = Queue::new())?;
-    let (records_tx, records) = link_records.split();
+    let (stream_tx, stream) = link_stream.split();
     let (outcomes_tx, outcomes) = link_outcomes.split();
     let (operator, link) = usb_link::SharedCommands::new(commands)?;
     let (device, class) = usb_link::build(usb.driver())?;
@@ -120,11 +117,11 @@ fn start_usb_link(
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("USB task not spawned: {}", e),
     }
-    match usb_link_task(class, link, link::task::LinkQueues { outcomes, records }) {
+    match usb_link_task(class, link, link::task::LinkQueues { outcomes, stream }) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("USB link task not spawned: {}", e),
     }
-    Some(((records_tx, outcomes_tx), operator))
+    Some((outcomes_tx, stream_tx, operator))
 }
 
 #[cfg(feature = "usb")]
@@ -141,24 +138,20 @@ async fn usb_link_task(
     queues: link::task::LinkQueues,
 ) {
     let pipeline = config::pipeline_config();
-    let session =
-        link::session::LinkSession::<{ usb_link::LINK_TX_BYTES }, softfinger_core::Fast>::new(
-            &link::session::LinkConfig {
-                info: link::info::InfoSource {
-                    name: config::DEVICE.name,
-                    firmware_version: env!("CARGO_PKG_VERSION"),
-                    control_rate_hz: config::CONTROL_RATE_HZ,
-                    max_force_n: pipeline.contact.max_force_n,
-                    min_stream_divisor: link::info::min_stream_divisor(
-                        config::CONTROL_RATE_HZ,
-                        config::LOG_RATE_HZ,
-                    ),
-                    watchdog_ms: config::BENCH_WATCHDOG_MS,
-                },
-                device: config::DEVICE.params,
-                contact: pipeline.contact,
+    let session = link::session::LinkSession::<{ usb_link::LINK_TX_BYTES }>::new(
+        &link::session::LinkConfig {
+            info: link::info::InfoSource {
+                name: config::DEVICE.name,
+                firmware_version: env!("CARGO_PKG_VERSION"),
+                control_rate_hz: config::CONTROL_RATE_HZ,
+                max_force_n: pipeline.contact.max_force_n,
+                min_stream_divisor: link::info::min_stream_divisor(config::CONTROL_RATE_HZ),
+                watchdog_ms: config::BENCH_WATCHDOG_MS,
             },
-        );
+            timer_clock_hz: config::SYSCLK_HZ,
+            contact: pipeline.contact,
+        },
+    );
     usb_link::run(class, session, commands, queues).await
 }
 
@@ -218,17 +211,17 @@ async fn start(spawner: Spawner) {
         usb,
     } = Board::new(periph);
     #[cfg(not(feature = "usb"))]
-    let (taps, command_tx): ((RecordTap, OutcomeTap), CommandTx) =
-        ((tap::NoTap, tap::NoTap), command_tx);
+    let (outcome_tap, stream_tx, command_tx): (OutcomeTap, bsp::StreamTx, CommandTx) =
+        (tap::NoTap, stream::NoStream, command_tx);
     #[cfg(feature = "usb")]
-    let Some((taps, command_tx)) = start_usb_link(&spawner, usb, command_tx) else {
+    let Some((outcome_tap, stream_tx, command_tx)) = start_usb_link(&spawner, usb, command_tx) else {
         return;
     };
-    match logger_task(record_rx, summary_rx, taps.0) {
+    match logger_task(record_rx, summary_rx) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("logger task not spawned: {}", e),
     }
-    match supervisor_task(led, outcome_rx, taps.1) {
+    match supervisor_task(led, outcome_rx, outcome_tap) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("supervisor task not spawned: {}", e),
     }
@@ -242,6 +235,7 @@ async fn start(spawner: Spawner) {
         outcomes: outcome_tx,
         records: record_tx,
         summaries: summary_tx,
+        stream: stream_tx,
     };
     match bsp::start_tick(ControlLoop::new(control, pipeline, queues)) {
         Ok(skew) => info!(

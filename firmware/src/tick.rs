@@ -14,12 +14,14 @@
 use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 
 use heapless::spsc::{Consumer, Producer};
+use softfinger_core::controller::ContactStage;
 use softfinger_core::pipeline::{
-    Command, CommandError, Mode, Pipeline, PipelineRecord, RawInput, TimingSummary,
+    Command, CommandError, Mode, Pipeline, PipelineOutput, PipelineRecord, RawInput, TimingSummary,
 };
 use softfinger_core::Fast;
 
 use crate::board::ControlHw;
+use crate::stream::{StreamPoint, StreamSink, StreamTap};
 
 /// The pipeline the tick runs: the tick's fast math, the configuration's scene (the application's
 /// local model with a host link, the fixed plane without).
@@ -73,32 +75,36 @@ pub static STATUS: TickStatus = TickStatus {
     max_tick_counts: AtomicU32::new(0),
 };
 
-/// The queue ends the tick holds.
-pub struct TickQueues {
+/// The queue ends the tick holds; `K`: where the host link's state stream goes
+/// ([`crate::stream::NoStream`] without a link).
+pub struct TickQueues<K: StreamSink> {
     pub commands: Consumer<'static, Command>,
     pub outcomes: Producer<'static, CommandOutcome>,
     pub records: Producer<'static, PipelineRecord>,
     pub summaries: Producer<'static, TimingSummary>,
+    pub stream: K,
 }
 
 /// Everything one tick reads and writes.
-pub struct ControlLoop<H: ControlHw> {
+pub struct ControlLoop<H: ControlHw, K: StreamSink> {
     hw: H,
     pipeline: TickPipeline,
-    queues: TickQueues,
+    queues: TickQueues<K>,
     /// Timer counts from the previous tick's event to the end of its hardware writes
     /// (`u32::MAX`: they ended after the next event).
     prev_write_done: u32,
+    stream: StreamTap,
 }
 
-impl<H: ControlHw> ControlLoop<H> {
+impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
     /// The loop, ready for its first tick.
-    pub fn new(hw: H, pipeline: TickPipeline, queues: TickQueues) -> Self {
+    pub fn new(hw: H, pipeline: TickPipeline, queues: TickQueues<K>) -> Self {
         ControlLoop {
             hw,
             pipeline,
             queues,
             prev_write_done: 0,
+            stream: StreamTap::default(),
         }
     }
 
@@ -145,7 +151,33 @@ impl<H: ControlHw> ControlLoop<H> {
             let _ = self.queues.summaries.enqueue(summary);
         }
         self.serve_commands();
+        if K::ENABLED {
+            self.stream_out(&out);
+        }
         self.account();
+    }
+
+    /// On a streamed tick, what the pipeline rendered, for the host link.
+    fn stream_out(&mut self, out: &PipelineOutput) {
+        if !self.stream.due() {
+            return;
+        }
+        let c = self.pipeline.controller();
+        let mut point = StreamPoint {
+            mode: out.mode,
+            state: out.control.state,
+            flags: out.flags,
+            probe_m: out.control.probe_m.to_array(),
+            probe_vel_m_s: c.probe_velocity().to_array(),
+            force_n: out.control.force_n.to_array(),
+            spin_torque_nm: out.control.tau_n_nm,
+            contact_point_m: c.contact_point_m().to_array(),
+            model_seq: c.contact().model_seq(),
+            ..StreamPoint::default()
+        };
+        self.stream.stamp(&mut point);
+        // A full queue loses the point; the link counts the gap.
+        let _ = self.queues.stream.push(point);
     }
 
     /// Feed the communication watchdog if a link saw a valid frame, then apply queued operator
@@ -170,11 +202,15 @@ impl<H: ControlHw> ControlLoop<H> {
     /// The whole tick's cost, from the timer event to here.
     fn account(&mut self) {
         let now = self.hw.tick_timer_count();
-        let end = if self.hw.tick_event_pending() {
+        let overrun = self.hw.tick_event_pending();
+        let end = if overrun {
             now + self.hw.tick_period_counts()
         } else {
             now
         };
         STATUS.max_tick_counts.fetch_max(end, Ordering::Relaxed);
+        if K::ENABLED {
+            self.stream.account(end, overrun);
+        }
     }
 }

@@ -4,9 +4,9 @@
 //! `board::stm32g474::prepare_core`; the tick (TIM6, priority 0) preempts all of it.
 //!
 //! Nothing here can stall the tick: commands reach it through its lock-free command queue (shared
-//! with the operator task through a thread-mode mutex, never touched by the tick), outcomes and
-//! telemetry come back through queues the logger and the supervisor forward (full: dropped and
-//! counted), and a host that stops reading makes a write time out, which drops the bytes waiting
+//! with the operator task through a thread-mode mutex, never touched by the tick), outcomes come
+//! back through a queue the supervisor forwards, stream points through a queue the tick fills
+//! (full: dropped and counted), and a host that stops reading makes a write time out, which drops the bytes waiting
 //! (the host's decoder counts the one cut frame and resynchronises at the next delimiter).
 
 use core::cell::RefCell;
@@ -21,7 +21,6 @@ use embassy_usb::class::cdc_acm::{CdcAcmClass, State};
 use embassy_usb::{Builder, UsbDevice};
 use heapless::spsc::Producer;
 use softfinger_core::pipeline::Command;
-use softfinger_core::Fast;
 
 use crate::link::session::{CommandSink, LinkSession};
 use crate::link::task::LinkQueues;
@@ -30,8 +29,11 @@ use crate::link::task::LinkQueues;
 pub const USB_VID: u16 = 0x1209;
 /// USB product id (host/src/usb.rs).
 pub const USB_PID: u16 = 0x5F10;
-/// Telemetry records and command outcomes queued for the link.
+/// Command outcomes queued for the link.
 pub const LINK_QUEUE_LEN: usize = 8;
+/// Stream points queued for the link: 8 ms at the fastest stream (2 kHz), four times the link's
+/// 1 ms poll.
+pub const STREAM_QUEUE_LEN: usize = 16;
 /// Bytes of frames the link holds for the host (about ten state frames).
 pub const LINK_TX_BYTES: usize = 1024;
 /// Full-speed bulk packet size, bytes.
@@ -107,7 +109,7 @@ pub fn build(
 /// session's bytes back in short packets. Reconnects forever.
 pub async fn run<const TX: usize>(
     mut class: CdcAcmClass<'static, UsbDriver>,
-    mut session: LinkSession<TX, Fast>,
+    mut session: LinkSession<TX>,
     mut commands: SharedCommands,
     mut q: LinkQueues,
 ) -> ! {

@@ -68,6 +68,11 @@ pub trait ContactStage: Copy + core::fmt::Debug {
 
 /// What a controller is built with: a scene that makes its contact stage.
 pub trait Scene: Copy + core::fmt::Debug {
+    /// Whether the passivity stage ([`crate::pipeline::passivity`]) adds its damper on this
+    /// scene by default (false: it observes only). Its energy balance is taken in the base
+    /// frame, where a fixed surface is passive; a scene whose objects move is an active
+    /// environment there, and the damper would answer the model's own motion with force steps.
+    const PASSIVITY_DAMPS: bool = true;
     /// The stage this scene runs with math backend `M`.
     type Stage<M: Math>: ContactStage;
     /// The stage for contact parameters `contact`, stepped every `dt_s` seconds.

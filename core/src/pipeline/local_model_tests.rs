@@ -81,12 +81,8 @@ fn switching(blend_s: f32) -> (f32, f32, f32) {
         ..LocalModelScene::new(plane(1, 0.001))
     };
     let (mut p, mut arms) = armed(scene);
-    // The passivity stage observes only (see the test's doc).
-    let observe_only = passivity::PassivityConfig {
-        enabled: false,
-        ..passivity::PassivityConfig::DEFAULT
-    };
-    assert_eq!(p.set_passivity(observe_only), Ok(()));
+    // The passivity stage observes only on a local model, by default (see the test's doc).
+    assert!(!p.controller().passivity().config().enabled);
     let mut prev = tick(&mut p, &mut arms, |_| {}).control.force_n;
     let (mut max_step, mut lo, mut hi) = (0.0f32, f32::MAX, 0.0f32);
     let mut seq = 1;
@@ -119,7 +115,8 @@ fn switching(blend_s: f32) -> (f32, f32, f32) {
 /// 0.375 N. Measured largest step 0.306 N (force range 2.2–5.5 N). A switch in one tick (blend
 /// 0) steps by several newtons: the test can fail.
 ///
-/// The passivity stage observes only here: a surface oscillating by 3 mm at 500 Hz is an active
+/// The passivity stage observes only, the local-model scene's default
+/// (`LocalModelScene::PASSIVITY_DAMPS`): a surface oscillating by 3 mm at 500 Hz is an active
 /// environment, the observer sees the energy it puts into the hand, and its damper then steps
 /// the force (measured 2.8 N with it on). Rendering moving local models passively needs the
 /// model's motion in the observer's energy balance; not done.
@@ -192,7 +189,8 @@ fn the_watchdog_fades_within_its_bound_and_latches_until_rearmed() {
     assert_eq!(p.command(Command::SetWatchdog { timeout_s: 60.0 }), Ok(()));
 }
 
-/// The passivity damper (on by default) stands aside while the watchdog holds the force down: a
+/// The passivity damper (off by default on a local model; an application may turn it on) stands
+/// aside while the watchdog holds the force down: a
 /// model switch 7 mm up pushes the probe (energy the observer counts as generated, so its damper
 /// acts), the hand swings the handle, and after a 10 ms timeout the force is exactly zero from
 /// the end of the 20 ms fade on (300 ticks after the last message), every tick. On the emulated
@@ -202,7 +200,11 @@ fn the_watchdog_fades_within_its_bound_and_latches_until_rearmed() {
 #[test]
 fn after_a_timeout_no_force_even_while_the_hand_moves() {
     let (mut p, mut arms) = armed(LocalModelScene::new(plane(1, 0.003)));
-    assert!(p.controller().passivity().config().enabled);
+    let damping = passivity::PassivityConfig {
+        enabled: true,
+        ..*p.controller().passivity().config()
+    };
+    assert_eq!(p.set_passivity(damping), Ok(()));
     assert_eq!(p.command(Command::SetLocalModel(plane(2, 0.010))), Ok(()));
     assert_eq!(p.command(Command::SetWatchdog { timeout_s: 0.010 }), Ok(()));
     let mut forced_while_moving = 0;
@@ -282,6 +284,16 @@ fn the_local_model_renders_only_when_armed() {
         assert_eq!(out.control.force_n, Vec3::ZERO);
         assert!(!out.bridges.pwm_enable);
     }
+}
+
+/// The passivity stage's default follows the scene: the fixed plane's damps, the local model's
+/// observes only (`Scene::PASSIVITY_DAMPS`).
+#[test]
+fn passivity_damps_on_a_fixed_scene_and_observes_on_a_local_model() {
+    let local = scene_pipeline(LocalModelScene::new(plane(1, 0.001)));
+    assert!(!local.controller().passivity().config().enabled);
+    let (fixed, _) = homed();
+    assert!(fixed.controller().passivity().config().enabled);
 }
 
 /// The fixed (plane) scene refuses the local-model commands with a typed error and changes

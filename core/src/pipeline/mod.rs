@@ -137,6 +137,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
                 // The motor encoders' resolution at the probe: a held probe's count dither is
                 // not energy the wall generates.
                 position_quantum_m: config.device.params.probe_m_per_motor_count(),
+                enabled: S::PASSIVITY_DAMPS,
                 ..passivity::PassivityConfig::DEFAULT
             })
             .map_err(PipelineError::Params)?;

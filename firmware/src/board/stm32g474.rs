@@ -425,8 +425,15 @@ fn encoder_filters() {
     );
 }
 
+/// Where the tick's state stream goes: the USB link's queue, or nowhere without a link.
+#[cfg(feature = "usb")]
+pub type StreamTx = heapless::spsc::Producer<'static, crate::stream::StreamPoint>;
+/// Where the tick's state stream goes: the USB link's queue, or nowhere without a link.
+#[cfg(not(feature = "usb"))]
+pub type StreamTx = crate::stream::NoStream;
+
 /// The control loop, handed to the TIM6 interrupt by [`start_tick`].
-static CONTROL: IsrCell<ControlLoop<Stm32Control>> = IsrCell::new();
+static CONTROL: IsrCell<ControlLoop<Stm32Control, StreamTx>> = IsrCell::new();
 
 /// [`start_tick`] was called before.
 #[derive(Debug, defmt::Format)]
@@ -475,7 +482,7 @@ pub fn after_hal_init() {
 /// period, so once aligned they stay aligned), then unmask. Returns TIM1's count minus TIM6's,
 /// read back to back right after the start (the start skew plus the spacing of the two reads,
 /// a few counts). A second call is refused.
-pub fn start_tick(mut control: ControlLoop<Stm32Control>) -> Result<i32, AlreadyStarted> {
+pub fn start_tick(mut control: ControlLoop<Stm32Control, StreamTx>) -> Result<i32, AlreadyStarted> {
     use embassy_stm32::interrupt::InterruptExt;
     control.hw_mut().watchdog.unleash();
     CONTROL.install(control).map_err(|_| AlreadyStarted)?;

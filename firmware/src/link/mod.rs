@@ -2,18 +2,18 @@
 //! the STM32) → the protocol's frame decoder (`softfinger_protocol::DeviceEndpoint`) → requests →
 //! the pipeline's commands, through the tick's command queue (the tick applies them at a tick
 //! boundary); acknowledgements with typed error codes once the tick has applied (or refused)
-//! them; device info; a state stream built from the tick's telemetry records at the divisor the
-//! host asks for; link counters.
+//! them; device info; a state stream of the points the tick takes at the divisor the host asks for
+//! (`crate::stream`); link counters.
 //!
 //! Nothing here runs in the tick or waits for it: requests reach the tick through its lock-free
-//! command queue, the tick's records and command outcomes come back through lock-free queues the
+//! command queue, the tick's stream points and command outcomes come back through lock-free queues the
 //! low-priority tasks drain, and every byte out goes through [`tx::TxRing`], which drops a whole
 //! frame (counted) rather than wait when the host stops reading.
 //!
 //! - [`requests`]: what each request becomes (a pipeline command, an answer, a typed refusal).
 //! - [`acks`]: requests waiting for the tick's outcome, and the error code of a refusal.
 //! - [`info`]: the device description.
-//! - [`state`]: state samples from the tick's telemetry records.
+//! - [`state`]: state samples from the tick's stream points.
 //! - [`tx`]: the non-blocking byte ring a transport drains.
 //! - [`session`]: one connection: the pieces above around the protocol's endpoint.
 //! - `task`: the low-priority task that polls a byte transport (firmware builds only).

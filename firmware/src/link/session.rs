@@ -1,12 +1,11 @@
 //! One connection: the protocol endpoint (framing, hello, counters, stream divisor) with the
 //! firmware's answers around it. The link task feeds it received bytes, the tick's command
-//! outcomes and telemetry records, and drains [`LinkSession::tx`] into its transport.
+//! outcomes and stream points, publishes its stream divisor to the tick
+//! ([`LinkSession::stream_divisor`]), and drains [`LinkSession::tx`] into its transport.
 
 use heapless::spsc::Producer;
-use softfinger_core::device::DeviceParams;
 use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::{Command, CommandError, PipelineRecord};
-use softfinger_core::{Libm, Math};
+use softfinger_core::pipeline::{Command, CommandError};
 use softfinger_protocol::{
     AckResult, DeviceEndpoint, DeviceMsg, ErrorCode, LinkCounters, Request, StateSample,
 };
@@ -16,6 +15,7 @@ use super::info::{device_info, InfoSource};
 use super::requests::{contact_params_wire, route, Route};
 use super::state::StateBuilder;
 use super::tx::TxRing;
+use crate::stream_point::StreamPoint;
 
 /// Where the link's pipeline commands go: the tick's command queue, never waiting.
 pub trait CommandSink {
@@ -34,41 +34,40 @@ impl CommandSink for Producer<'_, Command> {
 pub struct LinkConfig {
     /// The description answered to `GetInfo` (`max_force_n` is the contact parameters').
     pub info: InfoSource,
-    /// The device's kinematics (probe position in the state stream).
-    pub device: DeviceParams,
+    /// The tick timer's clock, Hz (the stream's tick durations are in its counts).
+    pub timer_clock_hz: u32,
     /// The contact parameters the pipeline starts with.
     pub contact: ContactParams,
 }
 
-/// One connection's state. `TX`: bytes of frames waiting for the transport; `M`: the math of the
-/// state stream's kinematics (see [`StateBuilder`]).
+/// One connection's state. `TX`: bytes of frames waiting for the transport.
 #[derive(Debug)]
-pub struct LinkSession<const TX: usize, M: Math = Libm> {
+pub struct LinkSession<const TX: usize> {
     endpoint: DeviceEndpoint,
     acks: PendingAcks,
-    state: StateBuilder<M>,
+    state: StateBuilder,
     info: InfoSource,
     contact: ContactParams,
     tx: TxRing<TX>,
-    /// The stream window of the last sample offered (`None`: no stream).
-    window: Option<u64>,
-    /// State samples this connection could not send.
+    /// The tick of the last point offered (`None`: none yet since the stream started).
+    last_tick: Option<u64>,
+    /// State samples this connection lost (transmit ring full, or the tick's queue full).
     stream_dropped: u32,
     /// Valid frames received, as last seen (see [`LinkSession::receive`]).
     rx_frames: u32,
 }
 
-impl<const TX: usize, M: Math> LinkSession<TX, M> {
+impl<const TX: usize> LinkSession<TX> {
     /// A session with nothing received and no stream.
     pub fn new(config: &LinkConfig) -> Self {
         LinkSession {
             endpoint: DeviceEndpoint::new(config.info.min_stream_divisor),
             acks: PendingAcks::new(),
-            state: StateBuilder::new(config.device, config.info.control_rate_hz),
+            state: StateBuilder::new(config.timer_clock_hz),
             info: config.info,
             contact: config.contact,
             tx: TxRing::new(),
-            window: None,
+            last_tick: None,
             stream_dropped: 0,
             rx_frames: 0,
         }
@@ -147,22 +146,28 @@ impl<const TX: usize, M: Math> LinkSession<TX, M> {
         }
     }
 
-    /// A telemetry record from the tick: a state sample when it is the first record of a
-    /// stream window (ticks `n·divisor .. (n+1)·divisor`; the records' ticks need not be
-    /// multiples of the divisor). A full transmit ring drops the sample, counted, and the next
-    /// sample sent reports how many this connection lost.
-    pub fn record(&mut self, record: &PipelineRecord) {
-        let sample = self.state.sample(record);
+    /// The stream divisor the host asked for (0: no stream): the link task hands it to the tick
+    /// (`crate::stream::set_divisor`), which streams the ticks that are multiples of it.
+    pub fn stream_divisor(&self) -> u16 {
+        self.endpoint.divisor()
+    }
+
+    /// A stream point from the tick: sent as a state sample while a stream is on. A full
+    /// transmit ring drops the sample, counted; so is every point missing between two that
+    /// arrive (the tick's queue was full). The next sample sent reports how many this
+    /// connection lost.
+    pub fn stream(&mut self, point: &StreamPoint) {
+        let sample = self.state.sample(point);
         let divisor = u64::from(self.endpoint.divisor());
         if divisor == 0 {
-            self.window = None;
+            self.last_tick = None;
             return;
         }
-        let window = sample.tick / divisor;
-        if self.window == Some(window) {
-            return;
+        if let Some(last) = self.last_tick {
+            let missing = (sample.tick.saturating_sub(last) / divisor).saturating_sub(1);
+            self.stream_dropped = self.stream_dropped.wrapping_add(missing as u32);
         }
-        self.window = Some(window);
+        self.last_tick = Some(sample.tick);
         let tx = &mut self.tx;
         let msg = DeviceMsg::State(StateSample {
             dropped: self.stream_dropped,

@@ -1,20 +1,15 @@
-//! State samples from the tick's telemetry records (`PipelineRecord`, one every
-//! `control_rate / record_rate` ticks).
+//! State samples from the tick's stream points ([`StreamPoint`], one every `divisor` ticks, taken
+//! by the tick itself).
 //!
-//! What a record carries becomes the sample: tick, mode, contact state, flags, the rendered
-//! force (mN in the record, N in the sample). The probe position is the forward kinematics of the
-//! record's homed motor counts (the delta's effector, base frame; meaningless before homing, as
-//! the mode says), its velocity the difference over the previous record (0 for the first record and when
-//! the counts change frame at the end of homing). The record does not
-//! carry the spin torque, the contact point or tick timing, so those fields are 0 in a sample
-//! from the firmware; `model_seq` is 0 (the firmware renders its compiled-in plane).
+//! A point carries what the tick rendered (probe position and filtered velocity, force, spin
+//! torque, contact state and point, flags, mode, the local model's sequence number) and the
+//! tick timing since the previous point in timer counts, which the sample reports in ns.
 
-use core::marker::PhantomData;
 use softfinger_core::contact_state::ContactState;
-use softfinger_core::device::DeviceParams;
-use softfinger_core::pipeline::{Mode as CoreMode, PipelineRecord};
-use softfinger_core::{Libm, Math};
-use softfinger_protocol::{ContactStateWire, Mode, StateSample};
+use softfinger_core::pipeline::Mode as CoreMode;
+use softfinger_protocol::{ContactStateWire, Mode, StateSample, TickStatsWire};
+
+use crate::stream_point::StreamPoint;
 
 /// The wire mode.
 pub fn mode(m: CoreMode) -> Mode {
@@ -36,7 +31,7 @@ pub fn contact_state(s: ContactState) -> ContactStateWire {
     }
 }
 
-/// A wrapping 32-bit tick index extended to 64 bits (records arrive in order, far less than 2³²
+/// A wrapping 32-bit tick index extended to 64 bits (points arrive in order, far less than 2³²
 /// ticks apart).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TickExtender {
@@ -55,68 +50,47 @@ impl TickExtender {
     }
 }
 
-/// Builds samples from records. `M`: the math of the kinematics. The emulated board uses libm (a
-/// separate instance of the kinematics, so the tick's measured code is not shared with the link);
-/// the STM32 uses the tick's `Fast` math (libm's code would be placed in CCM SRAM with the tick's,
-/// which has no room for it).
+/// Builds samples from stream points.
 #[derive(Clone, Copy, Debug)]
-pub struct StateBuilder<M: Math = Libm> {
-    device: DeviceParams,
-    rate_hz: f32,
+pub struct StateBuilder {
+    /// Nanoseconds per tick-timer count.
+    ns_per_count: f32,
     ticks: TickExtender,
-    /// Tick, probe position and count frame (`true`: homed) of the previous record.
-    previous: Option<(u64, [f32; 3], bool)>,
-    math: PhantomData<M>,
 }
 
-/// The record's motor counts are homed (false: raw counts, before or during homing). A velocity
-/// across a change of frame would be the homing offset, not a motion.
-fn homed_counts(mode: CoreMode) -> bool {
-    !matches!(mode, CoreMode::Unhomed | CoreMode::Homing)
-}
-
-impl<M: Math> StateBuilder<M> {
-    /// For `device` at `control_rate_hz`.
-    pub fn new(device: DeviceParams, control_rate_hz: u32) -> Self {
+impl StateBuilder {
+    /// For a tick timer counting at `timer_clock_hz`.
+    pub fn new(timer_clock_hz: u32) -> Self {
         StateBuilder {
-            device,
-            rate_hz: control_rate_hz as f32,
+            ns_per_count: 1e9 / timer_clock_hz.max(1) as f32,
             ticks: TickExtender::default(),
-            previous: None,
-            math: PhantomData,
         }
     }
 
-    /// The sample of `r` (its `dropped` field is the connection's to fill).
-    pub fn sample(&mut self, r: &PipelineRecord) -> StateSample {
-        let tick = self.ticks.extend(r.tick);
-        let angles = r
-            .motor_counts
-            .map(|c| self.device.motor_counts_to_arm_angle_rad(c));
-        // A singular or non-finite pose comes back as the origin with a flag: report the origin.
-        let (probe, _flags) = self.device.delta.forward::<M>(angles);
-        let probe = probe.to_array();
-        let homed = homed_counts(r.mode);
-        let velocity = match self.previous {
-            Some((t0, p0, h0)) if tick > t0 && h0 == homed => {
-                let dt = (tick - t0) as f32 / self.rate_hz;
-                [0, 1, 2].map(|i| (probe[i] - p0[i]) / dt)
-            }
-            _ => [0.0; 3],
+    /// The sample of `p` (its `dropped` field is the connection's to fill).
+    pub fn sample(&mut self, p: &StreamPoint) -> StateSample {
+        let ns = |counts: f32| (counts * self.ns_per_count) as u32;
+        let mean = if p.ticks == 0 {
+            0.0
+        } else {
+            p.sum_tick_counts as f32 / p.ticks as f32
         };
-        self.previous = Some((tick, probe, homed));
         StateSample {
-            tick,
-            probe_m: probe,
-            probe_vel_m_s: velocity,
-            force_n: r.force_mn.map(|f| f32::from(f) / 1000.0),
-            spin_torque_nm: 0.0,
-            contact: contact_state(r.state),
-            contact_point_m: [0.0; 3],
-            flags: r.flags.0,
-            mode: mode(r.mode),
-            model_seq: 0,
-            tick_stats: Default::default(),
+            tick: self.ticks.extend(p.tick),
+            probe_m: p.probe_m,
+            probe_vel_m_s: p.probe_vel_m_s,
+            force_n: p.force_n,
+            spin_torque_nm: p.spin_torque_nm,
+            contact: contact_state(p.state),
+            contact_point_m: p.contact_point_m,
+            flags: p.flags.0,
+            mode: mode(p.mode),
+            model_seq: p.model_seq,
+            tick_stats: TickStatsWire {
+                max_duration_ns: ns(p.max_tick_counts as f32),
+                mean_duration_ns: ns(mean),
+                overruns: p.overruns,
+            },
             dropped: 0,
         }
     }

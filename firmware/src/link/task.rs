@@ -1,13 +1,12 @@
 //! The link task: moves bytes between a transport and a [`LinkSession`], the tick's command
-//! outcomes and telemetry records into it, its commands into the tick's queue. Runs at the lowest
+//! outcomes and stream points into it, its commands into the tick's queue. Runs at the lowest
 //! priority, polls, never waits for the tick and never makes the tick wait.
 
 use embassy_time::Timer;
 use heapless::spsc::Consumer;
-use softfinger_core::pipeline::PipelineRecord;
-use softfinger_core::Math;
 
 use super::session::{CommandSink, LinkSession};
+use crate::stream::{self, StreamPoint};
 use crate::tick::CommandOutcome;
 
 /// A byte-at-a-time transport that never blocks (a UART's holding registers).
@@ -26,26 +25,28 @@ const RX_PER_POLL: usize = 512;
 pub struct LinkQueues {
     /// The tick's command outcomes.
     pub outcomes: Consumer<'static, CommandOutcome>,
-    /// The tick's telemetry records.
-    pub records: Consumer<'static, PipelineRecord>,
+    /// The tick's stream points.
+    pub stream: Consumer<'static, StreamPoint>,
 }
 
 impl LinkQueues {
-    /// Hand the tick's outcomes and records to `session`.
-    pub fn forward_news<const TX: usize, M: Math>(&mut self, session: &mut LinkSession<TX, M>) {
+    /// Hand the tick's outcomes and stream points to `session`, and its stream divisor to the
+    /// tick.
+    pub fn forward_news<const TX: usize>(&mut self, session: &mut LinkSession<TX>) {
+        stream::set_divisor(session.stream_divisor());
         while let Some(o) = self.outcomes.dequeue() {
             session.outcome(&o.command, o.result);
         }
-        while let Some(r) = self.records.dequeue() {
-            session.record(&r);
+        while let Some(p) = self.stream.dequeue() {
+            session.stream(&p);
         }
     }
 }
 
 /// One poll: receive, then the tick's news, then send what fits.
-pub fn poll<const TX: usize, M: Math>(
+pub fn poll<const TX: usize>(
     transport: &mut impl ByteTransport,
-    session: &mut LinkSession<TX, M>,
+    session: &mut LinkSession<TX>,
     commands: &mut impl CommandSink,
     q: &mut LinkQueues,
 ) {
@@ -68,9 +69,9 @@ pub fn poll<const TX: usize, M: Math>(
 }
 
 /// Poll every `period_us` forever.
-pub async fn run<const TX: usize, M: Math>(
+pub async fn run<const TX: usize>(
     mut transport: impl ByteTransport,
-    mut session: LinkSession<TX, M>,
+    mut session: LinkSession<TX>,
     mut commands: impl CommandSink,
     mut q: LinkQueues,
     period_us: u64,

@@ -26,6 +26,10 @@ mod fake_hw;
 #[allow(unsafe_code)]
 #[path = "../../src/isr_cell.rs"]
 mod isr_cell;
+#[path = "../../src/stream.rs"]
+mod stream;
+#[path = "../../src/stream_point.rs"]
+mod stream_point;
 #[path = "../../src/tick.rs"]
 mod tick;
 
@@ -49,7 +53,25 @@ const N: u32 = 1000;
 /// Instructions per SysTick count: 25 MHz SysTick, 1 ns per instruction under `-icount shift=0`.
 const INSTRUCTIONS_PER_COUNT: u32 = 40;
 
-static CONTROL: IsrCell<ControlLoop<FakeStm32>> = IsrCell::new();
+/// The tick's state stream: as the USB build with the host link's fastest stream (every
+/// `STREAM_DIVISOR`-th tick streamed, into a queue drained between measurements), or none as the
+/// default build.
+#[cfg(feature = "local-model")]
+type StreamTx = Producer<'static, stream::StreamPoint>;
+#[cfg(not(feature = "local-model"))]
+type StreamTx = stream::NoStream;
+
+/// The host link's smallest stream divisor at the control rate (its fastest stream, 2 kHz:
+/// `link::info::MAX_STREAM_HZ`), so a fifth of the measured ticks at 10 kHz are streamed.
+#[cfg(feature = "local-model")]
+const STREAM_DIVISOR: u32 = config::CONTROL_RATE_HZ.div_ceil(2_000);
+
+/// Stream points queued between two drains: more than one measurement's (`N / STREAM_DIVISOR`),
+/// so every streamed tick queues its point.
+#[cfg(feature = "local-model")]
+const STREAM_QUEUE_LEN: usize = 512;
+
+static CONTROL: IsrCell<ControlLoop<FakeStm32, StreamTx>> = IsrCell::new();
 
 /// No log output: the tick never logs; softfinger-core's `Format` impls need a logger to link.
 #[defmt::global_logger]
@@ -85,6 +107,8 @@ struct Queues {
     outcomes: Consumer<'static, CommandOutcome>,
     records: Consumer<'static, PipelineRecord>,
     summaries: Consumer<'static, TimingSummary>,
+    #[cfg(feature = "local-model")]
+    stream: Consumer<'static, stream::StreamPoint>,
     last_record: PipelineRecord,
 }
 
@@ -96,6 +120,8 @@ impl Queues {
         while let Some(r) = self.records.dequeue() {
             self.last_record = r;
         }
+        #[cfg(feature = "local-model")]
+        while self.stream.dequeue().is_some() {}
     }
 }
 
@@ -188,11 +214,24 @@ fn main() -> ! {
     let (otx, orx) = oq.split();
     let (rtx, rrx) = rq.split();
     let (stx, srx) = sq.split();
+    #[cfg(feature = "local-model")]
+    let Some(pq) =
+        cortex_m::singleton!(: Queue<stream::StreamPoint, STREAM_QUEUE_LEN> = Queue::new())
+    else {
+        fail("queues")
+    };
+    #[cfg(feature = "local-model")]
+    let (ptx, prx) = pq.split();
+    #[cfg(not(feature = "local-model"))]
+    let ptx = stream::NoStream;
+    #[cfg(feature = "local-model")]
+    stream::set_divisor(STREAM_DIVISOR as u16);
     let tick_queues = TickQueues {
         commands: crx,
         outcomes: otx,
         records: rtx,
         summaries: stx,
+        stream: ptx,
     };
     if CONTROL
         .install(ControlLoop::new(FakeStm32, pipeline, tick_queues))
@@ -205,6 +244,8 @@ fn main() -> ! {
         outcomes: orx,
         records: rrx,
         summaries: srx,
+        #[cfg(feature = "local-model")]
+        stream: prx,
         last_record: PipelineRecord::default(),
     };
     run_phases(&mut q);

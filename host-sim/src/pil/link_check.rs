@@ -397,25 +397,57 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
     c.wait_for(|s| s.last().is_some_and(|x| x.tick >= ramped))?;
     super::link_model::check(c, rate_hz, min_divisor, r)?;
     let ticks: Vec<u64> = c.states.iter().map(|s| s.tick).collect();
-    let spaced = ticks
+    // Every multiple of the divisor from the first sample to the last: no gap, nothing dropped.
+    let gaps = ticks
         .windows(2)
-        .all(|w| w[1] > w[0] && (w[1] - w[0]) % u64::from(min_divisor) == 0);
+        .filter(|w| w[1] != w[0] + u64::from(min_divisor))
+        .count();
+    let dropped = c.states.last().map_or(0, |s| s.dropped);
     let finite = c.states.iter().all(|s| {
         s.probe_m
             .iter()
             .chain(&s.probe_vel_m_s)
             .chain(&s.force_n)
+            .chain(&s.contact_point_m)
+            .chain(std::iter::once(&s.spin_torque_nm))
             .all(|v| v.is_finite())
     });
+    let seconds = ticks
+        .last()
+        .zip(ticks.first())
+        .map_or(0.0, |(b, a)| (b - a) as f64 / f64::from(rate_hz));
     r.check(
-        "state frames: ticks on the divisor, finite values",
-        spaced && finite && ticks.first() <= Some(&armed.tick),
+        "state frames: every tick on the divisor, no gap, none dropped, finite values",
+        gaps == 0 && dropped == 0 && finite && ticks.first() <= Some(&armed.tick),
         format!(
-            "{} states, ticks {:?}..{:?}",
+            "{} states over {seconds:.2} s of board time ({:.0} Hz), ticks {:?}..{:?}, gaps {gaps}, \
+             dropped {dropped}",
             ticks.len(),
+            (ticks.len().saturating_sub(1)) as f64 / seconds.max(1e-9),
             ticks.first(),
             ticks.last()
         ),
+    );
+    // The tick's timing, as the board measured it: a mean within the longest, both within the
+    // control period (no overrun on this scene).
+    let period_ns = 1e9 / f64::from(rate_hz);
+    let timed = c.states.iter().filter(|s| s.mode == Mode::Armed).all(|s| {
+        let t = s.tick_stats;
+        t.mean_duration_ns > 0
+            && t.mean_duration_ns <= t.max_duration_ns
+            && f64::from(t.max_duration_ns) < period_ns
+            && t.overruns == 0
+    });
+    let longest = c
+        .states
+        .iter()
+        .map(|s| s.tick_stats.max_duration_ns)
+        .max()
+        .unwrap_or(0);
+    r.check(
+        "tick statistics in every armed sample: 0 < mean <= max < one period, no overrun",
+        timed,
+        format!("longest tick {longest} ns of {period_ns:.0} ns"),
     );
     // The modes in the order the stream showed them, repeats removed.
     let mut modes: Vec<Mode> = c.states.iter().map(|s| s.mode).collect();

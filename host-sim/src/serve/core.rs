@@ -14,7 +14,6 @@ use softfinger_core::contact_state::ContactState;
 use softfinger_core::controller::ContactStage;
 use softfinger_core::local_model::{LocalModelScene, LocalModelSpec, ModelKind, ModelPose};
 use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::passivity::PassivityConfig;
 use softfinger_core::pipeline::{Command, Pipeline, PipelineConfig};
 use softfinger_core::{Fast, Flags, Vec3};
 use softfinger_protocol::{AckResult, Mode};
@@ -92,19 +91,9 @@ impl PipelineCore {
             object_origin_m: Vec3::ZERO,
             log_rate_hz: 0,
         };
-        let mut pipe = Pipeline::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
-        // The passivity stage observes only: a moving or switching local model is an active
-        // environment, and the observer's damper answers the energy it puts into the hand with
-        // force steps (with it on, `cargo test -p softfinger-host --test link` measured 2.4 N per
-        // tick for a plane moving ±1 mm at 5 Hz and 1.5 N for a blended 1 mm jump, against
-        // 0.08 and 0.12 N without it in `softfinger bench`). Counting the model's own motion in
-        // the observer's energy balance is not done yet.
-        let observe_only = PassivityConfig {
-            enabled: false,
-            ..*pipe.controller().passivity().config()
-        };
-        pipe.set_passivity(observe_only)
-            .map_err(|e| format!("passivity: {e:?}"))?;
+        // The passivity stage observes only, as on the firmware: the local-model scene's
+        // default (`LocalModelScene::PASSIVITY_DAMPS`, with the measurement behind it).
+        let pipe = Pipeline::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
         Ok(PipelineCore { pipe })
     }
 

@@ -165,7 +165,31 @@ impl Indicator for Led {
     }
 }
 
-static CONTROL: IsrCell<ControlLoop<Mps2Control>> = IsrCell::new();
+/// Where the tick's state stream goes: the host link's queue in the local-model build (the
+/// STM32's USB build), nowhere in the fixed plane's (the STM32's default build).
+#[cfg(feature = "local-model")]
+pub type StreamTx = heapless::spsc::Producer<'static, crate::stream::StreamPoint>;
+/// Where the tick's state stream goes: the host link's queue in the local-model build (the
+/// STM32's USB build), nowhere in the fixed plane's (the STM32's default build).
+#[cfg(not(feature = "local-model"))]
+pub type StreamTx = crate::stream::NoStream;
+
+/// The stream's end when no host link runs: a queue nobody reads (the tick's code stays the
+/// linked run's; the divisor stays 0, so nothing is queued).
+#[cfg(feature = "local-model")]
+pub fn idle_stream() -> Option<StreamTx> {
+    use heapless::spsc::Queue;
+    let q = cortex_m::singleton!(: Queue<crate::stream::StreamPoint, 2> = Queue::new())?;
+    Some(q.split().0)
+}
+
+/// The stream's end when no host link runs: nowhere.
+#[cfg(not(feature = "local-model"))]
+pub fn idle_stream() -> Option<StreamTx> {
+    Some(crate::stream::NoStream)
+}
+
+static CONTROL: IsrCell<ControlLoop<Mps2Control, StreamTx>> = IsrCell::new();
 
 /// Set the interrupt priorities: the tick highest, the time base below it.
 pub fn set_priorities(nvic: &mut NVIC) {
@@ -177,7 +201,11 @@ pub fn set_priorities(nvic: &mut NVIC) {
 }
 
 /// Hand the loop to the interrupt and start it: watchdog, then the tick timer (board time 0).
-pub fn start_tick(control: ControlLoop<Mps2Control>, rate_hz: u32, watchdog_counts: u32) -> bool {
+pub fn start_tick(
+    control: ControlLoop<Mps2Control, StreamTx>,
+    rate_hz: u32,
+    watchdog_counts: u32,
+) -> bool {
     if CONTROL.install(control).is_err() {
         return false;
     }

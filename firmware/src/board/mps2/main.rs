@@ -39,6 +39,10 @@ mod isr_cell;
 mod link;
 #[path = "../../logger.rs"]
 mod logger;
+#[path = "../../stream.rs"]
+mod stream;
+#[path = "../../stream_point.rs"]
+mod stream_point;
 #[path = "../../supervisor.rs"]
 mod supervisor;
 #[allow(dead_code)] // `hw_mut` is for the STM32 start-up
@@ -93,8 +97,36 @@ async fn host_link_task(
     commands: Producer<'static, Command>,
     queues: LinkQueues,
 ) {
-    let session = LinkSession::<LINK_TX_BYTES, softfinger_core::Libm>::new(&config);
+    let session = LinkSession::<LINK_TX_BYTES>::new(&config);
     host_link::task::run(uart::Uart0::open(), session, commands, queues, LINK_POLL_US).await
+}
+
+/// Stream points queued for the host link (8 ms at its fastest stream, 2 kHz).
+#[cfg(feature = "local-model")]
+const STREAM_QUEUE_LEN: usize = 16;
+
+/// The host link's queues (command outcomes, stream points) and the tick's end of the stream;
+/// `None` in a build without a stream (the fixed plane's).
+#[cfg(feature = "local-model")]
+fn link_queues(outcomes: Consumer<'static, CommandOutcome>) -> Option<(LinkQueues, hw::StreamTx)> {
+    let q = cortex_m::singleton!(
+        : Queue<stream::StreamPoint, STREAM_QUEUE_LEN> = Queue::new()
+    )?;
+    let (tx, rx) = q.split();
+    Some((
+        LinkQueues {
+            outcomes,
+            stream: rx,
+        },
+        tx,
+    ))
+}
+
+/// The host link's queues (command outcomes, stream points) and the tick's end of the stream;
+/// `None` in a build without a stream (the fixed plane's).
+#[cfg(not(feature = "local-model"))]
+fn link_queues(_outcomes: Consumer<'static, CommandOutcome>) -> Option<(LinkQueues, hw::StreamTx)> {
+    None
 }
 
 /// What the host link says about this board at `rate_hz`.
@@ -105,10 +137,11 @@ fn host_link_config(rate_hz: u32, pipeline: &PipelineConfig<config::TickScene>) 
             firmware_version: env!("CARGO_PKG_VERSION"),
             control_rate_hz: rate_hz,
             max_force_n: pipeline.contact.max_force_n,
-            min_stream_divisor: min_stream_divisor(rate_hz, pipeline.log_rate_hz),
+            min_stream_divisor: min_stream_divisor(rate_hz),
             watchdog_ms: config::BENCH_WATCHDOG_MS,
         },
-        device: pipeline.device.params,
+        // The board's tick-timer counts are scaled to the shared timing's 170 MHz clock.
+        timer_clock_hz: pipeline.timing.timer_clock_hz,
         contact: pipeline.contact,
     }
 }
@@ -231,12 +264,16 @@ async fn main(spawner: Spawner) {
     let (outcome_tx, outcome_rx) = outcomes.split();
     let (record_tx, record_rx) = records.split();
     let (summary_tx, summary_rx) = summaries.split();
-    // With the host link, its task takes the commands, their outcomes and the telemetry
-    // records; the plant's operator, the supervisor and the telemetry log stand aside.
-    let command_tx = if host_link {
-        let queues = LinkQueues {
-            outcomes: outcome_rx,
-            records: record_rx,
+    match logger_task(record_rx, summary_rx) {
+        Ok(t) => spawner.spawn(t),
+        Err(e) => error!("logger task not spawned: {}", e),
+    }
+    // With the host link, its task takes the commands, their outcomes and the tick's stream
+    // points; the plant's operator and the supervisor stand aside. Without it, nothing streams.
+    let (command_tx, stream_tx) = if host_link {
+        let Some((queues, stream_tx)) = link_queues(outcome_rx) else {
+            error!("the host link needs the local-model build (as the STM32's USB build)");
+            exit(false)
         };
         match host_link_task(host_link_config(rate_hz, &config), command_tx, queues) {
             Ok(t) => spawner.spawn(t),
@@ -249,17 +286,16 @@ async fn main(spawner: Spawner) {
         else {
             exit(false)
         };
-        discarded.split().0
+        (discarded.split().0, stream_tx)
     } else {
-        match logger_task(record_rx, summary_rx) {
-            Ok(t) => spawner.spawn(t),
-            Err(e) => error!("logger task not spawned: {}", e),
-        }
         match supervisor_task(outcome_rx) {
             Ok(t) => spawner.spawn(t),
             Err(e) => error!("supervisor task not spawned: {}", e),
         }
-        command_tx
+        let Some(stream_tx) = hw::idle_stream() else {
+            exit(false)
+        };
+        (command_tx, stream_tx)
     };
 
     let fault = hw::Injected::from_code(fault_code);
@@ -272,6 +308,7 @@ async fn main(spawner: Spawner) {
         outcomes: outcome_tx,
         records: record_tx,
         summaries: summary_tx,
+        stream: stream_tx,
     };
     faults::set_watchdog_counts(WATCHDOG_COUNTS);
     if !hw::start_tick(
