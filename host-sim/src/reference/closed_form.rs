@@ -112,11 +112,12 @@ mod tests {
         let samples: Vec<_> = (0..=10)
             .map(|k| UnitQuaternion::from_scaled_axis(Vector3::x() * (0.1 * k as f64)))
             .collect();
+        // Measured 1.7e-18 m (object) and 8.7e-19 m (finger) off; bounds 3×.
         let p = sphere_on_plane(&samples, rho);
         let end = p.object.last().unwrap();
-        assert!((end - Vector3::new(0.0, -rho * 1.0, 0.0)).norm() < 1e-16);
+        assert!((end - Vector3::new(0.0, -rho * 1.0, 0.0)).norm() < 5.2e-18);
         let f = p.finger.last().unwrap();
-        assert!((f - Vector3::new(0.0, -rho * 1.0f64.sin(), -rho * 1.0f64.cos())).norm() < 1e-16);
+        assert!((f - Vector3::new(0.0, -rho * 1.0f64.sin(), -rho * 1.0f64.cos())).norm() < 2.6e-18);
     }
 
     #[test]
@@ -136,14 +137,16 @@ mod tests {
     fn path_is_independent_of_subsampling() {
         // Inserting the exact intermediate orientation of a constant-rate interval must not change the end
         // point: rolling along a constant-ω arc is additive. Compare 100 samples with the same motion at
-        // 10× the rate (1001 samples): round-off only (~1e-17 m per step).
+        // 10× the rate (1001 samples): round-off only (~1e-17 m per step). Measured 6.1e-17 m at worst on
+    // the object (bound 3×: 1.8e-16 m); the finger points are the same samples' points, measured
+    // identical.
         let coarse = paper_scene();
         let fine = crate::reference::scene::paper_scene_at_rate(1000.0);
         let a = sphere_on_plane(&coarse.samples, coarse.radius);
         let b = sphere_on_plane(&fine.samples, fine.radius);
         for k in 0..coarse.samples.len() {
-            assert!((a.object[k] - b.object[10 * k]).norm() < 1e-14);
-            assert!((a.finger[k] - b.finger[10 * k]).norm() < 1e-15);
+            assert!((a.object[k] - b.object[10 * k]).norm() < 1.8e-16);
+            assert_eq!(a.finger[k], b.finger[10 * k]);
         }
     }
 
@@ -172,15 +175,18 @@ mod tests {
             }
             worst
         };
+        // The leading terms scale as 1/R: measured e4 = 1.164e-7 m, e5 = 1.153e-8 m, a ratio of 10.09,
+        // 0.09 off the 10 of the first-order terms; asserted within 10 ± 0.3 (3× that deviation).
         let (e4, e5) = (diff(1.0e4), diff(1.0e5));
-        assert!(e5 < e4 / 8.0 && e4 > 1e-9, "{e4} {e5}");
+        assert!(e4 > 1e-9, "{e4} {e5}");
+        assert!((e4 / e5 - 10.0).abs() < 0.3, "{e4} {e5}");
     }
 
     #[test]
     fn rolling_around_a_sphere_of_equal_radius() {
         // Equal radii (κ = 1/2): turning the finger by 2π about the fixed +x axis turns the contact normal
         // by κ·2π = π about +x, from the top of the fixed sphere to its bottom, through (0, −r, 0) halfway.
-        // Round-off only.
+        // Round-off only: measured 1.8e-16 m at the end and 9.2e-17 m halfway; bounds 3×.
         let r = 0.01;
         let samples: Vec<_> = (0..=400)
             .map(|k| {
@@ -190,8 +196,8 @@ mod tests {
             })
             .collect();
         let p = sphere_on_sphere(&samples, r, r, &Vector3::z_axis());
-        assert!((p.object.last().unwrap() - Vector3::new(0.0, 0.0, -r)).norm() < 1e-15);
+        assert!((p.object.last().unwrap() - Vector3::new(0.0, 0.0, -r)).norm() < 5.4e-16);
         // Halfway, a quarter turn of the normal about +x: n = (0, −1, 0).
-        assert!((p.object[200] - Vector3::new(0.0, -r, 0.0)).norm() < 1e-15);
+        assert!((p.object[200] - Vector3::new(0.0, -r, 0.0)).norm() < 2.8e-16);
     }
 }
