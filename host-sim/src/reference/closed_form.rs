@@ -125,12 +125,14 @@ mod tests {
         let samples: Vec<_> = (0..=10)
             .map(|k| UnitQuaternion::from_scaled_axis(Vector3::z() * (0.3 * k as f64)))
             .collect();
+        // Measured exact: a rotation about z leaves the z axis exactly in place whatever sin and cos
+        // return (the quaternion's x and y parts are 0), so equality.
         let p = sphere_on_plane(&samples, 0.01);
-        assert!(p.object.iter().all(|v| v.norm() < 1e-18));
+        assert!(p.object.iter().all(|v| *v == Vector3::zeros()));
         assert!(p
             .finger
             .iter()
-            .all(|v| (v - Vector3::new(0.0, 0.0, -0.01)).norm() < 1e-17));
+            .all(|v| *v == Vector3::new(0.0, 0.0, -0.01)));
     }
 
     #[test]
@@ -154,9 +156,10 @@ mod tests {
     fn large_object_sphere_tends_to_the_plane() {
         // On a sphere of radius R ≫ path length d the contact leaves the tangent plane by ~d²/(2R), its
         // normal tilts by ~d/R (moving the finger's contact by ~r·d/R), and κ = r/(R + r) shortens the path
-        // by a factor ~(1 − r/R). So the two solutions differ by O(d²/R + r·d/R); asserted with a factor-2
-        // margin on d²/R + 2·r·d/R (+1e-12 m for the round-off of coordinates of size 1e4 m). With
-        // R = 1e4 m the differences are ~1e-8 m, and must shrink ~10× when R grows 10×.
+        // by a factor ~(1 − r/R). So the two solutions differ by O(d²/R + r·d/R): measured at most 0.58
+        // of d²/R + 2·r·d/R at R = 1e4 m and at R = 1e5 m; asserted 1.75 × that estimate (3×), +1e-12 m
+        // for the round-off of coordinates of size 1e4 m. With R = 1e4 m the differences are
+        // ~1e-7 m, and must shrink ~10× when R grows 10×.
         let s = paper_scene();
         let r = s.radius;
         let plane = sphere_on_plane(&s.samples, r);
@@ -165,7 +168,7 @@ mod tests {
             let mut worst: f64 = 0.0;
             for k in 0..s.samples.len() {
                 let d = plane.object[k].norm();
-                let bound = 2.0 * (d * d / big + 2.0 * r * d / big) + 1e-12;
+                let bound = 1.75 * (d * d / big + 2.0 * r * d / big) + 1e-12;
                 let o = sph.object[k] - Vector3::new(0.0, 0.0, big);
                 let e = (o - plane.object[k])
                     .norm()

@@ -43,7 +43,8 @@ fn closed_form_paths_have_one_row_per_sample() {
     assert_eq!(r.plane[0], [0.0, 0.0, 0.0]);
     assert_eq!(r.sphere[0], [0.0, 0.0, -0.01]);
     assert!(r.plane.iter().all(|p| p[2] == 0.0));
-    // Every sphere contact lies on the sphere (round-off only).
+    // Every sphere contact lies on the sphere (round-off only: measured 3.5e-18 m, 2 ulp of 0.01 m;
+    // bound 1e-17 m, 2.9×).
     assert!(r
         .sphere
         .iter()
