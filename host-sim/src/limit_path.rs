@@ -310,7 +310,8 @@ mod tests {
         assert!((path[0].f_n - f_n as f64).abs() < 2.9e-7);
         let s = summarize(&path);
         assert!(
-            (s.max_rolling - 1.0).abs() < 1e-9 && (s.max_sliding - 0.6f64.hypot(0.4)).abs() < 2.6e-8
+            (s.max_rolling - 1.0).abs() < 1e-9
+                && (s.max_sliding - 0.6f64.hypot(0.4)).abs() < 2.6e-8
         );
         assert_eq!(s.sliding_ticks, 1);
         assert!((s.max_twist - 0.8).abs() < 3e-8);

@@ -129,10 +129,7 @@ mod tests {
         // return (the quaternion's x and y parts are 0), so equality.
         let p = sphere_on_plane(&samples, 0.01);
         assert!(p.object.iter().all(|v| *v == Vector3::zeros()));
-        assert!(p
-            .finger
-            .iter()
-            .all(|v| *v == Vector3::new(0.0, 0.0, -0.01)));
+        assert!(p.finger.iter().all(|v| *v == Vector3::new(0.0, 0.0, -0.01)));
     }
 
     #[test]
@@ -140,8 +137,8 @@ mod tests {
         // Inserting the exact intermediate orientation of a constant-rate interval must not change the end
         // point: rolling along a constant-ω arc is additive. Compare 100 samples with the same motion at
         // 10× the rate (1001 samples): round-off only (~1e-17 m per step). Measured 6.1e-17 m at worst on
-    // the object (bound 3×: 1.8e-16 m); the finger points are the same samples' points, measured
-    // identical.
+        // the object (bound 3×: 1.8e-16 m); the finger points are the same samples' points, measured
+        // identical.
         let coarse = paper_scene();
         let fine = crate::reference::scene::paper_scene_at_rate(1000.0);
         let a = sphere_on_plane(&coarse.samples, coarse.radius);

@@ -394,7 +394,9 @@ mod tests {
         let (c, s) = Contact::start(R_F, Surface::Plane, [0.0, 0.0], &r0);
         // Measured 2.2e-16 per element, 2.1e-18 m and 3.9e-18 m; bounds 3×.
         assert!((c.orientation(&s).matrix() - r0.matrix()).abs().max() < 6.7e-16);
-        assert!((c.finger_point(&s) - r0.inverse() * Vector3::new(0.0, 0.0, -R_F)).norm() < 6.4e-18);
+        assert!(
+            (c.finger_point(&s) - r0.inverse() * Vector3::new(0.0, 0.0, -R_F)).norm() < 6.4e-18
+        );
         assert!((c.finger_centre(&s) - Vector3::new(0.0, 0.0, R_F)).norm() < 1.2e-17);
     }
 }

@@ -389,7 +389,10 @@ mod tests {
                 ds * 1e3,
                 run.stats
             );
-            assert!(dp < bound_plane && ds < bound_sphere, "rtol {rtol}: {dp} {ds}");
+            assert!(
+                dp < bound_plane && ds < bound_sphere,
+                "rtol {rtol}: {dp} {ds}"
+            );
             assert!(dp.max(ds) < prev);
             prev = dp.max(ds);
         }

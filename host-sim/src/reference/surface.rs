@@ -383,7 +383,10 @@ mod tests {
                 y.dot(&fu.column(2)) / cu.norm(),
                 y.dot(&fv.column(2)) / cv.norm(),
             );
-            assert!((k - s.curvature(a)).abs().max() <= b.curvature, "K at {a:?}");
+            assert!(
+                (k - s.curvature(a)).abs().max() <= b.curvature,
+                "K at {a:?}"
+            );
             let t = RowVector2::new(
                 y.dot(&fu.column(0)) / cu.norm(),
                 y.dot(&fv.column(0)) / cv.norm(),

@@ -145,7 +145,9 @@ fn rk45_tight_tolerance_matches_closed_form_at_higher_rates() {
     // The same motion sampled at 1 kHz and 20 kHz: each sample interval is one step; the error grows with
     // the number of steps through round-off (~ε·1e-2 m per step). Measured: plane 1.7e-16 m at 1 kHz,
     // 1.7e-15 m at 20 kHz; sphere 6.2e-17 m and 2.2e-16 m. Bounds 3× each.
-    for (rate, bound_plane, bound_sphere) in [(1000.0, 5e-16, 1.9e-16), (20_000.0, 5.1e-15, 6.6e-16)] {
+    for (rate, bound_plane, bound_sphere) in
+        [(1000.0, 5e-16, 1.9e-16), (20_000.0, 5.1e-15, 6.6e-16)]
+    {
         let exact = paths(ReferenceMethod::ClosedForm, rate);
         let r = paths(
             ReferenceMethod::Rk45 {
