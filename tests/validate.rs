@@ -32,7 +32,7 @@ fn exact(backend: Backend) -> Variant {
 }
 
 /// The exact method in f32 on the paper's scene (100 Hz) against the RK45 reference. Measured with
-/// both backends: plane path 5.24e-6 mm, sphere path 2.13e-6 mm (f32 rounding of ~10 mm
+/// both backends: plane path 5.26e-6 mm, sphere path 2.13e-6 mm (f32 rounding of ~10 mm
 /// coordinates over 100 steps; the scene's steps are below 0.39 rad, so both backends run the same
 /// series branch). Bounds about 3x: 1.6e-5 mm and 6.4e-6 mm, well inside the project's 0.001 mm
 /// target.
