@@ -26,8 +26,9 @@ fn a_held_finger_does_not_creep_in_closed_loop() {
             h.dither_anchor_walk_n >= 0.99 * step_n,
             "{method:?} the dither rolls: {h:?}"
         );
-        // One encoder count of displacement: K_t × 12.7 µm (the Omega-like delta at the centre).
-        assert!((h.one_count_n - 0.01274).abs() < 1e-4, "{h:?}");
+        // One encoder count of displacement: K_t × 12.7 µm (the Omega-like delta at the centre):
+        // measured 2.2e-6 N off the quoted 0.01274 N; bound 3×.
+        assert!((h.one_count_n - 0.01274).abs() < 6.6e-6, "{h:?}");
     }
     let h = closed_loop_hold::<Libm>(Method::Exact, 3.0).unwrap();
     assert_eq!(h.still_anchor_walk_n, 0.0, "libm: {h:?}");

@@ -182,15 +182,16 @@ fn output_report_measures_the_delay_and_fails_a_late_load() {
     // sample, 24.71 µs, 0.247 of the 17 000-count tick.
     let r = OutputReport::of(&timed_trace(&[3_000, 4_249]), &b);
     assert_eq!((r.ticks, r.late_ticks, r.pwm_periods_per_tick), (2, 0, 4));
-    assert!((r.max_delay_us - 4_200.0 / 170.0).abs() < 1e-9, "{r:?}");
-    assert!((r.max_delay_ticks - 4_200.0 / 17_000.0).abs() < 1e-12);
+    // The report's quotients measured exactly these.
+    assert_eq!(r.max_delay_us, 4_200.0 / 170.0, "{r:?}");
+    assert_eq!(r.max_delay_ticks, 4_200.0 / 17_000.0);
     assert_eq!(r.min_delay_us, r.max_delay_us);
-    assert!((r.cpi_margin - 4_250.0 / 2_000.0).abs() < 1e-12);
+    assert_eq!(r.cpi_margin, 4_250.0 / 2_000.0);
     assert!(r.failure().is_none());
     // At 4250 the write misses that boundary: late, and --check fails.
     let r = OutputReport::of(&timed_trace(&[3_000, 4_250]), &b);
     assert_eq!(r.late_ticks, 1);
-    assert!((r.max_delay_ticks - 8_450.0 / 17_000.0).abs() < 1e-12);
+    assert_eq!(r.max_delay_ticks, 8_450.0 / 17_000.0);
     let mut s = summary(1000, 5);
     assert!(super::check(&s, None).is_ok());
     s.output = r;

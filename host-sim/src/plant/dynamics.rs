@@ -72,7 +72,8 @@ mod tests {
         let q = kin.joint_torques(f);
         let acc = arm_accelerations(&kin, mech.upper_arm_m(), [0.0; 3], &inertia, q).unwrap();
         let p_acc = kin.j.mul_vec(V3::from(acc));
-        // The arm inertia 1e-12 kg·m² against m·|J|² ~ 5e-3 perturbs by ~2e-10 relative.
-        assert!((p_acc - f * 2.0).norm() < 1e-8, "{p_acc:?}");
+        // The arm inertia 1e-12 kg·m² against m·|J|² ~ 5e-3 perturbs by ~2e-10 relative: measured
+        // 1.28e-9 m/s² off |F/m| = 4.6 m/s²; bound 3×.
+        assert!((p_acc - f * 2.0).norm() < 3.9e-9, "{p_acc:?}");
     }
 }

@@ -112,11 +112,12 @@ mod tests {
         let samples: Vec<_> = (0..=10)
             .map(|k| UnitQuaternion::from_scaled_axis(Vector3::x() * (0.1 * k as f64)))
             .collect();
+        // Measured 1.7e-18 m (object) and 8.7e-19 m (finger) off; bounds 3×.
         let p = sphere_on_plane(&samples, rho);
         let end = p.object.last().unwrap();
-        assert!((end - Vector3::new(0.0, -rho * 1.0, 0.0)).norm() < 1e-16);
+        assert!((end - Vector3::new(0.0, -rho * 1.0, 0.0)).norm() < 5.2e-18);
         let f = p.finger.last().unwrap();
-        assert!((f - Vector3::new(0.0, -rho * 1.0f64.sin(), -rho * 1.0f64.cos())).norm() < 1e-16);
+        assert!((f - Vector3::new(0.0, -rho * 1.0f64.sin(), -rho * 1.0f64.cos())).norm() < 2.6e-18);
     }
 
     #[test]
@@ -124,26 +125,27 @@ mod tests {
         let samples: Vec<_> = (0..=10)
             .map(|k| UnitQuaternion::from_scaled_axis(Vector3::z() * (0.3 * k as f64)))
             .collect();
+        // Measured exact: a rotation about z leaves the z axis exactly in place whatever sin and cos
+        // return (the quaternion's x and y parts are 0), so equality.
         let p = sphere_on_plane(&samples, 0.01);
-        assert!(p.object.iter().all(|v| v.norm() < 1e-18));
-        assert!(p
-            .finger
-            .iter()
-            .all(|v| (v - Vector3::new(0.0, 0.0, -0.01)).norm() < 1e-17));
+        assert!(p.object.iter().all(|v| *v == Vector3::zeros()));
+        assert!(p.finger.iter().all(|v| *v == Vector3::new(0.0, 0.0, -0.01)));
     }
 
     #[test]
     fn path_is_independent_of_subsampling() {
         // Inserting the exact intermediate orientation of a constant-rate interval must not change the end
         // point: rolling along a constant-ω arc is additive. Compare 100 samples with the same motion at
-        // 10× the rate (1001 samples): round-off only (~1e-17 m per step).
+        // 10× the rate (1001 samples): round-off only (~1e-17 m per step). Measured 6.1e-17 m at worst on
+        // the object (bound 3×: 1.8e-16 m); the finger points are the same samples' points, measured
+        // identical.
         let coarse = paper_scene();
         let fine = crate::reference::scene::paper_scene_at_rate(1000.0);
         let a = sphere_on_plane(&coarse.samples, coarse.radius);
         let b = sphere_on_plane(&fine.samples, fine.radius);
         for k in 0..coarse.samples.len() {
-            assert!((a.object[k] - b.object[10 * k]).norm() < 1e-14);
-            assert!((a.finger[k] - b.finger[10 * k]).norm() < 1e-15);
+            assert!((a.object[k] - b.object[10 * k]).norm() < 1.8e-16);
+            assert_eq!(a.finger[k], b.finger[10 * k]);
         }
     }
 
@@ -151,9 +153,10 @@ mod tests {
     fn large_object_sphere_tends_to_the_plane() {
         // On a sphere of radius R ≫ path length d the contact leaves the tangent plane by ~d²/(2R), its
         // normal tilts by ~d/R (moving the finger's contact by ~r·d/R), and κ = r/(R + r) shortens the path
-        // by a factor ~(1 − r/R). So the two solutions differ by O(d²/R + r·d/R); asserted with a factor-2
-        // margin on d²/R + 2·r·d/R (+1e-12 m for the round-off of coordinates of size 1e4 m). With
-        // R = 1e4 m the differences are ~1e-8 m, and must shrink ~10× when R grows 10×.
+        // by a factor ~(1 − r/R). So the two solutions differ by O(d²/R + r·d/R): measured at most 0.58
+        // of d²/R + 2·r·d/R at R = 1e4 m and at R = 1e5 m; asserted 1.75 × that estimate (3×), +1e-12 m
+        // for the round-off of coordinates of size 1e4 m. With R = 1e4 m the differences are
+        // ~1e-7 m, and must shrink ~10× when R grows 10×.
         let s = paper_scene();
         let r = s.radius;
         let plane = sphere_on_plane(&s.samples, r);
@@ -162,7 +165,7 @@ mod tests {
             let mut worst: f64 = 0.0;
             for k in 0..s.samples.len() {
                 let d = plane.object[k].norm();
-                let bound = 2.0 * (d * d / big + 2.0 * r * d / big) + 1e-12;
+                let bound = 1.75 * (d * d / big + 2.0 * r * d / big) + 1e-12;
                 let o = sph.object[k] - Vector3::new(0.0, 0.0, big);
                 let e = (o - plane.object[k])
                     .norm()
@@ -172,15 +175,18 @@ mod tests {
             }
             worst
         };
+        // The leading terms scale as 1/R: measured e4 = 1.164e-7 m, e5 = 1.153e-8 m, a ratio of 10.09,
+        // 0.09 off the 10 of the first-order terms; asserted within 10 ± 0.3 (3× that deviation).
         let (e4, e5) = (diff(1.0e4), diff(1.0e5));
-        assert!(e5 < e4 / 8.0 && e4 > 1e-9, "{e4} {e5}");
+        assert!(e4 > 1e-9, "{e4} {e5}");
+        assert!((e4 / e5 - 10.0).abs() < 0.3, "{e4} {e5}");
     }
 
     #[test]
     fn rolling_around_a_sphere_of_equal_radius() {
         // Equal radii (κ = 1/2): turning the finger by 2π about the fixed +x axis turns the contact normal
         // by κ·2π = π about +x, from the top of the fixed sphere to its bottom, through (0, −r, 0) halfway.
-        // Round-off only.
+        // Round-off only: measured 1.8e-16 m at the end and 9.2e-17 m halfway; bounds 3×.
         let r = 0.01;
         let samples: Vec<_> = (0..=400)
             .map(|k| {
@@ -190,8 +196,8 @@ mod tests {
             })
             .collect();
         let p = sphere_on_sphere(&samples, r, r, &Vector3::z_axis());
-        assert!((p.object.last().unwrap() - Vector3::new(0.0, 0.0, -r)).norm() < 1e-15);
+        assert!((p.object.last().unwrap() - Vector3::new(0.0, 0.0, -r)).norm() < 5.4e-16);
         // Halfway, a quarter turn of the normal about +x: n = (0, −1, 0).
-        assert!((p.object[200] - Vector3::new(0.0, -r, 0.0)).norm() < 1e-15);
+        assert!((p.object[200] - Vector3::new(0.0, -r, 0.0)).norm() < 2.8e-16);
     }
 }

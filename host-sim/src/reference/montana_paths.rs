@@ -249,7 +249,7 @@ mod tests {
         // The orientation is never integrated directly; at tight tolerance the one encoded by (α_f, α_o, ψ)
         // must match every sample. rtol 1e-12 on O(1) angles: global angle error ~1e-11 rad over
         // 100 intervals (as in the RK45 tests, err ≲ 10·tol per unit of accumulated motion); measured
-        // 2.2e-13 rad; asserted 1e-11 rad.
+        // 2.19e-13 rad at worst over the 101 samples; bound 3×: 6.6e-13 rad.
         let s = paper_scene();
         let run = integrate(
             s.radius,
@@ -265,14 +265,15 @@ mod tests {
             let diff = rotation_vector(&UnitQuaternion::from_rotation_matrix(
                 &(r.inverse() * q.to_rotation_matrix()),
             ));
-            assert!(diff.norm() < 1e-11, "{}", diff.norm());
+            assert!(diff.norm() < 6.6e-13, "{}", diff.norm());
         }
     }
 
     #[test]
     fn body_and_object_inputs_give_the_same_paths() {
         // Two exact formulations of the same input; both integrated at rtol 1e-12 with lengths of 1e-2 m:
-        // each is within ~1e-12 m of the truth (see the cross-check in `reference`), asserted 1e-11 m apart.
+        // each is within ~1e-14 m of the truth (see the cross-check in `reference`). Measured 6.3e-15 m
+        // apart on the plane, 2.1e-15 m on the sphere; bounds 3×.
         let s = paper_scene();
         let run = |input| {
             let mut o = MontanaOptions::uniform(1e-12, 1e-14);
@@ -280,16 +281,16 @@ mod tests {
             integrate(s.radius, Surface::Plane, [0.0, 0.0], &s.samples, s.dt, &o).unwrap()
         };
         let (a, b) = (run(InputFrame::FingerBody), run(InputFrame::Object));
-        assert!(max_dist(&a.paths.object, &b.paths.object) < 1e-11);
-        assert!(max_dist(&a.paths.finger, &b.paths.finger) < 1e-11);
+        assert!(max_dist(&a.paths.object, &b.paths.object) < 1.9e-14);
+        assert!(max_dist(&a.paths.finger, &b.paths.finger) < 6.3e-15);
     }
 
     #[test]
     fn long_path_needs_recharts_and_stays_exact() {
         // 10 s of the paper's motion (1000 intervals, ~60 rad of rotation): the contact circles the sphere,
         // so the charts must be re-centred many times; the paths must still match the closed form. Error
-        // grows with the path (~10× the 1 s case; measured 5.2e-13 m plane, 2.2e-14 m sphere); asserted
-        // 1e-10 m.
+        // grows with the path (~10× the 1 s case; measured 5.2e-13 m plane, 2.2e-14 m sphere); bounds
+        // 3×: 1.6e-12 m and 6.5e-14 m.
         let rate = crate::reference::scene::paper_body_rate();
         let samples = crate::reference::scene::constant_body_rate_samples(
             &UnitQuaternion::identity(),
@@ -308,14 +309,15 @@ mod tests {
         .unwrap();
         assert!(run.stats.recharts > 5, "{:?}", run.stats);
         let exact = closed_form::sphere_on_plane(&samples, 0.01);
-        assert!(max_dist(&run.paths.object, &exact.object) < 1e-10);
-        assert!(max_dist(&run.paths.finger, &exact.finger) < 1e-10);
+        assert!(max_dist(&run.paths.object, &exact.object) < 1.6e-12);
+        assert!(max_dist(&run.paths.finger, &exact.finger) < 6.5e-14);
     }
 
     #[test]
     fn big_rotations_per_sample_are_split() {
         // 1 rad per sample about a tilted axis: intervals are split into ≥ 4 pieces and the result is still
-        // the closed form (rtol 1e-12; measured 2.3e-14 m; asserted 1e-11 m on 1e-2 m lengths).
+        // the closed form (rtol 1e-12; measured 2.3e-14 m plane, 1.2e-15 m sphere; bounds 3×: 6.8e-14 m
+        // and 3.7e-15 m).
         let axis = Unit::new_normalize(Vector3::new(1.0, 0.5, 0.3));
         let samples: Vec<_> = (0..=12)
             .map(|k| UnitQuaternion::from_axis_angle(&axis, k as f64))
@@ -331,14 +333,14 @@ mod tests {
         .unwrap();
         assert!(run.stats.rk.intervals >= 4 * 12);
         let exact = closed_form::sphere_on_plane(&samples, 0.01);
-        assert!(max_dist(&run.paths.object, &exact.object) < 1e-11);
-        assert!(max_dist(&run.paths.finger, &exact.finger) < 1e-11);
+        assert!(max_dist(&run.paths.object, &exact.object) < 6.8e-14);
+        assert!(max_dist(&run.paths.finger, &exact.finger) < 3.7e-15);
     }
 
     #[test]
     fn sphere_on_sphere_matches_closed_form() {
         // Fingertip (10 mm) on a 50 mm sphere, starting on top; the paper's motion. rtol 1e-12: measured
-        // 1.6e-15 m; asserted 1e-11 m.
+        // 1.57e-15 m on the object sphere, 5.3e-16 m on the fingertip; bounds 3×: 4.7e-15 m, 1.6e-15 m.
         let s = paper_scene();
         let big = 0.05;
         let object = Surface::sphere_centred(big, &Vector3::z_axis(), &Vector3::x());
@@ -352,26 +354,27 @@ mod tests {
         )
         .unwrap();
         let exact = closed_form::sphere_on_sphere(&s.samples, s.radius, big, &Vector3::z_axis());
-        assert!(max_dist(&run.paths.object, &exact.object) < 1e-11);
-        assert!(max_dist(&run.paths.finger, &exact.finger) < 1e-11);
+        assert!(max_dist(&run.paths.object, &exact.object) < 4.7e-15);
+        assert!(max_dist(&run.paths.finger, &exact.finger) < 1.6e-15);
     }
 
     #[test]
     fn single_call_emulation() {
         // One `ode45`-like call over [0, 1] s with output at the 101 sample times. At rtol 1e-12 the steps
         // are short (~5 per sample) and the 4th-order interpolant is as accurate as the steps (measured
-        // 5.7e-15 m plane, 7.2e-15 m sphere; asserted 1e-12 m). At Matlab's defaults (rtol 1e-3, atol 1e-6)
-        // a step may span ~7 samples (~0.4 rad of rotation) and the angle states (|y| ~ 1 rad) may carry
-        // ~1e-3 rad of local error, i.e. ~1e-5 m on a 1e-2 m sphere per step; 15 steps: asserted < 2e-4 m
-        // (measured 5.5e-5 m plane, 3.1e-5 m sphere); the global error scales with the tolerance, so at
-        // rtol 1e-6 the bound is 2e-7 m (measured 1.0e-8 m). The error must shrink as the tolerance shrinks.
+        // 5.7e-15 m plane, 7.2e-15 m sphere). At Matlab's defaults (rtol 1e-3, atol 1e-6) a step may span
+        // ~7 samples (~0.4 rad of rotation) and the angle states (|y| ~ 1 rad) may carry ~1e-3 rad of
+        // local error, i.e. ~1e-5 m on a 1e-2 m sphere per step; 15 steps (measured 5.45e-5 m plane,
+        // 3.12e-5 m sphere). The global error scales with the tolerance: at rtol 1e-6, measured 1.01e-8 m
+        // plane, 1.04e-8 m sphere. Every bound is 3× its own measurement. The error must shrink as the
+        // tolerance shrinks.
         let s = paper_scene();
         let exact = closed_form::sphere_on_plane(&s.samples, s.radius);
         let mut prev = f64::INFINITY;
-        for (rtol, atol, bound) in [
-            (1e-3, 1e-6, 2e-4),
-            (1e-6, 1e-9, 2e-7),
-            (1e-12, 1e-14, 1e-12),
+        for (rtol, atol, bound_plane, bound_sphere) in [
+            (1e-3, 1e-6, 1.6e-4, 9.3e-5),
+            (1e-6, 1e-9, 3.0e-8, 3.1e-8),
+            (1e-12, 1e-14, 1.7e-14, 2.1e-14),
         ] {
             let o = MontanaOptions::matlab_like_single_call(rtol, atol, 1.0);
             let run =
@@ -386,7 +389,10 @@ mod tests {
                 ds * 1e3,
                 run.stats
             );
-            assert!(dp < bound && ds < bound, "rtol {rtol}: {dp} {ds}");
+            assert!(
+                dp < bound_plane && ds < bound_sphere,
+                "rtol {rtol}: {dp} {ds}"
+            );
             assert!(dp.max(ds) < prev);
             prev = dp.max(ds);
         }
@@ -400,6 +406,7 @@ mod tests {
         let q = UnitQuaternion::from_scaled_axis(Vector3::new(0.1, 0.2, 0.3));
         let run = integrate(0.01, Surface::Plane, [0.0, 0.0], &[q], 0.01, &o).unwrap();
         assert_eq!(run.paths.object, vec![Vector3::zeros()]);
-        assert!((run.paths.finger[0] - q.inverse() * Vector3::new(0.0, 0.0, -0.01)).norm() < 1e-17);
+        // Measured 3.1e-19 m (round-off of the one rotation, below an ulp of 0.01 m); bound 3×.
+        assert!((run.paths.finger[0] - q.inverse() * Vector3::new(0.0, 0.0, -0.01)).norm() < 1e-18);
     }
 }

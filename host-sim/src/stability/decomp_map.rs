@@ -272,8 +272,9 @@ mod tests {
     }
 
     /// Exact never fails, and its error stays at the f32 rounding floor: components of the f32
-    /// quaternion carry 6e-8 relative rounding and 2·atan2 doubles it, so 4e-7·(1 + |w|) rad
-    /// (the bound of the core's own log/exp test) holds on every cell with libm.
+    /// quaternion carry 6e-8 relative rounding and 2·atan2 doubles it. Measured at most
+    /// 9.4e-8·(1 + |w|) rad over the cells with libm (3.9e-7 rad at |w| = 3.1); bound 3×:
+    /// 2.8e-7·(1 + |w|).
     #[test]
     fn exact_never_fails_and_stays_at_the_f32_floor() {
         let g = Grid::DEFAULT;
@@ -283,7 +284,7 @@ mod tests {
             for (k, c) in row.iter().enumerate() {
                 assert_eq!(c.fail_frac, 0.0);
                 assert!(
-                    c.worst_err <= 4e-7 * (1.0 + mags[k]),
+                    c.worst_err <= 2.8e-7 * (1.0 + mags[k]),
                     "|w| = {}: {}",
                     mags[k],
                     c.worst_err
@@ -294,15 +295,15 @@ mod tests {
 
     /// RPY differs from the rotation vector at second order: for 0.1 rad about (1,1,1)/√3 the
     /// Z-Y-X angles are w + ½(w_z·w_y, −w_z·w_x, w_x·w_y) + O(|w|³) (from the BCH product of the three
-    /// elementary rotations), i.e. an error of ½·|w|²/3·√3 ≈ 2.9e-3 rad; the third-order remainder is
-    /// below 1e-4 here.
+    /// elementary rotations), i.e. an error of ½·|w|²/3·√3 ≈ 2.9e-3 rad; the third-order remainder
+    /// measured 7.3e-5 rad here; bound 3×: 2.2e-4 rad (13× below the second-order term).
     #[test]
     fn rpy_error_is_second_order() {
         let a = Vector3::new(1.0, 1.0, 1.0).normalize();
         let (e, f) = sample::<Libm>(Method::Rpy, a, 0.1);
         assert!(!f);
         let expected = 0.5 * 0.01 / 3.0 * 3f64.sqrt();
-        assert!((e - expected).abs() < 1e-4, "{e} vs {expected}");
+        assert!((e - expected).abs() < 2.2e-4, "{e} vs {expected}");
     }
 
     #[test]

@@ -58,10 +58,11 @@ mod tests {
         let s = [[0.0, 0.0, -0.01], [0.0, 0.0, -0.01]];
         let t = [[0.0, 0.0, -0.01], [1e-6, 0.0, -0.01]];
         let e = PathErrors::between(&p, &s, &q, &t);
-        // 0.5e-3 m = 0.5 mm along y on the plane; 1e-6 m = 1e-3 mm along x on the sphere.
-        assert!((e.plane_mm[1] - 0.5).abs() < 1e-12 && e.plane_mm[0] == 0.0);
-        assert!((e.sphere_mm[0] - 1e-3).abs() < 1e-15);
-        assert!((e.max_mm() - 0.5).abs() < 1e-12);
+        // 0.5e-3 m = 0.5 mm along y on the plane; 1e-6 m = 1e-3 mm along x on the sphere
+        // (measured exact).
+        assert_eq!((e.plane_mm[0], e.plane_mm[1]), (0.0, 0.5));
+        assert_eq!(e.sphere_mm[0], 1e-3);
+        assert_eq!(e.max_mm(), 0.5);
     }
 
     #[test]

@@ -188,10 +188,12 @@ mod tests {
 
     #[test]
     fn every_surface_is_validated_against_two_agreeing_references() {
-        // Measured (`host-sim validate`): the Montana and Cartesian references agree to 4.0e-12 mm
-        // (plane), 3.9e-12 (sphere), 4.7e-12 (bowl), 4.7e-12 mm (cylinder): asserted 1.5e-11 mm. The
-        // core's worst path error is 1.38e-4 mm (sphere object point): all rows inside the issue's
-        // 0.001 mm target, and nonzero (an f32 path is never exact).
+        // Measured (`host-sim validate`, the same for libm and Fast): the Montana and Cartesian
+        // references agree to 4.0e-12 mm (plane), 3.9e-12 (sphere), 4.7e-12 (bowl), 4.7e-12 mm
+        // (cylinder). The core's path errors, object point / finger point: plane 3.30e-5 / 6.66e-6 mm,
+        // sphere 1.378e-4 / 3.10e-5, bowl 1.153e-4 / 2.58e-5, cylinder 3.54e-5 / 6.58e-6 mm. Each
+        // bound is 3× its own measurement (all inside the 0.001 mm target), and the errors
+        // are nonzero (an f32 path is never exact).
         let (rows, series) = run_with_series().unwrap();
         assert_eq!(rows.len(), 8);
         // The charted series are the rows' own errors, sample by sample (Fast backend).
@@ -208,9 +210,17 @@ mod tests {
             assert_eq!(e.t_s[1], 1.0 / RATE_HZ);
         }
         for r in &rows {
-            assert!(r.reference_cross_check_mm < 1.5e-11, "{r:?}");
+            // (references, object point, finger point), mm.
+            let (refs, object, finger) = match r.surface {
+                "plane" => (1.2e-11, 1.0e-4, 2.0e-5),
+                "sphere" => (1.2e-11, 4.1e-4, 9.3e-5),
+                "bowl" => (1.4e-11, 3.5e-4, 7.7e-5),
+                "cylinder" => (1.4e-11, 1.1e-4, 2.0e-5),
+                other => panic!("no bound for {other}"),
+            };
+            assert!(r.reference_cross_check_mm < refs, "{r:?}");
             assert!(
-                r.object_max_error_mm < 1e-3 && r.finger_max_error_mm < 1e-3,
+                r.object_max_error_mm < object && r.finger_max_error_mm < finger,
                 "{r:?}"
             );
             assert!(r.object_max_error_mm > 0.0, "{r:?}");
