@@ -1,5 +1,6 @@
-//! The control tick, board-independent: read the hardware -> [`Pipeline::tick`] -> write the
-//! hardware, then telemetry, operator commands and the tick's own cost. Called by the board's
+//! The control tick, board-independent: read the hardware -> [`Pipeline::tick_outputs`] -> write
+//! the hardware, then [`Pipeline::tick_telemetry`], operator commands, the host link's stream and
+//! the tick's own cost. Called by the board's
 //! tick interrupt, which runs at the highest priority and owns a [`ControlLoop`] through
 //! `isr_cell::IsrCell`.
 //!
@@ -121,14 +122,15 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
         // after the compare writes below (`softfinger_core::pipeline::output_timing`).
         let sample = self.hw.read_inputs();
         self.hw.ack_tick();
-        let out = self.pipeline.tick(&RawInput {
+        let raw = RawInput {
             counts: sample.counts,
             driver_fault: sample.driver_fault,
             start_latency_counts: entry_count,
             prev_write_done_counts: self.prev_write_done,
-        });
-        // The compares right after the pipeline, before anything else: written within the tick's
-        // first PWM period, they act from its second.
+        };
+        let mut out = self.pipeline.tick_outputs(&raw);
+        // The compares right after the pipeline's outputs, before anything else (its telemetry
+        // included): written within the tick's first PWM period, they act from its second.
         self.hw.write_bridges(&out.bridges);
         // Count first, then the flag: an event between the two reads reports "late", never a
         // wrapped small count.
@@ -139,6 +141,7 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
             done
         };
         self.hw.pet_watchdog();
+        self.pipeline.tick_telemetry(&mut out, &raw);
 
         STATUS.mode.store(out.mode.code(), Ordering::Relaxed);
         STATUS.latched.store(out.latched.0, Ordering::Relaxed);

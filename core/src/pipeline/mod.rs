@@ -293,8 +293,19 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
         }
     }
 
-    /// One tick. Never panics; any fault gives zero torque at once.
+    /// One tick. Never panics; any fault gives zero torque at once. The same as
+    /// [`Self::tick_outputs`] then [`Self::tick_telemetry`].
     pub fn tick(&mut self, raw: &RawInput) -> PipelineOutput {
+        let mut out = self.tick_outputs(raw);
+        self.tick_telemetry(&mut out, raw);
+        out
+    }
+
+    /// The tick up to its outputs: everything but the telemetry record and the timing summary
+    /// (`None` here). The firmware writes the bridge commands between this and
+    /// [`Self::tick_telemetry`], which must follow once per tick (it ends the tick), so the
+    /// compares wait for nothing the hardware does not need. Never panics.
+    pub fn tick_outputs(&mut self, raw: &RawInput) -> PipelineOutput {
         let verdict = self
             .timing
             .record(raw.start_latency_counts, raw.prev_write_done_counts);
@@ -319,22 +330,26 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
             control.duties = [0.0; 3];
             control.enable = false;
         }
-        let flags = g.flags | bridges.1;
-        // After the mode's work: on the tick homing ends these are already the homed counts.
-        let counts = self.homed_counts();
-        let telemetry = self.record(&control, &counts, &bridges.0, flags, raw);
-        self.tick = self.tick.wrapping_add(1);
         PipelineOutput {
             bridges: bridges.0,
             mode: self.mode,
-            flags,
+            flags: g.flags | bridges.1,
             latched: self.guard.latched(),
             control,
-            counts,
+            // After the mode's work: on the tick homing ends these are already the homed counts.
+            counts: self.homed_counts(),
             ramp_gain: if self.mode == Mode::Armed { gain } else { 0.0 },
-            telemetry,
-            summary: self.timing.take_summary_if_due(self.drops.total()),
+            telemetry: None,
+            summary: None,
         }
+    }
+
+    /// The end of the tick [`Self::tick_outputs`] began: its decimated telemetry record and the
+    /// timing summary when due, filled into `out` (with the same `raw`).
+    pub fn tick_telemetry(&mut self, out: &mut PipelineOutput, raw: &RawInput) {
+        out.telemetry = self.record(&out.control, &out.counts, &out.bridges, out.flags, raw);
+        self.tick = self.tick.wrapping_add(1);
+        out.summary = self.timing.take_summary_if_due(self.drops.total());
     }
 
     /// Count extension with the glitch check; the first tick's reading is position 0.

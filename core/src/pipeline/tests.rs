@@ -386,6 +386,47 @@ fn arming_without_a_ramp_would_step() {
     assert!(f > 3.0, "{f}");
 }
 
+/// The firmware's split tick (outputs, the hardware writes, then telemetry) is the tick: two
+/// pipelines, one ticked whole and one split, give identical outputs, records and summaries every
+/// tick through homing, arming and 1.1 s of pressing (records every 100 ticks, a summary at 1 s).
+#[test]
+fn the_split_tick_is_the_tick() {
+    let hold = [0.5, 0.55, 0.45];
+    let (mut whole, mut split) = (pressing(hold, 0.003), pressing(hold, 0.003));
+    let (mut arms_w, mut arms_s) = (Arms::new(0.3), Arms::new(0.3));
+    let _ = home(&mut whole, &mut arms_w);
+    let _ = home(&mut split, &mut arms_s);
+    arms_w.hand = Some(hold);
+    arms_s.hand = Some(hold);
+    assert_eq!(whole.command(Command::Arm), Ok(()));
+    assert_eq!(split.command(Command::Arm), Ok(()));
+    let (mut records, mut summaries) = (0, 0);
+    for k in 0..11_000u32 {
+        let raw = |arms: &Arms| RawInput {
+            counts: arms.raw(),
+            start_latency_counts: k % 50,
+            prev_write_done_counts: 3_000 + k % 500,
+            ..RawInput::default()
+        };
+        let (rw, rs) = (raw(&arms_w), raw(&arms_s));
+        let w = whole.tick(&rw);
+        arms_w.step(&w.bridges);
+        let mut s = split.tick_outputs(&rs);
+        assert_eq!((s.telemetry, s.summary), (None, None));
+        arms_s.step(&s.bridges);
+        split.tick_telemetry(&mut s, &rs);
+        assert_eq!(w, s, "tick {k}");
+        records += usize::from(w.telemetry.is_some());
+        summaries += usize::from(w.summary.is_some());
+    }
+    assert_eq!(
+        (records, summaries),
+        (110, 1),
+        "the run covers records and a summary"
+    );
+    assert!(whole.controller().contact().state() != crate::contact_state::ContactState::Broken);
+}
+
 #[test]
 fn arming_while_pressing_ramps_the_force_in_without_a_step() {
     let hold = [0.5, 0.55, 0.45];
