@@ -118,7 +118,11 @@ fn twisting_about_the_normal_gives_the_spin_torque_then_saturates() {
     let k_z = 0.01;
     // 0.2 rad × 0.01 = 2e-3 N·m < τ_max: linear. Measured 4.66e-10 N·m, 5.96e-8 rad and, once
     // saturated, 9.31e-10 N·m; bounds 3x.
-    assert!((o.tau_n_nm - 0.2 * k_z).abs() < 1.4e-9, "τ = {}", o.tau_n_nm);
+    assert!(
+        (o.tau_n_nm - 0.2 * k_z).abs() < 1.4e-9,
+        "τ = {}",
+        o.tau_n_nm
+    );
     assert!((o.spin_rad - 0.2).abs() < 1.8e-7);
     for k in 1..=200 {
         let q = Quat::from_axis_angle::<Libm>(Vec3::Z, 0.2 + 0.8 * k as f32 / 200.0);

@@ -92,8 +92,7 @@ fn a_restart_forgets_the_velocity_and_the_contact() {
     assert_eq!(out.state, ContactState::Rolling);
     // Measured exactly 0.
     assert_eq!(
-        out.force_n.x,
-        0.0,
+        out.force_n.x, 0.0,
         "no drag from the old anchor: {:?}",
         out.force_n
     );

@@ -134,7 +134,10 @@ fn torque_to_duty_follows_the_dc_motor_closed_form() {
     // Back-EMF: 2 rad/s at the arm is 24 rad/s at the motor, 0.5616 V, duty + 0.0234. Measured
     // 1.86e-9; bound 3x.
     let (duty_moving, _) = D.arm_torque_to_duty_checked(0.1, 2.0);
-    assert!((duty_moving - duty - 0.0234).abs() < 5.6e-9, "{duty_moving}");
+    assert!(
+        (duty_moving - duty - 0.0234).abs() < 5.6e-9,
+        "{duty_moving}"
+    );
     // Odd in (torque, velocity).
     assert_eq!(D.arm_torque_to_duty(-0.1, -2.0), -duty_moving);
     // Current limit: a torque needing more than 4 A is delivered at 4 A: V = 8.72 V. Both measured

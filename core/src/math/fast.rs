@@ -133,7 +133,10 @@ mod tests {
         let (first, all) = sweep::atan2_small_angle_rel::<Fast>();
         report("fast", "atan2 rel, small y/x, y > 0, x = 1", &first);
         report("fast", "atan2 rel, small y/x, any signs", &all);
-        assert!(first.max <= 1.8e-7 && all.max <= 3.2e-7, "{first:?} {all:?}");
+        assert!(
+            first.max <= 1.8e-7 && all.max <= 3.2e-7,
+            "{first:?} {all:?}"
+        );
     }
 
     /// Target from the design brief: ≤ 2 ulp. Expected: 0.5 ulp (final rounding) plus the

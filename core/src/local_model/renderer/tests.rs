@@ -80,7 +80,11 @@ fn a_pose_switch_is_slewed_without_a_force_step() {
     r.accept(plane_at(2, 0.001)).unwrap();
     let (max_step, rolling, after) = run(&mut r, before.force_n, 300);
     assert!(rolling);
-    assert!((after.force_n.z - 6.0).abs() < 2.9e-6, "{:?}", after.force_n);
+    assert!(
+        (after.force_n.z - 6.0).abs() < 2.9e-6,
+        "{:?}",
+        after.force_n
+    );
     assert!(max_step <= 0.0201 && max_step > 0.0199, "{max_step}");
     assert_eq!(after.model_seq, 2);
 
@@ -124,7 +128,11 @@ fn a_material_switch_is_cross_faded_and_the_state_stays() {
     r.accept(stiffer).unwrap();
     let (max_step, rolling, after) = run(&mut r, before.force_n, 300);
     assert!(rolling);
-    assert!((after.force_n.z - 8.0).abs() < 7.2e-6, "{:?}", after.force_n);
+    assert!(
+        (after.force_n.z - 8.0).abs() < 7.2e-6,
+        "{:?}",
+        after.force_n
+    );
     assert!(max_step <= 0.0401 && max_step > 0.0399, "{max_step}");
 }
 
@@ -142,7 +150,11 @@ fn a_kind_switch_is_cross_faded() {
     r.accept(ball).unwrap();
     let (max_step, rolling, after) = run(&mut r, before.force_n, 300);
     assert!(rolling);
-    assert!((after.force_n.z - 6.0).abs() < 8.6e-6, "{:?}", after.force_n);
+    assert!(
+        (after.force_n.z - 6.0).abs() < 8.6e-6,
+        "{:?}",
+        after.force_n
+    );
     assert!(max_step <= 0.0202, "{max_step}");
     assert_eq!(r.model().seq, 2);
 }
