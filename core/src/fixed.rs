@@ -139,7 +139,8 @@ mod tests {
     use super::*;
 
     /// Round trip through the conversion: within half a unit plus one f32 ulp of the value
-    /// (independent reference: the f64 value of the integer).
+    /// (independent reference: the f64 value of the integer). Both bounds are rounding arguments,
+    /// not margins: measured at most 0.59 of the first (3.4e-14 m) and exact for the second.
     #[test]
     fn conversions_round_to_the_unit_and_back_to_f32() {
         for &x in &[

@@ -232,8 +232,10 @@ mod tests {
             let w = q.to_rotation_vector::<Libm>();
             let err = (w - axis * angle).norm::<Libm>();
             // f32 quaternion components carry ~6e-8 absolute error; 2·atan2 doubles it, and near π
-            // the axis direction is set by components of size ~1, so 4e-7 absolute is the f32 floor.
-            assert!(err <= 4e-7 + 4e-7 * angle, "angle {angle}: err {err}");
+            // the axis direction is set by components of size ~1: an f32 floor of a few 1e-7. The
+            // worst error measured is 0.165 of 4e-7·(1 + angle) (2.73e-7 rad); asserted is that
+            // model scaled to 3x the measurement.
+            assert!(err <= 2e-7 + 2e-7 * angle, "angle {angle}: err {err}");
         }
     }
 
@@ -285,8 +287,10 @@ mod tests {
                     + (w.y as f64 - w_ref.y).powi(2)
                     + (w.z as f64 - w_ref.z).powi(2))
                 .sqrt();
+                // Measured: at most 0.225 of 2e-7 + 3e-7·angle (6.9e-8 rad); asserted is that
+                // model scaled to 3x the measurement.
                 assert!(
-                    err <= 2e-7 + 3e-7 * angle,
+                    err <= 1.35e-7 + 2.03e-7 * angle,
                     "angle {angle} scale {scale}: {err:e}"
                 );
             }
@@ -320,6 +324,7 @@ mod tests {
     fn rotate_matches_the_right_hand_rule() {
         let q = Quat::from_axis_angle::<Libm>(Vec3::Z, core::f32::consts::FRAC_PI_2);
         let v = q.rotate(Vec3::X);
-        assert!((v - Vec3::Y).norm_squared() < 1e-12, "{v:?}");
+        // Measured 7.1e-15 (squared); bound 3x.
+        assert!((v - Vec3::Y).norm_squared() < 2.1e-14, "{v:?}");
     }
 }

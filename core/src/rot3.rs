@@ -189,7 +189,8 @@ mod tests {
                 }
             }
         }
-        assert!(worst < 1e-6, "worst element error {worst:e}");
+        // Measured 1.99e-7; bound 3x.
+        assert!(worst < 6e-7, "worst element error {worst:e}");
     }
 
     #[test]
@@ -201,7 +202,8 @@ mod tests {
             let r2 = Rot3::from_quat(Quat::from_axis_angle::<Libm>(axis, angle));
             for i in 0..3 {
                 for j in 0..3 {
-                    assert!((r1.m[i][j] - r2.m[i][j]).abs() < 1e-6, "angle {angle}");
+                    // Measured 1.79e-7; bound 3x.
+                    assert!((r1.m[i][j] - r2.m[i][j]).abs() < 5.4e-7, "angle {angle}");
                 }
             }
         }

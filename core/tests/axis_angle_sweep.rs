@@ -12,7 +12,9 @@
 //! |RᵀR − I| is 0.3951 for micromath (|axis|² = 1.99999, angle π, axis along x: sqrt 6.07 % high
 //! makes the unit axis 0.943 long, RᵀR = I + 4(m²−1)·aaᵀ), 1.073e-6 for libm and 1.073e-6 for fast
 //! (f32 rounding of the nine products).
-//! CI runs a coarser sweep (stride 4099) and checks it stays within the measured worst.
+//! CI runs a coarser sweep (stride 4099, which measures the same worst figures: 1.073e-6 for libm
+//! and fast, 0.3949 for micromath) and asserts about 3x the full sweep's: 3.2e-6 and 1.2, the
+//! bounds of the property test.
 
 use core::f32::consts::{FRAC_1_SQRT_2, FRAC_PI_3};
 use softfinger_core::{Fast, Libm, Math, Micromath, Rot3, Vec3};
@@ -79,8 +81,8 @@ fn from_axis_angle_orthonormality_stays_within_the_measured_worst() {
     println!(
         "orthonormality error, stride {stride}: libm {libm:e}, fast {fast:e}, micromath {micro:e}"
     );
-    // The full sweep's worst figures (module docs), with the last digit rounded up.
-    assert!(libm <= 1.073e-6, "libm {libm:e}");
-    assert!(fast <= 1.073e-6, "fast {fast:e}");
-    assert!(micro <= 0.3952, "micromath {micro:e}");
+    // About 3x the full sweep's worst figures (module docs).
+    assert!(libm <= 3.2e-6, "libm {libm:e}");
+    assert!(fast <= 3.2e-6, "fast {fast:e}");
+    assert!(micro <= 1.2, "micromath {micro:e}");
 }

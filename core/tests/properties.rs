@@ -68,8 +68,10 @@ fn norm64(q: Quat) -> f64 {
 fn normalized_checked_contract<M: Math>(q: Quat) -> Result<(), TestCaseError> {
     let (u, f) = q.normalized_checked::<M>();
     prop_assert!(quat_finite(u), "{q:?} -> {u:?}");
-    // The result is unit: micromath's sqrt is good to ~5 %, libm's to an ulp.
-    let tol = if M::NAME == "micromath" { 0.1 } else { 1e-5 };
+    // The result is unit. Measured over 242 seeds × 512 cases (`PROPTEST_RNG_SEED` 1-40, 100-300
+    // and CI's): libm and fast 1.32e-7 (CI's seed 6.2e-8), bound 3x, 4e-7; micromath 0.0572, the
+    // closed-form limit of its sqrt (6.07 % high: 1/1.0607 − 1), so 0.1 can never be reached.
+    let tol = if M::NAME == "micromath" { 0.1 } else { 4e-7 };
     prop_assert!((norm64(u) - 1.0).abs() < tol, "{q:?} -> {u:?}");
     if !quat_finite(q) {
         prop_assert_eq!((u, f), (Quat::IDENTITY, Flags::NON_FINITE_INPUT));
@@ -118,7 +120,9 @@ fn from_axis_angle_contract<M: Math>(axis: Vec3, angle: f32) -> Result<(), TestC
         // 6 % short; at angle π that gives RᵀR = I + 4(m²−1)·aaᵀ). Micromath's sin/cos are
         // specified for |x| ≤ 1e4 only (beyond, sin² + cos² drifts from 1: 0.014 at 1e5, 1 at
         // 1e8, and the wrapper returns 0 for both beyond 2^33), so larger angles are only
-        // required to give finite entries.
+        // required to give finite entries. Over 242 seeds × 512 cases this test measured 5.96e-7
+        // (libm, fast) and 0.262 (micromath); CI's seed 1.19e-7 and 0.0836: the sweep's worst
+        // case is rarely drawn, so the bound is 3x the sweep's, not the draws'.
         let tol = if M::NAME == "micromath" { 1.2 } else { 3.2e-6 };
         prop_assert!(orthonormal(&r, tol), "{axis:?} {angle} -> {r:?}");
     }

@@ -88,14 +88,12 @@ fn touching_down_places_the_contact_and_starts_the_anchor_at_rest() {
     m.contact_step(&input(Quat::IDENTITY, 0.004, -0.003, 0.02, 0.0));
     let o = m.contact_step(&input(Quat::IDENTITY, 0.004, -0.003, 0.009, 0.0));
     assert_eq!(o.reason, Reason::MadeContact);
-    assert!((o.object_point_m - Vec3::new(0.004, -0.003, 0.0)).norm_squared() < 1e-14);
+    // Measured exact: the contact lands on the probe's x, y and the next step's tangential force
+    // is exactly 0.
+    assert_eq!(o.object_point_m, Vec3::new(0.004, -0.003, 0.0));
     let o = m.contact_step(&input(Quat::IDENTITY, 0.004, -0.003, 0.009, 0.0));
     assert_eq!(o.state, ContactState::Rolling);
-    assert!(
-        o.force_n.x.abs() < 1e-5 && o.force_n.y.abs() < 1e-5,
-        "{:?}",
-        o.force_n
-    );
+    assert_eq!((o.force_n.x, o.force_n.y), (0.0, 0.0), "{:?}", o.force_n);
 }
 
 /// The twist threshold sees the tilt rate from both tilt components: at f_N = 2 N it is
@@ -124,7 +122,8 @@ fn a_rejected_sample_reports_the_accumulated_spin() {
     m.contact_step(&input(Quat::IDENTITY, 0.0, 0.0, 0.009, 0.0));
     let q = Quat::from_axis_angle::<Libm>(Vec3::Z, 0.01);
     let o = m.contact_step(&input(q, 0.0, 0.0, 0.009, 0.0));
-    assert!((o.spin_rad - 0.01).abs() < 1e-6, "{}", o.spin_rad);
+    // Measured exact; bound 1 ulp of 0.01 (9.3e-10 rad), an ulp argument.
+    assert!((o.spin_rad - 0.01).abs() <= 9.3e-10, "{}", o.spin_rad);
     let bad = m.contact_step(&input(q, f32::NAN, 0.0, 0.009, 0.0));
     assert!(bad.flags.contains(Flags::NON_FINITE_INPUT));
     assert_eq!(bad.spin_rad, o.spin_rad);
@@ -136,7 +135,8 @@ fn a_rejected_sample_reports_the_accumulated_spin() {
 fn a_rejected_sample_reports_the_current_contact_point() {
     let mut m = plane_model();
     let o = m.contact_step(&input(Quat::IDENTITY, 0.004, -0.003, 0.009, 0.0));
-    assert!((o.object_point_m - Vec3::new(0.004, -0.003, 0.0)).norm_squared() < 1e-14);
+    // Measured exact.
+    assert_eq!(o.object_point_m, Vec3::new(0.004, -0.003, 0.0));
     let bad = m.contact_step(&input(Quat::IDENTITY, f32::INFINITY, 0.0, 0.009, 0.0));
     assert!(bad.flags.contains(Flags::NON_FINITE_INPUT));
     assert_eq!(bad.object_point_m, o.object_point_m);
@@ -182,7 +182,8 @@ fn rolling_on_a_sphere_couples_through_the_anchor_at_r_plus_rho() {
         let want = f - n * f.dot(n);
         let got = o.force_n - n * o.force_n.dot(n);
         assert!(
-            (got - want).norm_squared() < 1e-10,
+            // Measured 1.59e-14 N² over the 20 steps; bound 3x.
+            (got - want).norm_squared() < 4.8e-14,
             "step {k}: {got:?} vs {want:?}"
         );
         prev = a;

@@ -432,7 +432,8 @@ fn stick_rule_thresholds_are_bracketed() {
 }
 
 /// The spin spring saturates when |φ_el| exceeds τ_max/k_z, in both directions, and the limit
-/// τ_max = (3π/16)·μ·f_N·a is zero at and below f_N = 0.
+/// τ_max = (3π/16)·μ·f_N·a is zero at and below f_N = 0. The torques measured exact; the limit
+/// too, asserted within |τ|·ε (1-2 ulp, an ulp argument) of its closed form.
 #[test]
 fn torsion_limit_is_bracketed() {
     let (k_z, tau_max) = (0.05f32, 1e-3f32);
@@ -441,18 +442,19 @@ fn torsion_limit_is_bracketed() {
         let mut s = SpinSpring::default();
         let (tau, sat) = s.update(sign * limit * BELOW, k_z, tau_max);
         assert!(!sat, "below the limit ({sign})");
-        assert!((tau - sign * k_z * limit * BELOW).abs() < 1e-9);
+        assert_eq!(tau, sign * k_z * limit * BELOW);
         let mut s = SpinSpring::default();
         let (tau, sat) = s.update(sign * limit * ABOVE, k_z, tau_max);
         assert!(sat, "above the limit ({sign})");
         assert_eq!(s.elastic_rad, sign * limit);
-        assert!((tau - sign * tau_max).abs() < 1e-9, "clamped torque {tau}");
+        assert_eq!(tau, sign * tau_max, "clamped torque {tau}");
         assert_eq!(s.accumulated_rad, sign * limit * ABOVE);
     }
     assert_eq!(torsion_limit(0.8, 0.0, 0.005), 0.0);
     assert_eq!(torsion_limit(0.8, -1e-30, 0.005), 0.0);
     let t = torsion_limit(0.8, 1e-3, 0.005);
-    assert!((t - 3.0 * core::f32::consts::PI / 16.0 * 0.8 * 1e-3 * 0.005).abs() < 1e-12);
+    let want = 3.0 * core::f32::consts::PI / 16.0 * 0.8 * 1e-3 * 0.005;
+    assert!((t - want).abs() <= want * f32::EPSILON, "{t} vs {want}");
 }
 
 /// The names written to files and logs.

@@ -131,8 +131,8 @@ fn forward_matches_the_f64_newton_reference_over_an_arm_angle_sweep() {
                 let err = (v64(p) - p_ref).norm();
                 // f32 resolves ~6e-8 relative of the ~0.2 m lengths involved (1.2e-8 m); the
                 // circumcentre and h = √(L_b² − |p₀|²) amplify that a few times. Measured max on
-                // this grid: 8.2e-8 m. 0.4 µm (5×) still fails on any formula slip (≥ µm).
-                assert!(err < 4.0e-7, "{theta:?}: err {err} m");
+                // this grid: 8.18e-8 m; bound 3x, 2.5e-7 m.
+                assert!(err < 2.5e-7, "{theta:?}: err {err} m");
                 compared += 1;
             }
             _ => {}
@@ -149,20 +149,21 @@ fn inverse_then_forward_round_trips_over_the_design_cylinder_and_beyond() {
         let (theta, flags) = G.inverse::<Libm>(Vec3::new(p.x as f32, p.y as f32, p.z as f32));
         assert!(flags.is_empty(), "{p:?}: {flags:?}");
         // The f32 angles satisfy the constraints, checked in f64: f32 atan2/sqrt are good to a
-        // few 1e-7 rad, times the arm (0.105 m) ~3e-8 m. Measured max: 4.0e-8 m; bound 2e-7 (5×).
+        // few 1e-7 rad, times the arm (0.105 m) ~3e-8 m. Measured max: 3.98e-8 m; bound 3x.
         let p32 = V::new(p.x as f32 as f64, p.y as f32 as f64, p.z as f32 as f64);
         for res in r.residuals(a64(theta), p32) {
-            assert!(res.abs() < 2.0e-7, "{p:?}: residual {res}");
+            assert!(res.abs() < 1.2e-7, "{p:?}: residual {res}");
         }
         let (back, flags) = G.forward::<Libm>(theta);
         assert!(flags.is_empty(), "{p:?}: {flags:?}");
         let err = (v64(back) - p32).norm();
-        // Inverse and forward errors add; measured max 7.8e-8 m; bound 4e-7 m (5×).
-        assert!(err < 4.0e-7, "{p:?}: round trip err {err} m");
+        // Inverse and forward errors add; measured max 7.78e-8 m (libm) and 7.49e-8 m (Fast);
+        // bound 3x, 2.3e-7 m, for both.
+        assert!(err < 2.3e-7, "{p:?}: round trip err {err} m");
         // Same with the project's own backend.
         let (theta_f, _) = G.inverse::<Fast>(Vec3::new(p.x as f32, p.y as f32, p.z as f32));
         let (back_f, _) = G.forward::<Fast>(theta_f);
-        assert!((v64(back_f) - p32).norm() < 4.0e-7);
+        assert!((v64(back_f) - p32).norm() < 2.3e-7);
     }
 }
 
@@ -180,8 +181,9 @@ fn inverse_picks_the_elbow_out_branch() {
             let qx = q.dot(&rad);
             let alpha = q.z.atan2(qx);
             let other = -2.0 * alpha - t as f64;
+            // Measured residual 4.27e-8 m (the f32 angle's); bound 3x.
             assert!(
-                r.residuals([other; 3], p)[i].abs() < 1e-6,
+                r.residuals([other; 3], p)[i].abs() < 1.3e-7,
                 "not the other root"
             );
             // Elbow radial coordinate r + L_a cos θ: the chosen root's is the larger.
@@ -209,8 +211,8 @@ fn jacobian_matches_the_f64_finite_difference_reference() {
             for (&x, &y) in row.iter().zip(ref_row.iter()) {
                 // Entries are ~0.1 m/rad; f32 rounding (~1e-7 relative) grows a few times through
                 // the Cramer division (forearm volume > 0.6 here); the FD reference is good to
-                // ~1e-10. Measured max 6.9e-8 m/rad; bound 4e-7 m/rad (6×).
-                assert!((x as f64 - y).abs() < 4.0e-7, "{p:?}: {x} vs {y}");
+                // ~1e-10. Measured max 3.95e-8 m/rad; bound 3x, 1.2e-7 m/rad.
+                assert!((x as f64 - y).abs() < 1.2e-7, "{p:?}: {x} vs {y}");
             }
         }
     }
@@ -235,10 +237,9 @@ fn joint_torques_satisfy_virtual_work_against_the_f64_reference() {
                 G.joint_torques::<Libm>(theta, pe, Vec3::new(f.x as f32, f.y as f32, f.z as f32));
             assert!(flags.is_empty());
             let tau_ref = j_ref.transpose() * f;
-            // |τ| ≲ 0.12 N·m per N. Measured max error 4.4e-7 N·m at |F| = 9.1 N (5e-8 per N);
-            // bound 1e-6 N·m per N of force (~20×), ~1e-5 relative: far below any sign or
-            // transpose mistake.
-            let scale = 1.0e-6 * f.norm().max(1.0);
+            // |τ| ≲ 0.12 N·m per N. Measured max error 4.13e-7 N·m, at most 4.5e-8 N·m per N of
+            // force; bound 3x, 1.4e-7 N·m per N: far below any sign or transpose mistake.
+            let scale = 1.4e-7 * f.norm().max(1.0);
             for k in 0..3 {
                 assert!(
                     (tau[k] as f64 - tau_ref[k]).abs() < scale,
@@ -253,7 +254,8 @@ fn joint_torques_satisfy_virtual_work_against_the_f64_reference() {
             let minus = r.forward([0, 1, 2].map(|i| th[i] - dtheta[i])).unwrap();
             let work_cart = f.dot(&(plus - minus)) / 2.0;
             let work_joint: f64 = (0..3).map(|i| tau[i] as f64 * dtheta[i]).sum();
-            // Work ~1e-6 J; f32 torque error 1e-5 relative gives ~1e-11 J.
+            // Work ~1e-6 J; f32 torque error 1e-5 relative gives ~1e-11 J. Measured: at most 0.48
+            // of this bound (the difference's O(δθ³) term), 2.1x below it.
             assert!(
                 (work_cart - work_joint).abs() < 1e-5 * work_cart.abs().max(1e-7),
                 "{work_cart} vs {work_joint}"
@@ -267,12 +269,13 @@ fn an_upward_force_needs_arms_pushed_up_at_the_workspace_centre() {
     // Independent sanity check of the sign: to push the user's hand up (+z), each arm must be
     // driven towards smaller θ (arm up), equally by symmetry.
     let (theta, _) = G.inverse::<Libm>(DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M);
-    assert!((theta[0] - theta[1]).abs() < 1e-6 && (theta[0] - theta[2]).abs() < 1e-6);
+    // Measured exactly symmetric (angles and torques).
+    assert_eq!((theta[1], theta[2]), (theta[0], theta[0]));
     let (p, _) = G.forward::<Libm>(theta);
     let (tau, _) = G.joint_torques::<Libm>(theta, p, Vec3::Z);
     for t in tau {
         assert!(t < 0.0, "{tau:?}");
-        assert!((t - tau[0]).abs() < 1e-7, "{tau:?}");
+        assert_eq!(t, tau[0], "{tau:?}");
     }
 }
 

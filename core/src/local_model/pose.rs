@@ -100,7 +100,8 @@ mod tests {
     use crate::math::Libm;
 
     /// Round trips through a rotated, translated frame, against the rotation written out by hand:
-    /// 90° about z maps object x to base y.
+    /// 90° about z maps object x to base y. Squared distances measured 1.78e-14, 1.42e-14,
+    /// 7.1e-15 and 1.42e-14; bounds 3x.
     #[test]
     fn transforms_match_a_hand_written_rotation() {
         let h = core::f32::consts::FRAC_1_SQRT_2;
@@ -110,16 +111,18 @@ mod tests {
         };
         let p = pose.point_to_base(Vec3::new(1.0, 0.0, 0.0));
         assert!(
-            (p - Vec3::new(0.1, 1.2, 0.3)).norm_squared() < 1e-12,
+            (p - Vec3::new(0.1, 1.2, 0.3)).norm_squared() < 5.3e-14,
             "{p:?}"
         );
         let back = pose.point_to_object(p);
-        assert!((back - Vec3::X).norm_squared() < 1e-12);
+        assert!((back - Vec3::X).norm_squared() < 4.3e-14);
         let f = pose.vector_to_base(Vec3::new(0.0, 1.0, 0.0));
-        assert!((f - Vec3::new(-1.0, 0.0, 0.0)).norm_squared() < 1e-12);
-        assert!((pose.vector_to_object(f) - Vec3::Y).norm_squared() < 1e-12);
+        assert!((f - Vec3::new(-1.0, 0.0, 0.0)).norm_squared() < 2.1e-14);
+        assert!((pose.vector_to_object(f) - Vec3::Y).norm_squared() < 4.3e-14);
     }
 
+    /// Measured: the middle position exact, its scalar part 5.96e-8 off cos(π/8), the end point
+    /// 2.84e-14 m² off; bounds 3x.
     #[test]
     fn interpolation_ends_and_middle() {
         let h = core::f32::consts::FRAC_1_SQRT_2;
@@ -130,15 +133,15 @@ mod tests {
             orientation: Quat::new(-h, 0.0, 0.0, -h),
         };
         let m = a.interpolate::<Libm>(&b, 0.5);
-        assert!((m.position_m.z - 0.01).abs() < 1e-9);
+        assert_eq!(m.position_m.z, 0.01);
         // Halfway along the arc: 45° about z.
         let c = libm::cosf(core::f32::consts::FRAC_PI_8);
         assert!(
-            (m.orientation.w.abs() - c).abs() < 1e-6,
+            (m.orientation.w.abs() - c).abs() < 1.8e-7,
             "{:?}",
             m.orientation
         );
         let e = a.interpolate::<Libm>(&b, 1.0);
-        assert!((e.point_to_base(Vec3::X) - Vec3::new(0.0, 1.0, 0.02)).norm_squared() < 1e-12);
+        assert!((e.point_to_base(Vec3::X) - Vec3::new(0.0, 1.0, 0.02)).norm_squared() < 8.5e-14);
     }
 }

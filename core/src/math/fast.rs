@@ -79,7 +79,8 @@ mod tests {
 
     /// Target from the design brief: 2e-7 absolute over |x| ≤ 1e4 (≈ 3.4 ulp at 1.0). The expected
     /// figure is ~1 ulp(0.5..1) = 6e-8 from the polynomial plus ~1 ulp(r)·|derivative| from the
-    /// reduction.
+    /// reduction. Measured by these sweeps: sin 6.34e-8, cos 6.27e-8, sin_cos 6.34e-8 (bound 3.2x);
+    /// 8.86e-8 over every finite x (2.3x).
     const TRIG_BOUND: f64 = 2e-7;
 
     #[test]
@@ -113,29 +114,36 @@ mod tests {
     }
 
     /// Targets from the design brief: 1e-6 rad absolute and 1e-6 relative. Expected: ~2 ulp of the
-    /// result (division, polynomial, final addition).
+    /// result (division, polynomial, final addition). Measured 1.77e-7 rad absolute and 1.51e-7
+    /// relative over these 1.8 million pairs; bounds 3x: 5.3e-7 and 4.5e-7.
     #[test]
     fn atan2_error_sweep() {
         let (abs, rel) = sweep::atan2_abs_rel::<Fast>(&sweep::atan2_samples());
         report("fast", "atan2 abs", &abs);
         report("fast", "atan2 rel", &rel);
-        assert!(abs.max <= 1e-6, "{abs:?}");
-        assert!(rel.max <= 1e-6, "{rel:?}");
+        assert!(abs.max <= 5.3e-7, "{abs:?}");
+        assert!(rel.max <= 4.5e-7, "{rel:?}");
     }
 
     /// Target from the design brief: 1e-6 relative for small angles (for y/x ≥ 1e-30 the result
-    /// is `atan(t)` evaluated directly, ~1 ulp).
+    /// is `atan(t)` evaluated directly, ~1 ulp). Measured 5.88e-8 (y > 0, x = 1) and 1.05e-7 (any
+    /// signs and x); bounds 3x: 1.8e-7 and 3.2e-7.
     #[test]
     fn atan2_small_angle_error_sweep() {
         let (first, all) = sweep::atan2_small_angle_rel::<Fast>();
         report("fast", "atan2 rel, small y/x, y > 0, x = 1", &first);
         report("fast", "atan2 rel, small y/x, any signs", &all);
-        assert!(first.max <= 1e-6 && all.max <= 1e-6, "{first:?} {all:?}");
+        assert!(
+            first.max <= 1.8e-7 && all.max <= 3.2e-7,
+            "{first:?} {all:?}"
+        );
     }
 
     /// Target from the design brief: ≤ 2 ulp. Expected: 0.5 ulp (final rounding) plus the
     /// second-order term of the last Newton step, (4.6e-6)²/2 relative ≈ 2e-4 ulp, since the
-    /// residual is exact. Asserted: 0.501 ulp, in both ranges.
+    /// residual is exact. Measured 0.5005 ulp (normal x) and 0.5002 ulp (subnormal x). No f32
+    /// result is closer than 0.5 ulp in general, so the bound is on the excess over a correctly
+    /// rounded result: measured 5e-4 ulp, asserted 1e-3 ulp (2x), i.e. 0.501 ulp, in both ranges.
     #[test]
     fn sqrt_error_sweep() {
         let (normal, sub) = sweep::sqrt_ulp::<Fast>(&sweep::sqrt_samples());

@@ -79,6 +79,8 @@ mod tests {
 
     // Bounds: libm documents its f32 functions as accurate to within 1 ulp. For sin/cos results
     // in [-1, 1] that is at most 2^-24 = 5.96e-8 absolute (1 ulp of values in [0.5, 1)).
+    // Measured by these sweeps: 2.99e-8 for sin, cos and sin_cos, up to 1e4 and over every finite
+    // x (half an ulp: correctly rounded on these inputs); the documented 1-ulp bound is 2.0x that.
     const TRIG_BOUND: f64 = 5.97e-8;
 
     #[test]
@@ -111,7 +113,8 @@ mod tests {
 
     /// Bound: ≤ 2 ulp of the result (musl's atan2f is not documented as correctly rounded; its
     /// arctangent core is quoted at < 1 ulp, the quadrant arithmetic adds up to one more rounding).
-    /// Absolute: 2 ulp(π) = 4.8e-7; relative: 2·2^-23 = 2.4e-7.
+    /// Absolute: 2 ulp(π) = 4.8e-7; relative: 2·2^-23 = 2.4e-7. Measured 2.42e-7 absolute and
+    /// 1.19e-7 relative (2.0x each).
     #[test]
     fn atan2_error_sweep() {
         let (abs, rel) = sweep::atan2_abs_rel::<Libm>(&sweep::atan2_samples());
@@ -121,7 +124,8 @@ mod tests {
         assert!(rel.max <= 2.4e-7, "{rel:?}");
     }
 
-    /// Same 2-ulp bound as the whole-domain sweep (2·2^-23 relative).
+    /// Same 2-ulp bound as the whole-domain sweep (2·2^-23 relative). Measured 5.88e-8 (y > 0,
+    /// x = 1) and 1.05e-7 (any signs and x): 2.3x.
     #[test]
     fn atan2_small_angle_error_sweep() {
         let (first, all) = sweep::atan2_small_angle_rel::<Libm>();
@@ -134,6 +138,7 @@ mod tests {
     }
 
     /// Bound: 0.5 ulp — IEEE 754 requires sqrt to be correctly rounded and libm's `sqrtf` is.
+    /// Measured 0.5000 ulp in both ranges: an exact property, so no margin.
     #[test]
     fn sqrt_error_sweep() {
         let (normal, sub) = sweep::sqrt_ulp::<Libm>(&sweep::sqrt_samples());

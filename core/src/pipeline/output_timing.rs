@@ -214,7 +214,8 @@ mod tests {
     fn cpi_margin_is_the_edge_of_the_first_pwm_period() {
         let n = SAMPLE_INSTRUCTIONS + PIPELINE_TICK_INSTRUCTIONS;
         let m = cpi_margin(&BOARD_10K, n);
-        assert!((m - 4_250.0 / 2_620.0).abs() < 1e-6, "{m}");
+        // Measured exact; bound 1 ulp of 1.62 (1.2e-7), an ulp argument.
+        assert!((m - 4_250.0 / 2_620.0).abs() <= 1.2e-7, "{m}");
         let at = |cpi: f32| OutputTiming::new(&BOARD_10K, 0, (n as f32 * cpi) as u32);
         assert_eq!(at(0.999 * m).effect_counts, 4_250);
         assert_eq!(at(m).effect_counts, 8_500);
@@ -233,7 +234,8 @@ mod tests {
         assert_eq!(t.sample_counts, 51);
         assert_eq!(t.write_counts, 51 + 2_501);
         assert_eq!(t.effect_counts, 4_250);
-        assert!((t.delay_ticks() - (4_250.0 - 51.0) / 17_000.0).abs() < 1e-7);
+        // Measured exact; bound 1 ulp of 0.247 (1.5e-8), an ulp argument.
+        assert!((t.delay_ticks() - (4_250.0 - 51.0) / 17_000.0).abs() <= 1.5e-8);
         // 3400 instructions × 1.25 = 4250 cycles: the write misses the first PWM period.
         let t = OutputTiming::from_instructions(&BOARD_10K, 3_400, CCM_CYCLES_PER_INSTRUCTION);
         assert_eq!(t.effect_counts, 8_500);

@@ -118,6 +118,7 @@ fn rpy_rolling_on_a_sphere_drifts_by_its_measured_first_order_error() {
 
 /// Placing the contact under a fingertip centre moves the normal onto the centre's direction by
 /// the shortest arc, for directions at every angle from the current normal (not only 90°).
+/// Measured worst 1.42e-14 (squared distance: 1.2e-7, 1 ulp of 1); bound 3x, 4.3e-14.
 #[test]
 fn place_under_turns_the_normal_onto_the_centre_direction() {
     for target in [
@@ -129,7 +130,7 @@ fn place_under_turns_the_normal_onto_the_centre_direction() {
         let mut s = Sphere::new(BIG as f32);
         s.place_under::<Libm>(target * 0.07);
         assert!(
-            (s.normal() - target).norm_squared() < 1e-12,
+            (s.normal() - target).norm_squared() < 4.3e-14,
             "{target:?}: {:?}",
             s.normal()
         );

@@ -9,7 +9,8 @@ use super::super::sweep::{report, ulp_of, MaxErr};
 use super::super::Math;
 use super::Fast;
 
-/// Every float x with |x| ≤ 1e4 (2.35e9 values): sin and cos within the 2e-7 target.
+/// Every float x with |x| ≤ 1e4 (2.35e9 values): sin and cos within the 2e-7 target (3.1x the
+/// measured 6.46e-8).
 #[test]
 #[ignore = "exhaustive: minutes in release"]
 fn exhaustive_sin_cos_up_to_1e4() {
@@ -27,7 +28,8 @@ fn exhaustive_sin_cos_up_to_1e4() {
     assert!(e.max <= 2e-7, "{e:?}");
 }
 
-/// Every positive float (normal and subnormal): within 0.501 ulp (see `sqrt_error_sweep`).
+/// Every positive float (normal and subnormal): within 0.501 ulp (measured 0.5005 ulp; the bound
+/// is on the excess over correct rounding, 2x the measured 5e-4 ulp: see `sqrt_error_sweep`).
 #[test]
 #[ignore = "exhaustive: about a minute in release"]
 fn exhaustive_sqrt() {
@@ -41,8 +43,8 @@ fn exhaustive_sqrt() {
     assert!(e.max <= 0.501, "{e:?}");
 }
 
-/// atan2(y, ±1) for every finite y of both signs: crosses all three octant formulas; within 1e-6
-/// absolute and relative.
+/// atan2(y, ±1) for every finite y of both signs: crosses all three octant formulas. Measured
+/// 1.79e-7 rad absolute and 1.58e-7 relative; bounds 3x: 5.4e-7 and 4.8e-7.
 #[test]
 #[ignore = "exhaustive: minutes in release"]
 fn exhaustive_atan2_unit_x() {
@@ -61,7 +63,7 @@ fn exhaustive_atan2_unit_x() {
     }
     report("fast", "atan2(y, ±1) abs, every y", &abs);
     report("fast", "atan2(y, ±1) rel, every y", &rel);
-    assert!(abs.max <= 1e-6 && rel.max <= 1e-6, "{abs:?} {rel:?}");
+    assert!(abs.max <= 5.4e-7 && rel.max <= 4.8e-7, "{abs:?} {rel:?}");
 }
 
 fn worse(e: MaxErr, err: f64, x: f32) -> MaxErr {

@@ -82,7 +82,8 @@ mod tests {
     /// The polynomials alone (no reduction) against f64 on every 509th f32 in [0, π/4 + 0.002] (2
     /// million). Bound: 1 ulp of the result: the minimax error is ≤ 6.5e-9 relative (0.1 ulp), and
     /// the evaluation order (leading term added last, rounding error of 1 - r²/2 carried) keeps the
-    /// f32 roundings near the final half ulp.
+    /// f32 roundings near the final half ulp. Measured 0.681 ulp (sin) and 0.731 ulp (cos): the
+    /// 1-ulp bound is the faithful-rounding property, not a margin over the measurement.
     #[test]
     fn polynomials_are_within_one_ulp_on_the_reduced_interval() {
         let end = (FRAC_PI_4 + 0.002) as f32;

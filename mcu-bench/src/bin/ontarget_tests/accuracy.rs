@@ -1,4 +1,6 @@
-//! The accuracy each math backend is held to on target, from which every tolerance is derived.
+//! The accuracy each math backend is held to on target, from which every closed-form tolerance of
+//! the math checks is derived (worst-case propagation of these kernel errors); the same checks'
+//! values are held to their golden bits as well (`golden.rs`).
 
 use softfinger_core::{Fast, Libm, Math, Micromath};
 
@@ -10,6 +12,8 @@ pub trait Accuracy: Math {
     const ATAN2: f32;
     /// Largest relative error of `sqrt`.
     const SQRT_REL: f32;
+    /// The golden bits of the math checks' results (`golden.rs`).
+    const GOLDEN: &'static [u32];
 }
 
 /// libm's f32 functions are within 1 ulp: ≤ 6e-8 on [-1, 1] for sin/cos, ≤ 2.4e-7 near π for atan2,
@@ -18,6 +22,7 @@ impl Accuracy for Libm {
     const TRIG: f32 = 2.0e-7;
     const ATAN2: f32 = 5.0e-7;
     const SQRT_REL: f32 = 2.0e-7;
+    const GOLDEN: &'static [u32] = crate::golden::LIBM;
 }
 
 /// micromath's documented errors: sin/cos 0.002 (its own tests' MAX_ERROR), atan2 0.1620° =
@@ -28,6 +33,7 @@ impl Accuracy for Micromath {
     const TRIG: f32 = 0.002;
     const ATAN2: f32 = 0.002_83;
     const SQRT_REL: f32 = 0.0607;
+    const GOLDEN: &'static [u32] = crate::golden::MICROMATH;
 }
 
 /// Our kernels' measured maximum errors (`core/src/math/mod.rs`, sweeps of a million inputs or more
@@ -37,4 +43,5 @@ impl Accuracy for Fast {
     const TRIG: f32 = 2.0e-7;
     const ATAN2: f32 = 5.4e-7;
     const SQRT_REL: f32 = 1.8e-7;
+    const GOLDEN: &'static [u32] = crate::golden::FAST;
 }

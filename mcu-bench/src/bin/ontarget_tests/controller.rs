@@ -56,7 +56,8 @@ pub fn checks<M: Accuracy>(c: &mut Checker, accurate: bool) {
     );
     if accurate {
         // 1 mm into the 2000 N/m plane: 2 N along +z. Encoder quantisation moves the probe by up to
-        // ~13 µm per count per axis (±0.05 N here): 0.1 N.
+        // ~13 µm per count per axis (±0.05 N); at this pose the error measures 5.73e-4 N (libm and
+        // fast, as on the host): bound 3x, 1.7e-3 N.
         c.ok(
             "pressing: rolling contact",
             out.state == ContactState::Rolling,
@@ -65,7 +66,7 @@ pub fn checks<M: Accuracy>(c: &mut Checker, accurate: bool) {
             "pressing: wall force k_n * 1 mm = 2 N",
             out.force_n.z,
             2.0,
-            0.1,
+            1.7e-3,
         );
         c.ok(
             "pressing: the motors are driven",

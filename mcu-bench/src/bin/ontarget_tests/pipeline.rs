@@ -68,8 +68,13 @@ fn pressing_and_faults(c: &mut Checker) {
         out.mode == Mode::Armed && out.bridges.pwm_enable && out.ramp_gain == 1.0,
     );
     // 1 mm into the 2000 N/m plane: 2 N along +z; encoder quantisation moves the probe by up to
-    // ~13 µm per count per axis (±0.05 N here): 0.1 N.
-    c.close("pressing: wall force 2 N", out.control.force_n.z, 2.0, 0.1);
+    // ~13 µm per count per axis (±0.05 N); at this pose the error measures 5.73e-4 N: bound 3x.
+    c.close(
+        "pressing: wall force 2 N",
+        out.control.force_n.z,
+        2.0,
+        1.7e-3,
+    );
     // 4250 counts per 40 kHz PWM period at 170 MHz; the duty limit 0.9 is 3825 counts.
     c.ok(
         "pressing: compares driven, within 0.9 of 4250",
