@@ -79,13 +79,29 @@ fn script() -> HandScript {
     )
 }
 
-/// Run the wall of stiffness `k` (N/m) for `seconds`, calling `each(t, z, |force|)` after every
-/// tick with the effector height z (plant truth, m) and the rendered force (N).
+/// One tick of a wall run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// Time after the tick, s.
+    pub t_s: f64,
+    /// Effector height, plant truth, m.
+    pub z_m: f64,
+    /// The controller's probe height (from the encoder counts) over the height at which the
+    /// fingertip touches the plane, m.
+    pub probe_height_m: f64,
+    /// Rendered force along z (up: the wall pushing), N, and its magnitude, N.
+    pub force_z_n: f64,
+    pub force_n: f64,
+    /// The passivity observer's energy after the tick, J.
+    pub energy_j: f64,
+}
+
+/// Run the wall of stiffness `k` (N/m) for `seconds`, calling `each` after every tick.
 fn simulate(
     l: &DeviceLoop,
     k: f64,
     seconds: f64,
-    mut each: impl FnMut(f64, f64, f64),
+    mut each: impl FnMut(&Sample),
 ) -> Result<u64, String> {
     let contact = ContactParams {
         normal_stiffness: k as f32,
@@ -104,9 +120,12 @@ fn simulate(
     };
     let mut ctrl: Controller<Fast> =
         Controller::new(config).map_err(|e| format!("device wall K = {k}: {e}"))?;
+    // As the pipeline configures it for the firmware: the board's delay and the motor
+    // encoders' resolution at the probe.
     ctrl.set_passivity(PassivityConfig {
         enabled: l.passivity,
         output_delay_ticks: l.delay_ticks.clamp(0.0, 1.0) as f32,
+        position_quantum_m: device.probe_m_per_motor_count(),
         ..PassivityConfig::DEFAULT
     })
     .map_err(|e| format!("passivity: {e}"))?;
@@ -118,6 +137,7 @@ fn simulate(
     let dt = 1.0 / l.rate_hz;
     let ticks = (seconds * l.rate_hz).round() as u64;
     let mut damped = 0u64;
+    let touch_z = closed_loop::surface_top_z_m() + f64::from(contact.fingertip_radius_m);
     for i in 0..ticks {
         let out = ctrl.tick(&TickInput {
             counts: plant.counts(),
@@ -127,8 +147,14 @@ fn simulate(
             damped += 1;
         }
         plant.step_with_output_delay(out.duties, out.enable, dt, l.delay_ticks);
-        let force = f64::from(out.force_n.norm_squared()).sqrt();
-        each((i + 1) as f64 * dt, plant.effector_position_m()[2], force);
+        each(&Sample {
+            t_s: (i + 1) as f64 * dt,
+            z_m: plant.effector_position_m()[2],
+            probe_height_m: f64::from(out.probe_m.z) - touch_z,
+            force_z_n: f64::from(out.force_n.z),
+            force_n: f64::from(out.force_n.norm_squared()).sqrt(),
+            energy_j: f64::from(ctrl.passivity().energy_j()),
+        });
     }
     Ok(damped)
 }
@@ -137,7 +163,8 @@ fn simulate(
 pub fn run(l: &DeviceLoop, k: f64) -> Result<DeviceOutcome, String> {
     let (mut early, mut late) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));
     let mut peak = 0.0f64;
-    let damped = simulate(l, k, RUN_S, |t, z, force| {
+    let damped = simulate(l, k, RUN_S, |x| {
+        let (t, z, force) = (x.t_s, x.z_m, x.force_n);
         let win = if (0.35..0.45).contains(&t) {
             Some(&mut early)
         } else if t >= RUN_S - 0.1 {
@@ -165,19 +192,88 @@ pub const ENVELOPE_S: (f64, f64) = (2.0, 0.1);
 
 /// Peak-to-peak effector height (m) in each [`ENVELOPE_S`] window of a 2 s run of the wall of
 /// stiffness `k` after the press (from 0.3 s): equal values are a sustained oscillation, falling
-/// ones a decaying one.
-pub fn envelope(l: &DeviceLoop, k: f64) -> Result<Vec<f64>, String> {
+/// ones a decaying one; with the same run's [`Cycle`].
+pub fn envelope(l: &DeviceLoop, k: f64) -> Result<(Vec<f64>, Cycle), String> {
     let (seconds, window) = ENVELOPE_S;
     let start = 0.3;
     let n = ((seconds - start) / window).round() as usize;
     let mut w = vec![(f64::MAX, f64::MIN); n];
-    simulate(l, k, seconds, |t, z, _| {
-        if t >= start {
-            let i = (((t - start) / window) as usize).min(n - 1);
-            w[i] = (w[i].0.min(z), w[i].1.max(z));
+    let mut late = Vec::new();
+    let mut energy_at_1s = 0.0;
+    simulate(l, k, seconds, |x| {
+        if x.t_s >= start {
+            let i = (((x.t_s - start) / window) as usize).min(n - 1);
+            w[i] = (w[i].0.min(x.z_m), w[i].1.max(x.z_m));
+        }
+        if x.t_s <= 1.0 {
+            energy_at_1s = x.energy_j;
+        }
+        if x.t_s > seconds - CYCLE_S {
+            late.push(*x);
         }
     })?;
-    Ok(w.into_iter().map(|(lo, hi)| hi - lo).collect())
+    let cycle = Cycle {
+        levels: levels(&late),
+        mean_force_z_n: late.iter().map(|x| x.force_z_n).sum::<f64>() / late.len().max(1) as f64,
+        observed_energy_j: (energy_at_1s, late.last().map_or(0.0, |x| x.energy_j)),
+        damped_fraction: late.iter().filter(|x| x.energy_j > 0.0).count() as f64
+            / late.len().max(1) as f64,
+    };
+    Ok((w.into_iter().map(|(lo, hi)| hi - lo).collect(), cycle))
+}
+
+/// The last part of the envelope run the [`Cycle`] figures describe, s.
+pub const CYCLE_S: f64 = 0.5;
+
+/// What sustains the 3x wall's cycle: the encoder lattice the controller sees along the wall's
+/// normal, the force it renders there, and the passivity observer's view (the last [`CYCLE_S`]
+/// of the envelope run).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Cycle {
+    /// The probe heights the controller measured, lowest first.
+    pub levels: Vec<Level>,
+    /// Mean rendered force along z, N: the load (hand and gravity) the wall holds.
+    pub mean_force_z_n: f64,
+    /// The observer's energy at 1 s and at the end (2 s), J.
+    pub observed_energy_j: (f64, f64),
+    /// Fraction of ticks with positive observed energy (the damper armed).
+    pub damped_fraction: f64,
+}
+
+/// One measured probe height and what the loop did there.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Level {
+    /// Probe height over the touching height, m (negative: into the wall).
+    pub height_m: f64,
+    /// Ticks at this height.
+    pub ticks: u64,
+    /// Mean rendered force along z at this height, N (the wall's spring, plus the damper).
+    pub mean_force_z_n: f64,
+}
+
+/// The distinct measured probe heights of `samples` (rounded to 0.1 µm: one encoder lattice point;
+/// each level's height is the first one seen), lowest first, with their tick counts and mean force.
+pub fn levels(samples: &[Sample]) -> Vec<Level> {
+    // (bin, first height seen in it, ticks, force sum)
+    let mut out: Vec<(i64, f64, u64, f64)> = Vec::new();
+    for x in samples {
+        let key = (x.probe_height_m * 1e7).round() as i64;
+        match out.iter_mut().find(|l| l.0 == key) {
+            Some(l) => {
+                l.2 += 1;
+                l.3 += x.force_z_n;
+            }
+            None => out.push((key, x.probe_height_m, 1, x.force_z_n)),
+        }
+    }
+    out.sort_by_key(|l| l.0);
+    out.into_iter()
+        .map(|(_, height_m, ticks, sum)| Level {
+            height_m,
+            ticks,
+            mean_force_z_n: sum / ticks as f64,
+        })
+        .collect()
 }
 
 /// K_max: the sweep's first unstable K bisected against the last stable one (`None`: nothing in
@@ -226,6 +322,8 @@ pub struct DeviceRow {
     /// Peak-to-peak per 0.1 s window of a 2 s run of the 3x wall with passivity, from 0.3 s, m
     /// ([`envelope`]).
     pub passivity_3x_envelope_with_m: Option<Vec<f64>>,
+    /// The same run's encoder levels, load and observer ([`Cycle`]).
+    pub passivity_3x_cycle: Option<Cycle>,
     /// The same with the winding inductance at [`NEGLIGIBLE_INDUCTANCE_H`]: K_max for one tick and
     /// the firmware timing, N/m, and whether the 3x wall with passivity settles.
     pub no_lag_kmax_one_tick: Option<f64>,
@@ -284,7 +382,10 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
         inductance_h: l,
         motor_counts_per_rev: DeviceParams::OMEGA_LIKE.motor_encoder_counts_per_rev,
     };
-    let env = fw.map(|k| envelope(&pc, 3.0 * k)).transpose()?;
+    let (env, cycle) = match fw.map(|k| envelope(&pc, 3.0 * k)).transpose()? {
+        Some((e, c)) => (Some(e), Some(c)),
+        None => (None, None),
+    };
     let no_lag = DeviceLoop {
         inductance_h: NEGLIGIBLE_INDUCTANCE_H,
         ..pc
@@ -308,10 +409,51 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
         passivity_3x_late_amp_without_m: without.map(|o| o.late_amp_m),
         passivity_3x_late_amp_with_m: with.map(|o| o.late_amp_m),
         passivity_3x_envelope_with_m: env,
+        passivity_3x_cycle: cycle,
         no_lag_kmax_one_tick: n_one,
         no_lag_kmax_firmware_timing: n_fw,
         no_lag_passivity_3x_stable: n_with.map(|o| o.stable),
         passivity_3x_late_amp_no_lag_m: late(&no_lag)?,
         passivity_3x_late_amp_fine_encoder_m: late(&fine)?,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(h: f64, f: f64) -> Sample {
+        Sample {
+            t_s: 0.0,
+            z_m: 0.0,
+            probe_height_m: h,
+            force_z_n: f,
+            force_n: f.abs(),
+            energy_j: 0.0,
+        }
+    }
+
+    /// Heights that round to the same 0.1 µm are one level (1.09 and 1.12 µm: one bin rounded, two
+    /// truncated); levels come lowest first with their tick counts, mean force and first height;
+    /// heights 0.2 µm apart stay apart.
+    #[test]
+    fn levels_group_equal_heights() {
+        let s = [
+            at(-7.58e-6, 2.0),
+            at(15.01e-6, 0.0),
+            at(-7.58e-6 + 0.01e-6, 4.0),
+            at(-7.38e-6, 1.0),
+            at(1.09e-6, 0.5),
+            at(1.12e-6, 0.5),
+        ];
+        let l = levels(&s);
+        assert_eq!(l.len(), 4, "{l:?}");
+        assert!((l[0].height_m + 7.58e-6).abs() < 1e-12);
+        assert_eq!(l[0].ticks, 2);
+        assert!((l[0].mean_force_z_n - 3.0).abs() < 1e-12);
+        assert!((l[1].height_m + 7.38e-6).abs() < 1e-12 && l[1].ticks == 1);
+        assert!((l[2].height_m - 1.09e-6).abs() < 1e-12 && l[2].ticks == 2);
+        assert!((l[3].height_m - 15.01e-6).abs() < 1e-12 && l[3].mean_force_z_n == 0.0);
+        assert!(levels(&[]).is_empty());
+    }
 }
