@@ -304,7 +304,9 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
     /// The tick up to its outputs: everything but the telemetry record and the timing summary
     /// (`None` here). The firmware writes the bridge commands between this and
     /// [`Self::tick_telemetry`], which must follow once per tick (it ends the tick), so the
-    /// compares wait for nothing the hardware does not need. Never panics.
+    /// compares wait for nothing the hardware does not need. Never panics. Inlined into its one
+    /// caller, so the output is built in place (not copied out) as when the tick was one function.
+    #[inline(always)]
     pub fn tick_outputs(&mut self, raw: &RawInput) -> PipelineOutput {
         let verdict = self
             .timing
@@ -346,6 +348,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
 
     /// The end of the tick [`Self::tick_outputs`] began: its decimated telemetry record and the
     /// timing summary when due, filled into `out` (with the same `raw`).
+    #[inline(always)]
     pub fn tick_telemetry(&mut self, out: &mut PipelineOutput, raw: &RawInput) {
         out.telemetry = self.record(&out.control, &out.counts, &out.bridges, out.flags, raw);
         self.tick = self.tick.wrapping_add(1);
