@@ -645,7 +645,7 @@ fn a_sample_carries_every_field_of_the_point_timing_in_ns() {
 fn the_tick_streams_the_multiples_of_the_divisor_with_the_timing_between() {
     use stream::{set_divisor, StreamTap};
     let mut tap = StreamTap::default();
-    let mut run = |tap: &mut StreamTap, ticks: u32| {
+    let run = |tap: &mut StreamTap, ticks: u32| {
         let mut points = Vec::new();
         for i in 0..ticks {
             if tap.due() {

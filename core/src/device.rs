@@ -299,6 +299,7 @@ impl DeviceParams {
     /// pass `arm_velocity_rad_s = 0` to leave it out); duty = V / V_supply limited to [-1, 1].
     /// Either limit raises [`Flags::OUTPUT_LIMITED`]. Non-finite input gives duty 0 and
     /// [`Flags::NON_FINITE_INPUT`].
+    #[must_use]
     pub fn arm_torque_to_duty_checked(
         &self,
         arm_torque_nm: f32,

@@ -73,6 +73,7 @@ impl Quat {
     /// steps at 10 kHz). Outside the tolerance, and for non-finite or zero input, the answer and
     /// flags are those of [`Quat::normalized_checked`]. No square root on the common path.
     #[inline(always)]
+    #[must_use]
     pub fn unit_checked<M: Math>(self) -> (Quat, Flags) {
         if self.is_near_unit() {
             return (self, Flags::NONE);
@@ -95,6 +96,7 @@ impl Quat {
     /// - zero (or subnormal-small) norm: identity, [`Flags::ZERO_AXIS`];
     /// - |‖q‖ - 1| > [`UNIT_TOLERANCE`]: normalised, [`Flags::NON_UNIT_QUAT`];
     /// - otherwise normalised silently.
+    #[must_use]
     pub fn normalized_checked<M: Math>(self) -> (Quat, Flags) {
         let n2 = self.norm_squared();
         // n2 also overflows to inf for huge finite components; treat those like non-finite.
@@ -123,6 +125,7 @@ impl Quat {
 
     /// Exponential map: the rotation by |w| radians about w/|w|. Zero vector gives identity.
     /// Non-finite input gives identity and [`Flags::NON_FINITE_INPUT`].
+    #[must_use]
     pub fn from_rotation_vector<M: Math>(w: Vec3) -> (Quat, Flags) {
         if !w.is_finite() {
             return (Quat::IDENTITY, Flags::NON_FINITE_INPUT);
