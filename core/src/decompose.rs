@@ -65,6 +65,7 @@ pub struct Angles {
 }
 
 impl Angles {
+    /// No rotation: all three angles zero.
     pub const ZERO: Angles = Angles {
         phi: 0.0,
         theta: 0.0,

@@ -24,9 +24,13 @@ pub const UNIT_TOLERANCE: f32 = 1.0e-3;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Quat {
+    /// Scalar part.
     pub w: f32,
+    /// i component of the vector part.
     pub x: f32,
+    /// j component of the vector part.
     pub y: f32,
+    /// k component of the vector part.
     pub z: f32,
 }
 
@@ -37,8 +41,10 @@ impl Default for Quat {
 }
 
 impl Quat {
+    /// The identity rotation `1 + 0 i + 0 j + 0 k`.
     pub const IDENTITY: Quat = Quat::new(1.0, 0.0, 0.0, 0.0);
 
+    /// The quaternion `w + x i + y j + z k`, as given (not normalised).
     #[inline]
     pub const fn new(w: f32, x: f32, y: f32, z: f32) -> Quat {
         Quat { w, x, y, z }
@@ -53,10 +59,12 @@ impl Quat {
     pub fn conjugate(self) -> Quat {
         Quat::new(self.w, -self.x, -self.y, -self.z)
     }
+    /// Squared norm ‖q‖² = w² + x² + y² + z² (1 for a unit quaternion).
     #[inline]
     pub fn norm_squared(self) -> f32 {
         self.w * self.w + self.x * self.x + self.y * self.y + self.z * self.z
     }
+    /// True when all four components are finite.
     #[inline]
     pub fn is_finite(self) -> bool {
         crate::flags::all_finite(&[self.w, self.x, self.y, self.z])

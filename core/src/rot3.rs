@@ -12,6 +12,7 @@ use crate::vec3::Vec3;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Rot3 {
+    /// Entries: `m[i][j]` is row i, column j (the paper's r_{(i+1)(j+1)}).
     pub m: [[f32; 3]; 3],
 }
 
@@ -22,6 +23,7 @@ impl Default for Rot3 {
 }
 
 impl Rot3 {
+    /// The identity matrix (no rotation).
     pub const IDENTITY: Rot3 = Rot3 {
         m: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
     };
