@@ -313,6 +313,7 @@ impl<M: Math, S: Scene> Controller<M, S> {
     }
 
     /// Latched faults of [`Self::tick`]'s guard (empty when the outputs are allowed).
+    #[must_use]
     pub fn latched_faults(&self) -> Flags {
         self.guard.latched()
     }

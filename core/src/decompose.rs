@@ -65,6 +65,7 @@ pub struct Angles {
 }
 
 impl Angles {
+    /// No rotation: all three angles zero.
     pub const ZERO: Angles = Angles {
         phi: 0.0,
         theta: 0.0,
@@ -86,6 +87,7 @@ pub const RPY_POLE_COS: f32 = 1.0e-4;
 /// `dq` must be finite; a non-finite `dq` returns zero angles and [`Flags::NON_FINITE_INPUT`]. The
 /// caller normalises (see [`Quat::normalized_checked`]); a finite `dq` so far from unit that the
 /// angles would overflow returns zero angles and [`Flags::NON_UNIT_QUAT`].
+#[must_use]
 pub fn decompose<M: Math>(method: Method, dq: Quat) -> (Angles, Flags) {
     if !dq.is_finite() {
         return (Angles::ZERO, Flags::NON_FINITE_INPUT);
@@ -111,6 +113,7 @@ pub fn decompose<M: Math>(method: Method, dq: Quat) -> (Angles, Flags) {
 ///
 /// At sin δθ < [`PAPER_SINGULAR_SIN`] the divisions are undefined: returns zero angles and
 /// [`Flags::SINGULAR`] instead of NaN.
+#[must_use]
 pub fn paper_verbatim<M: Math>(r: &Rot3) -> (Angles, Flags) {
     let m = &r.m;
     let (r13, r23, r33, r31, r32) = (m[0][2], m[1][2], m[2][2], m[2][0], m[2][1]);
@@ -130,6 +133,7 @@ pub fn paper_verbatim<M: Math>(r: &Rot3) -> (Angles, Flags) {
 /// δθ = atan2(−r31, √(r11² + r21²)), δφ = atan2(r21, r11), δψ = atan2(r32, r33).
 /// At the pole (cos δθ < [`RPY_POLE_COS`]) only δφ − δψ (or δφ + δψ) is defined: returns δφ = 0,
 /// δψ = atan2(−r23, r22), and [`Flags::GIMBAL_LOCK`].
+#[must_use]
 pub fn rpy<M: Math>(r: &Rot3) -> (Angles, Flags) {
     let m = &r.m;
     let c = M::sqrt(m[0][0] * m[0][0] + m[1][0] * m[1][0]);

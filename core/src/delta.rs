@@ -171,6 +171,7 @@ impl DeltaGeometry {
     ///
     /// Non-finite angles: `(Vec3::ZERO, NON_FINITE_INPUT)`. Spheres that do not meet (h² < 0) or
     /// centres that are collinear: `(Vec3::ZERO, KINEMATICS_SINGULAR)`.
+    #[must_use]
     pub fn forward<M: Math>(&self, angles_rad: [f32; 3]) -> (Vec3, Flags) {
         if !all_finite(&angles_rad) {
             return (Vec3::ZERO, Flags::NON_FINITE_INPUT);
@@ -180,6 +181,7 @@ impl DeltaGeometry {
     }
 
     /// [`Self::forward`] from the sphere centres.
+    #[must_use]
     fn forward_from_centres<M: Math>(&self, [c0, c1, c2]: [Vec3; 3]) -> (Vec3, Flags) {
         let a = c1 - c0;
         let b = c2 - c0;
@@ -222,6 +224,7 @@ impl DeltaGeometry {
     ///
     /// Non-finite input: `([0; 3], NON_FINITE_INPUT)`; a point out of reach of any chain:
     /// `([0; 3], KINEMATICS_SINGULAR)`.
+    #[must_use]
     pub fn inverse<M: Math>(&self, effector_m: Vec3) -> ([f32; 3], Flags) {
         if !effector_m.is_finite() {
             return ([0.0; 3], Flags::NON_FINITE_INPUT);
@@ -300,6 +303,7 @@ impl DeltaGeometry {
     /// From J_x·ṗ = diag(d)·θ̇: J = J_x⁻¹·diag(d), with J_x⁻¹ by Cramer's rule (its columns are
     /// (s₁×s₂, s₂×s₀, s₀×s₁)/det J_x). Non-finite input: zeros and `NON_FINITE_INPUT`; forearm
     /// volume below [`MIN_FOREARM_VOLUME`]: zeros and `KINEMATICS_SINGULAR`.
+    #[must_use]
     pub fn jacobian<M: Math>(&self, angles_rad: [f32; 3], effector_m: Vec3) -> (Jacobian, Flags) {
         if !all_finite(&angles_rad) || !effector_m.is_finite() {
             return ([[0.0; 3]; 3], Flags::NON_FINITE_INPUT);
@@ -334,6 +338,7 @@ impl DeltaGeometry {
     ///
     /// Non-finite input: zero torques and `NON_FINITE_INPUT`; forearm volume below
     /// [`MIN_FOREARM_VOLUME`]: zero torques and `KINEMATICS_SINGULAR`.
+    #[must_use]
     pub fn joint_torques<M: Math>(
         &self,
         angles_rad: [f32; 3],
@@ -354,6 +359,7 @@ impl DeltaGeometry {
     /// `sin_cos`). Flags as [`Self::forward`]; a configuration whose forearm volume is below
     /// [`MIN_FOREARM_VOLUME`] has a valid position but is flagged `KINEMATICS_SINGULAR` and gives
     /// zero torques.
+    #[must_use]
     pub fn pose<M: Math>(&self, angles_rad: [f32; 3]) -> (DeltaPose, Flags) {
         if !all_finite(&angles_rad) {
             return (DeltaPose::INVALID, Flags::NON_FINITE_INPUT);
@@ -384,6 +390,7 @@ impl DeltaGeometry {
     }
 
     /// Jacobian-transpose torques (as [`Self::joint_torques`]) at a pose from [`Self::pose`].
+    #[must_use]
     pub fn torques_at(&self, pose: &DeltaPose, force_n: Vec3) -> ([f32; 3], Flags) {
         if !force_n.is_finite() {
             return ([0.0; 3], Flags::NON_FINITE_INPUT);
@@ -395,6 +402,7 @@ impl DeltaGeometry {
     }
 
     /// τᵢ = dᵢ·(sⱼ×sₖ)·F / det J_x, (i, j, k) cyclic.
+    #[must_use]
     fn torques_from(s: [Vec3; 3], d: [f32; 3], det: f32, force_n: Vec3) -> ([f32; 3], Flags) {
         let inv_det = 1.0 / det;
         let tau = [

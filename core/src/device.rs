@@ -74,20 +74,62 @@ pub struct DeviceParams {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum DeviceParamField {
+    /// `delta.base_radius_m`.
     BaseRadius,
+    /// `delta.effector_radius_m`.
     EffectorRadius,
+    /// `delta.upper_arm_m`.
     UpperArm,
+    /// `delta.forearm_m`.
     Forearm,
+    /// `motor.torque_constant_nm_per_a`.
     TorqueConstant,
+    /// `motor.resistance_ohm`.
     Resistance,
+    /// `motor.back_emf_v_s_per_rad`.
     BackEmfConstant,
+    /// `motor.capstan_ratio`.
     CapstanRatio,
+    /// `motor.max_current_a`.
     MaxCurrent,
+    /// `supply_v`.
     SupplyVoltage,
+    /// `pwm_period_counts`.
     PwmPeriodCounts,
+    /// `motor_encoder_counts_per_rev`.
     MotorEncoderCountsPerRev,
+    /// `wrist_encoder_counts_per_rev`.
     WristEncoderCountsPerRev,
+    /// `arm_angle_at_zero_count_rad`.
     ArmAngleAtZeroCount,
+}
+
+impl DeviceParamField {
+    /// The field's path in [`DeviceParams`], e.g. `"motor.capstan_ratio"`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            DeviceParamField::BaseRadius => "delta.base_radius_m",
+            DeviceParamField::EffectorRadius => "delta.effector_radius_m",
+            DeviceParamField::UpperArm => "delta.upper_arm_m",
+            DeviceParamField::Forearm => "delta.forearm_m",
+            DeviceParamField::TorqueConstant => "motor.torque_constant_nm_per_a",
+            DeviceParamField::Resistance => "motor.resistance_ohm",
+            DeviceParamField::BackEmfConstant => "motor.back_emf_v_s_per_rad",
+            DeviceParamField::CapstanRatio => "motor.capstan_ratio",
+            DeviceParamField::MaxCurrent => "motor.max_current_a",
+            DeviceParamField::SupplyVoltage => "supply_v",
+            DeviceParamField::PwmPeriodCounts => "pwm_period_counts",
+            DeviceParamField::MotorEncoderCountsPerRev => "motor_encoder_counts_per_rev",
+            DeviceParamField::WristEncoderCountsPerRev => "wrist_encoder_counts_per_rev",
+            DeviceParamField::ArmAngleAtZeroCount => "arm_angle_at_zero_count_rad",
+        }
+    }
+}
+
+impl core::fmt::Display for DeviceParamField {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// Why [`DeviceParams::validate`] rejected a parameter set. Nothing is clamped silently.
@@ -101,6 +143,20 @@ pub enum DeviceParamError {
     /// The linkage cannot be assembled (or is singular) at the calibration pose.
     CalibrationPoseUnreachable,
 }
+
+impl core::fmt::Display for DeviceParamError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            DeviceParamError::NonFinite(field) => write!(f, "{field} is not finite"),
+            DeviceParamError::NotPositive(field) => write!(f, "{field} must be > 0"),
+            DeviceParamError::CalibrationPoseUnreachable => {
+                f.write_str("the linkage cannot be assembled at the calibration pose")
+            }
+        }
+    }
+}
+
+impl core::error::Error for DeviceParamError {}
 
 impl DeviceParams {
     /// An Omega.6-like device, our choice of values (Force Dimension does not publish them):
@@ -243,6 +299,7 @@ impl DeviceParams {
     /// pass `arm_velocity_rad_s = 0` to leave it out); duty = V / V_supply limited to [-1, 1].
     /// Either limit raises [`Flags::OUTPUT_LIMITED`]. Non-finite input gives duty 0 and
     /// [`Flags::NON_FINITE_INPUT`].
+    #[must_use]
     pub fn arm_torque_to_duty_checked(
         &self,
         arm_torque_nm: f32,

@@ -104,6 +104,7 @@ impl<const N: usize> EncoderBank<N> {
     }
 
     /// Feed one raw sample per counter; returns the positions (counts) and the union of the flags.
+    #[must_use]
     pub fn update(&mut self, raw: [u16; N]) -> ([i32; N], Flags) {
         let mut positions = [0i32; N];
         let mut flags = Flags::NONE;

@@ -13,6 +13,7 @@
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_debug_implementations)]
+#![warn(missing_docs)]
 
 #[cfg(test)]
 extern crate std;

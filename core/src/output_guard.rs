@@ -168,6 +168,7 @@ impl OutputGuard {
     }
 
     /// The faults latched so far (empty when outputs may be enabled).
+    #[must_use]
     pub const fn latched(&self) -> Flags {
         self.latched
     }

@@ -30,10 +30,12 @@ impl core::fmt::Display for ParamError {
             ParamError::Negative(n) => write!(f, "{n} must be >= 0"),
             ParamError::OutOfRange(n) => write!(f, "{n} is out of range"),
             ParamError::KineticAboveStatic => write!(f, "mu_k must not exceed mu_s"),
-            ParamError::Device(e) => write!(f, "device parameters: {e:?}"),
+            ParamError::Device(e) => write!(f, "device parameters: {e}"),
         }
     }
 }
+
+impl core::error::Error for ParamError {}
 
 /// Check `v` is finite and > 0.
 pub fn positive(name: &'static str, v: f32) -> Result<(), ParamError> {
@@ -410,6 +412,29 @@ mod tests {
         assert_eq!(
             with(0.3, f32::NAN).validate(),
             Err(ParamError::NotFinite("patch_ref_force_n"))
+        );
+    }
+
+    /// The message names the field, and a device error is shown by its message (not `Debug`).
+    #[test]
+    fn display_names_the_field() {
+        use std::string::ToString;
+        let bad = ContactParams {
+            fingertip_radius_m: 0.0,
+            ..ContactParams::DEFAULT
+        };
+        let e: &dyn core::error::Error = &bad.validate().unwrap_err();
+        assert_eq!(e.to_string(), "fingertip_radius_m must be > 0");
+        assert_eq!(
+            ParamError::OutOfRange("mu_s").to_string(),
+            "mu_s is out of range"
+        );
+        let device = ParamError::Device(crate::device::DeviceParamError::NotPositive(
+            crate::device::DeviceParamField::CapstanRatio,
+        ));
+        assert_eq!(
+            device.to_string(),
+            "device parameters: motor.capstan_ratio must be > 0"
         );
     }
 }

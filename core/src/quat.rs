@@ -24,9 +24,13 @@ pub const UNIT_TOLERANCE: f32 = 1.0e-3;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Quat {
+    /// Scalar part.
     pub w: f32,
+    /// i component of the vector part.
     pub x: f32,
+    /// j component of the vector part.
     pub y: f32,
+    /// k component of the vector part.
     pub z: f32,
 }
 
@@ -37,8 +41,10 @@ impl Default for Quat {
 }
 
 impl Quat {
+    /// The identity rotation `1 + 0 i + 0 j + 0 k`.
     pub const IDENTITY: Quat = Quat::new(1.0, 0.0, 0.0, 0.0);
 
+    /// The quaternion `w + x i + y j + z k`, as given (not normalised).
     #[inline]
     pub const fn new(w: f32, x: f32, y: f32, z: f32) -> Quat {
         Quat { w, x, y, z }
@@ -53,10 +59,12 @@ impl Quat {
     pub fn conjugate(self) -> Quat {
         Quat::new(self.w, -self.x, -self.y, -self.z)
     }
+    /// Squared norm ‖q‖² = w² + x² + y² + z² (1 for a unit quaternion).
     #[inline]
     pub fn norm_squared(self) -> f32 {
         self.w * self.w + self.x * self.x + self.y * self.y + self.z * self.z
     }
+    /// True when all four components are finite.
     #[inline]
     pub fn is_finite(self) -> bool {
         crate::flags::all_finite(&[self.w, self.x, self.y, self.z])
@@ -73,6 +81,7 @@ impl Quat {
     /// steps at 10 kHz). Outside the tolerance, and for non-finite or zero input, the answer and
     /// flags are those of [`Quat::normalized_checked`]. No square root on the common path.
     #[inline(always)]
+    #[must_use]
     pub fn unit_checked<M: Math>(self) -> (Quat, Flags) {
         if self.is_near_unit() {
             return (self, Flags::NONE);
@@ -95,6 +104,7 @@ impl Quat {
     /// - zero (or subnormal-small) norm: identity, [`Flags::ZERO_AXIS`];
     /// - |‖q‖ - 1| > [`UNIT_TOLERANCE`]: normalised, [`Flags::NON_UNIT_QUAT`];
     /// - otherwise normalised silently.
+    #[must_use]
     pub fn normalized_checked<M: Math>(self) -> (Quat, Flags) {
         let n2 = self.norm_squared();
         // n2 also overflows to inf for huge finite components; treat those like non-finite.
@@ -123,6 +133,7 @@ impl Quat {
 
     /// Exponential map: the rotation by |w| radians about w/|w|. Zero vector gives identity.
     /// Non-finite input gives identity and [`Flags::NON_FINITE_INPUT`].
+    #[must_use]
     pub fn from_rotation_vector<M: Math>(w: Vec3) -> (Quat, Flags) {
         if !w.is_finite() {
             return (Quat::IDENTITY, Flags::NON_FINITE_INPUT);

@@ -128,6 +128,7 @@ impl<S: Surface> Rolling<S> {
 
     /// The Euler methods' angles of the object-frame increment `dq`: decomposed in the contact
     /// frame, in the canonical sign (see [`negative_canonical`]).
+    #[must_use]
     fn euler_angles<M: Math>(&self, dq: Quat) -> (Angles, Flags) {
         let v = dq.vector();
         let neg = negative_canonical(v);

@@ -12,6 +12,7 @@ use crate::vec3::Vec3;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Rot3 {
+    /// Entries: `m[i][j]` is row i, column j (the paper's r_{(i+1)(j+1)}).
     pub m: [[f32; 3]; 3],
 }
 
@@ -22,6 +23,7 @@ impl Default for Rot3 {
 }
 
 impl Rot3 {
+    /// The identity matrix (no rotation).
     pub const IDENTITY: Rot3 = Rot3 {
         m: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
     };
@@ -33,6 +35,7 @@ impl Rot3 {
     /// [`Flags::ZERO_AXIS`]. NaN or ±inf anywhere: identity with [`Flags::NON_FINITE_INPUT`]. An axis
     /// whose norm is off unity by more than 1e-3 is normalised and flagged [`Flags::NON_UNIT_QUAT`]
     /// (the same tolerance as for quaternions).
+    #[must_use]
     pub fn from_axis_angle<M: Math>(axis: Vec3, angle: f32) -> (Rot3, Flags) {
         if !axis.is_finite() || !angle.is_finite() || !axis.norm_squared().is_finite() {
             return (Rot3::IDENTITY, Flags::NON_FINITE_INPUT);
@@ -54,6 +57,7 @@ impl Rot3 {
 
     /// Rodrigues' formula from a rotation vector w (axis × angle, radians). Zero vector: identity.
     /// Non-finite: identity with [`Flags::NON_FINITE_INPUT`].
+    #[must_use]
     pub fn from_rotation_vector<M: Math>(w: Vec3) -> (Rot3, Flags) {
         if !w.is_finite() || !w.norm_squared().is_finite() {
             return (Rot3::IDENTITY, Flags::NON_FINITE_INPUT);

@@ -7,25 +7,35 @@ use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Vec3 {
+    /// x component.
     pub x: f32,
+    /// y component.
     pub y: f32,
+    /// z component.
     pub z: f32,
 }
 
 impl Vec3 {
+    /// The zero vector.
     pub const ZERO: Vec3 = Vec3::new(0.0, 0.0, 0.0);
+    /// Unit x axis.
     pub const X: Vec3 = Vec3::new(1.0, 0.0, 0.0);
+    /// Unit y axis.
     pub const Y: Vec3 = Vec3::new(0.0, 1.0, 0.0);
+    /// Unit z axis (the contact normal in the plane frame).
     pub const Z: Vec3 = Vec3::new(0.0, 0.0, 1.0);
 
+    /// The vector (x, y, z).
     #[inline]
     pub const fn new(x: f32, y: f32, z: f32) -> Vec3 {
         Vec3 { x, y, z }
     }
+    /// Dot product `self · o`.
     #[inline]
     pub fn dot(self, o: Vec3) -> f32 {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
+    /// Cross product `self × o` (right-handed).
     #[inline]
     pub fn cross(self, o: Vec3) -> Vec3 {
         Vec3::new(
@@ -34,6 +44,7 @@ impl Vec3 {
             self.x * o.y - self.y * o.x,
         )
     }
+    /// Squared Euclidean norm `self · self` (no square root).
     #[inline]
     pub fn norm_squared(self) -> f32 {
         self.dot(self)
@@ -48,10 +59,12 @@ impl Vec3 {
     pub fn is_finite(self) -> bool {
         crate::flags::all_finite(&[self.x, self.y, self.z])
     }
+    /// The components as `[x, y, z]`.
     #[inline]
     pub fn to_array(self) -> [f32; 3] {
         [self.x, self.y, self.z]
     }
+    /// The vector from `[x, y, z]`.
     #[inline]
     pub const fn from_array(a: [f32; 3]) -> Vec3 {
         Vec3::new(a[0], a[1], a[2])

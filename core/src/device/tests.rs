@@ -256,3 +256,19 @@ fn probe_displacement_of_one_motor_count() {
     );
     assert!((12.0e-6..13.5e-6).contains(&got), "{got}");
 }
+
+/// The message names the field by its path in `DeviceParams`.
+#[test]
+fn display_names_the_field() {
+    use std::string::ToString;
+    let bad = DeviceParams {
+        supply_v: f32::NAN,
+        ..D
+    };
+    let e: &dyn core::error::Error = &bad.validate().unwrap_err();
+    assert_eq!(e.to_string(), "supply_v is not finite");
+    assert_eq!(
+        DeviceParamError::NotPositive(DeviceParamField::UpperArm).to_string(),
+        "delta.upper_arm_m must be > 0"
+    );
+}

@@ -94,6 +94,24 @@ pub enum ModelError {
     Params(ParamError),
 }
 
+impl core::fmt::Display for ModelError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ModelError::StaleSequence => f.write_str("seq is not newer than the model in force"),
+            ModelError::BadPose => f.write_str(
+                "pose is not finite, too far from the base origin, or its quaternion is not unit",
+            ),
+            ModelError::BadSize => f.write_str("size is out of range for the model kind"),
+            ModelError::BadAge => {
+                write!(f, "max_age_s must be finite and in 0 ..= {MAX_AGE_S} s")
+            }
+            ModelError::Params(e) => write!(f, "material: {e}"),
+        }
+    }
+}
+
+impl core::error::Error for ModelError {}
+
 impl LocalModelSpec {
     /// A plane at `pose` with the material of `params`, never stale.
     pub fn plane(seq: u32, pose: ModelPose, params: &ContactParams) -> LocalModelSpec {
@@ -254,6 +272,22 @@ mod tests {
         assert_eq!(
             mu.validate(&b),
             Err(ModelError::Params(ParamError::KineticAboveStatic))
+        );
+    }
+
+    /// The message names the field and, for a material error, the contact parameter.
+    #[test]
+    fn display_names_the_field() {
+        use std::string::ToString;
+        let old_age = LocalModelSpec {
+            max_age_s: MAX_AGE_S * 2.0,
+            ..spec()
+        };
+        let e: &dyn core::error::Error = &old_age.validate(&ContactParams::DEFAULT).unwrap_err();
+        assert_eq!(e.to_string(), "max_age_s must be finite and in 0 ..= 60 s");
+        assert_eq!(
+            ModelError::Params(ParamError::KineticAboveStatic).to_string(),
+            "material: mu_k must not exceed mu_s"
         );
     }
 }

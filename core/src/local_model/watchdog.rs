@@ -74,6 +74,7 @@ impl CommWatchdog {
     }
 
     /// One control tick: the gain to apply to force and torque, and `COMM_TIMEOUT` while latched.
+    #[must_use]
     pub fn tick(&mut self) -> (f32, Flags) {
         if self.enabled() {
             self.since_message = self.since_message.saturating_add(1);
@@ -154,9 +155,11 @@ mod tests {
     fn rearm_needs_a_recent_message() {
         let mut w = CommWatchdog::new(RATE, 0.001);
         w.set_timeout(0.001, RATE);
+        let mut flags = Flags::NONE;
         for _ in 0..20 {
-            w.tick();
+            flags = w.tick().1;
         }
+        assert_eq!(flags, Flags::COMM_TIMEOUT);
         assert!(!w.rearm());
         assert!(w.latched());
         w.feed();

@@ -30,6 +30,27 @@ pub enum TimingError {
     PwmPeriodOutOfRange,
 }
 
+impl core::fmt::Display for TimingError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            TimingError::ZeroRate => "timer_clock_hz, pwm_hz and control_hz must be > 0",
+            TimingError::PwmPeriodNotInteger => {
+                "timer_clock_hz must be an integer multiple of pwm_hz"
+            }
+            TimingError::PwmNotMultipleOfControl => {
+                "pwm_hz must be an integer multiple of control_hz"
+            }
+            TimingError::PwmAudible => "pwm_hz must be >= 20 kHz (below is audible)",
+            TimingError::ControlRateOutOfRange => "control_hz must be in 1 kHz ..= 40 kHz",
+            TimingError::PwmPeriodOutOfRange => {
+                "the PWM period (timer_clock_hz / pwm_hz) must be in 100 ..= 65535 counts"
+            }
+        })
+    }
+}
+
+impl core::error::Error for TimingError {}
+
 /// Timer clock, PWM frequency and control rate of a board.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -200,6 +221,22 @@ mod tests {
         assert_eq!(
             with(99 * 20_000, 20_000, 10_000).validate(),
             Err(TimingError::PwmPeriodOutOfRange)
+        );
+    }
+
+    /// The message names the fields the rule relates.
+    #[test]
+    fn display_names_the_rule() {
+        use std::string::ToString;
+        let audible = BoardTiming {
+            pwm_hz: 10_000,
+            ..BoardTiming::STM32G474_10KHZ
+        };
+        let e: &dyn core::error::Error = &audible.validate().unwrap_err();
+        assert_eq!(e.to_string(), "pwm_hz must be >= 20 kHz (below is audible)");
+        assert_eq!(
+            TimingError::PwmNotMultipleOfControl.to_string(),
+            "pwm_hz must be an integer multiple of control_hz"
         );
     }
 }

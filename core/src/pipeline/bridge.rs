@@ -104,6 +104,7 @@ impl BridgeMapper {
     /// Map this tick's duties. `last_write_on_time`: the previous tick's writes finished within its
     /// first PWM period. Returns phases, compares and [`Flags::OUTPUT_LIMITED`] when a reversal
     /// was held at zero this tick.
+    #[must_use]
     pub fn map(
         &mut self,
         duties: [f32; 3],

@@ -37,6 +37,17 @@ pub enum PipelineError {
     Params(ParamError),
 }
 
+impl core::fmt::Display for PipelineError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            PipelineError::Timing(e) => write!(f, "board timing: {e}"),
+            PipelineError::Params(e) => write!(f, "parameters: {e}"),
+        }
+    }
+}
+
+impl core::error::Error for PipelineError {}
+
 impl<S: Scene> PipelineConfig<S> {
     /// The controller configuration this pipeline runs.
     pub fn controller_config(&self) -> ControllerConfig<S> {
@@ -73,5 +84,22 @@ impl PipelineConfig<Plane> {
             object_origin_m: Vec3::new(0.0, 0.0, plane_z_m),
             log_rate_hz: crate::telemetry::DEFAULT_LOG_RATE_HZ,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::string::ToString;
+
+    /// The message says which part failed, then the part's own message.
+    #[test]
+    fn display_names_the_part() {
+        let e: &dyn core::error::Error = &PipelineError::Params(ParamError::Negative("max_age_s"));
+        assert_eq!(e.to_string(), "parameters: max_age_s must be >= 0");
+        assert_eq!(
+            PipelineError::Timing(TimingError::ZeroRate).to_string(),
+            "board timing: timer_clock_hz, pwm_hz and control_hz must be > 0"
+        );
     }
 }

@@ -187,6 +187,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
     }
 
     /// Latched faults.
+    #[must_use]
     pub fn latched(&self) -> Flags {
         self.guard.latched()
     }
@@ -356,6 +357,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
     }
 
     /// Count extension with the glitch check; the first tick's reading is position 0.
+    #[must_use]
     fn extend_counts(&mut self, raw: [u16; 6]) -> Flags {
         match &mut self.encoders {
             Some(bank) => {
@@ -437,6 +439,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
         self.driver.sleep();
     }
 
+    #[must_use]
     fn bridges(
         &mut self,
         duties: [f32; 3],

@@ -120,3 +120,40 @@ pub enum CommandError {
     /// The scene cannot do this (a local model or watchdog command on a fixed scene).
     Unsupported,
 }
+
+impl core::fmt::Display for CommandError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            CommandError::NotHomed => f.write_str("not homed: home before arming"),
+            CommandError::Faulted => f.write_str("a fault is latched: clear it first"),
+            CommandError::Armed => f.write_str("armed: disarm before homing"),
+            CommandError::Homing => f.write_str("homing is in progress"),
+            CommandError::InvalidParams(e) => write!(f, "contact parameters rejected: {e}"),
+            CommandError::InvalidModel(e) => write!(f, "local model rejected: {e}"),
+            CommandError::Unsupported => f.write_str("the scene does not support this command"),
+        }
+    }
+}
+
+impl core::error::Error for CommandError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::string::ToString;
+
+    /// The message says why, and carries the rejected parameter's name.
+    #[test]
+    fn display_says_why() {
+        let e: &dyn core::error::Error = &CommandError::NotHomed;
+        assert_eq!(e.to_string(), "not homed: home before arming");
+        assert_eq!(
+            CommandError::InvalidParams(ParamError::NotFinite("mu_k")).to_string(),
+            "contact parameters rejected: mu_k is not finite"
+        );
+        assert_eq!(
+            CommandError::InvalidModel(ModelError::BadSize).to_string(),
+            "local model rejected: size is out of range for the model kind"
+        );
+    }
+}

@@ -15,14 +15,17 @@
 pub struct TimingSummary {
     /// Ticks in the window.
     pub ticks: u32,
-    /// Largest and mean start latency, timer counts.
+    /// Largest start latency, timer counts.
     pub max_latency_counts: u32,
+    /// Mean start latency, timer counts.
     pub mean_latency_counts: u32,
-    /// Largest and mean write time (timer event → writes done), timer counts.
+    /// Largest write time (timer event → writes done), timer counts.
     pub max_write_counts: u32,
+    /// Mean write time (timer event → writes done), timer counts.
     pub mean_write_counts: u32,
-    /// Overrun ticks and late writes in the window.
+    /// Overrun ticks in the window.
     pub overruns: u32,
+    /// Late writes in the window.
     pub late_writes: u32,
     /// Longest run of consecutive overruns in the window (a run carries over windows).
     pub longest_overrun_streak: u32,
