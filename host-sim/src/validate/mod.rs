@@ -185,14 +185,7 @@ pub fn run(timing: Timing) -> Result<Validation, String> {
         .collect();
     // The best variant depends on the times, not known yet: find the matched tolerance for the error of
     // every variant that could be best, time them all, and keep those of the best below.
-    let candidates: Vec<f64> = match ours.iter().any(|o| o.errors.max_mm() <= TARGET_MM) {
-        true => ours
-            .iter()
-            .map(|o| o.errors.max_mm())
-            .filter(|&e| e <= TARGET_MM)
-            .collect(),
-        false => vec![ours[pick_best(&ours)].errors.max_mm()],
-    };
+    let candidates = candidate_errors(&ours);
     let sref = SceneRef {
         samples: &scene.samples,
         dt: scene.dt,
@@ -210,16 +203,7 @@ pub fn run(timing: Timing) -> Result<Validation, String> {
     .into_iter()
     .map(|call| classical::run(sref, call, rtol, atol))
     .collect::<Result<Vec<_>, _>>()?;
-    let mut matched: Vec<Rk45Run> = Vec::new();
-    for call in [Rk45Call::Restart, Rk45Call::SingleCall] {
-        for &target in &candidates {
-            if let Some(r) = classical::matched(sref, call, target)? {
-                if !matched.iter().any(|m| m.call == r.call && m.rtol == r.rtol) {
-                    matched.push(r);
-                }
-            }
-        }
-    }
+    let mut matched = matched_runs(sref, &candidates)?;
 
     // Time everything in one interleaved measurement.
     let samples32 = ours::to_f32(&scene.samples);
@@ -275,6 +259,35 @@ pub fn run(timing: Timing) -> Result<Validation, String> {
         matched,
         speedup_spread,
     })
+}
+
+/// The errors of every variant of ours that could be the best: those within [`TARGET_MM`], else
+/// the most accurate one's.
+fn candidate_errors(ours: &[OurRun]) -> Vec<f64> {
+    match ours.iter().any(|o| o.errors.max_mm() <= TARGET_MM) {
+        true => ours
+            .iter()
+            .map(|o| o.errors.max_mm())
+            .filter(|&e| e <= TARGET_MM)
+            .collect(),
+        false => vec![ours[pick_best(ours)].errors.max_mm()],
+    }
+}
+
+/// For each call style and each candidate error, the loosest-tolerance classical run that reaches
+/// it (each distinct run once).
+fn matched_runs(sref: SceneRef<'_>, candidates: &[f64]) -> Result<Vec<Rk45Run>, String> {
+    let mut matched: Vec<Rk45Run> = Vec::new();
+    for call in [Rk45Call::Restart, Rk45Call::SingleCall] {
+        for &target in candidates {
+            if let Some(r) = classical::matched(sref, call, target)? {
+                if !matched.iter().any(|m| m.call == r.call && m.rtol == r.rtol) {
+                    matched.push(r);
+                }
+            }
+        }
+    }
+    Ok(matched)
 }
 
 /// Per call style, the run with the loosest `rtol` whose error is within `target_mm`.
