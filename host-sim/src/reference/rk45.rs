@@ -25,6 +25,9 @@
 //!
 //! Counters ([`Stats`]) record accepted and rejected steps and every evaluation of `f`.
 
+use super::dopri5::combine;
+pub use super::dopri5::{dopri5_step, integrate_fixed, interpolate, Step};
+
 /// How the per-component error scale combines `atol` and `rtol`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ErrorScale {
@@ -104,9 +107,6 @@ pub enum Rk45Error {
     /// More than `max_attempts` step attempts in one interval; stopped at time `t`.
     TooManySteps { t: f64 },
 }
-
-use super::dopri5::combine;
-pub use super::dopri5::{dopri5_step, integrate_fixed, interpolate, Step};
 
 /// Adaptive Dormand–Prince integrator carrying its step-size proposal and counters across intervals.
 #[derive(Clone, Debug)]
