@@ -15,7 +15,7 @@ use softfinger_core::{Fast, Libm, Math, Quat};
 use std::hint::black_box;
 use std::time::Duration;
 
-use host_sim::reference::scene::paper_scene;
+use host_sim::reference::scene::{paper_scene, Scene};
 use host_sim::validate::classical::{self, Rk45Call, Rk45Run, SceneRef, ODE45_DEFAULTS};
 use host_sim::validate::ours::{self, Backend, Variant};
 use host_sim::validate::timing::{self, Timing};
@@ -46,6 +46,21 @@ fn main() {
         backend: Backend::Libm,
     };
     let target = run_ours(exact, &scene, &reference).errors.max_mm();
+    let runs = classical_runs(sref, target);
+    let samples = ours::to_f32(&scene.samples);
+    let start = Rolling::new(
+        Plane::default(),
+        scene.radius as f32,
+        samples[0],
+        Method::Exact,
+    );
+    criterion_group(&scene, &runs, start, &samples);
+    print_ratios(&runs, sref, &samples, scene.radius as f32);
+}
+
+/// The classical runs at ode45's defaults and at the tolerance matching `target` (mm), per call
+/// style, each with its error printed.
+fn classical_runs(sref: SceneRef<'_>, target: f64) -> Vec<(String, Rk45Run)> {
     let (rtol, atol) = ODE45_DEFAULTS;
     let mut runs: Vec<(String, Rk45Run)> = Vec::new();
     for call in [Rk45Call::Restart, Rk45Call::SingleCall] {
@@ -64,14 +79,16 @@ fn main() {
             r.errors.max_mm()
         );
     }
+    runs
+}
 
-    let samples = ours::to_f32(&scene.samples);
-    let start = Rolling::new(
-        Plane::default(),
-        scene.radius as f32,
-        samples[0],
-        Method::Exact,
-    );
+/// Criterion: each classical run and our exact step (Libm, Fast), one whole pass each.
+fn criterion_group(
+    scene: &Scene,
+    runs: &[(String, Rk45Run)],
+    start: Rolling<Plane>,
+    samples: &[Quat],
+) {
     let mut c = Criterion::default()
         .measurement_time(Duration::from_secs(2))
         .warm_up_time(Duration::from_millis(500))
@@ -79,7 +96,7 @@ fn main() {
     {
         let mut g = c.benchmark_group("paper_scene_100_steps");
         g.throughput(Throughput::Elements((scene.samples.len() - 1) as u64));
-        for (name, r) in &runs {
+        for (name, r) in runs {
             let (call, rtol, atol) = (r.call, r.rtol, r.atol);
             g.bench_function(BenchmarkId::new("rk45", name), |b| {
                 b.iter(|| {
@@ -94,15 +111,18 @@ fn main() {
             });
         }
         g.bench_function(BenchmarkId::new("ours", "exact/libm"), |b| {
-            b.iter(|| pass::<Libm>(black_box(start), &samples))
+            b.iter(|| pass::<Libm>(black_box(start), samples))
         });
         g.bench_function(BenchmarkId::new("ours", "exact/fast"), |b| {
-            b.iter(|| pass::<Fast>(black_box(start), &samples))
+            b.iter(|| pass::<Fast>(black_box(start), samples))
         });
         g.finish();
     }
     c.final_summary();
+}
 
+/// The ratios from one interleaved measurement (the one `host-sim validate` uses), round by round.
+fn print_ratios(runs: &[(String, Rk45Run)], sref: SceneRef<'_>, samples: &[Quat], radius: f32) {
     // Ratios from one interleaved measurement (median of 41 rounds).
     let mut cases: Vec<timing::Case<'_>> = runs.iter().map(|(_, r)| r.case(sref)).collect();
     for backend in [Backend::Libm, Backend::Fast] {
@@ -111,7 +131,7 @@ fn main() {
                 method: Method::Exact,
                 backend,
             }
-            .case(&samples, scene.radius as f32),
+            .case(samples, radius),
         );
     }
     let rounds = timing::measure_rounds(&mut cases, Timing::STANDARD);

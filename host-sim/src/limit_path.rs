@@ -15,6 +15,7 @@
 use crate::chart::style::{draw_legend, draw_line, draw_markers, write_svg, Shape};
 use crate::reference::limit_surface::curve;
 use crate::run::{Row, RunResult};
+use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 use softfinger_core::contact_state::ContactState;
 use softfinger_core::limit_surface::patch_radius;
@@ -128,18 +129,9 @@ pub fn chart(
     load: &[LoadPoint],
     p: &ContactParams,
 ) -> Result<(), String> {
-    let step = (load.len() / 3000).max(1);
-    let pick = |st: ContactState| -> Vec<(f64, f64)> {
-        load.iter()
-            .step_by(step)
-            .filter(|q| q.state == st)
-            .map(|q| (q.x, q.y))
-            .collect()
-    };
     let (f_lo, f_hi) = load.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), q| {
         (lo.min(q.f_n), hi.max(q.f_n))
     });
-    let hertz: Vec<(f64, f64)> = curve(40, 100, 200).iter().map(|c| (c.x, c.y)).collect();
     let e = |d: DrawingAreaErrorKind<_>| format!("{}: {d:?}", path.display());
     let mut svg = String::new();
     {
@@ -158,51 +150,8 @@ pub fn chart(
             .axis_desc_style(("sans-serif", 15))
             .draw()
             .map_err(e)?;
-        let h = 1.0 + p.state_params().hysteresis as f64;
-        let kinetic = (p.mu_k / p.mu_s) as f64;
-        draw_line(
-            &mut ch,
-            &ellipse(1.0),
-            BLACK.stroke_width(2),
-            Some("static limit surface (μ_s): rolling"),
-        )?;
-        draw_line(
-            &mut ch,
-            &ellipse(h),
-            BLACK.mix(0.4).stroke_width(1),
-            Some(&format!(
-                "slip threshold: static × (1 + h), h = {:.2}",
-                h - 1.0
-            )),
-        )?;
-        draw_line(
-            &mut ch,
-            &ellipse(kinetic),
-            RED.stroke_width(2),
-            Some(&format!(
-                "kinetic limit surface (μ_k/μ_s = {kinetic:.2}): sliding"
-            )),
-        )?;
-        draw_line(
-            &mut ch,
-            &hertz,
-            BLUE.mix(0.6).stroke_width(1),
-            Some("Hertzian patch, f64 reference (host-sim limit-surface)"),
-        )?;
-        draw_markers(
-            &mut ch,
-            &pick(ContactState::Rolling),
-            Shape::Circle,
-            GREEN.mix(0.8).filled(),
-            Some("rendered, rolling"),
-        )?;
-        draw_markers(
-            &mut ch,
-            &pick(ContactState::Sliding),
-            Shape::Circle,
-            MAGENTA.mix(0.8).filled(),
-            Some("rendered, sliding"),
-        )?;
+        draw_surfaces(&mut ch, p)?;
+        draw_path(&mut ch, load)?;
         draw_legend(&mut ch, SeriesLabelPosition::UpperRight, 13)?;
         let notes = [
             format!("normal force f_N {f_lo:.2} to {f_hi:.2} N while touching"),
@@ -226,6 +175,82 @@ pub fn chart(
         root.present().map_err(e)?;
     }
     write_svg(path, &svg)
+}
+
+/// The model's static, slip-threshold and kinetic limit surfaces and the Hertzian reference curve.
+fn draw_surfaces<'a, 'b: 'a, CT>(
+    ch: &mut ChartContext<'a, SVGBackend<'b>, CT>,
+    p: &ContactParams,
+) -> Result<(), String>
+where
+    CT: CoordTranslate<From = (f64, f64)>,
+{
+    let hertz: Vec<(f64, f64)> = curve(40, 100, 200).iter().map(|c| (c.x, c.y)).collect();
+    let h = 1.0 + p.state_params().hysteresis as f64;
+    let kinetic = (p.mu_k / p.mu_s) as f64;
+    draw_line(
+        ch,
+        &ellipse(1.0),
+        BLACK.stroke_width(2),
+        Some("static limit surface (μ_s): rolling"),
+    )?;
+    draw_line(
+        ch,
+        &ellipse(h),
+        BLACK.mix(0.4).stroke_width(1),
+        Some(&format!(
+            "slip threshold: static × (1 + h), h = {:.2}",
+            h - 1.0
+        )),
+    )?;
+    draw_line(
+        ch,
+        &ellipse(kinetic),
+        RED.stroke_width(2),
+        Some(&format!(
+            "kinetic limit surface (μ_k/μ_s = {kinetic:.2}): sliding"
+        )),
+    )?;
+    draw_line(
+        ch,
+        &hertz,
+        BLUE.mix(0.6).stroke_width(1),
+        Some("Hertzian patch, f64 reference (host-sim limit-surface)"),
+    )?;
+    Ok(())
+}
+
+/// The rendered path's points (every `step`-th, at most about 3000), by state.
+fn draw_path<'a, 'b: 'a, CT>(
+    ch: &mut ChartContext<'a, SVGBackend<'b>, CT>,
+    load: &[LoadPoint],
+) -> Result<(), String>
+where
+    CT: CoordTranslate<From = (f64, f64)>,
+{
+    let step = (load.len() / 3000).max(1);
+    let pick = |st: ContactState| -> Vec<(f64, f64)> {
+        load.iter()
+            .step_by(step)
+            .filter(|q| q.state == st)
+            .map(|q| (q.x, q.y))
+            .collect()
+    };
+    draw_markers(
+        ch,
+        &pick(ContactState::Rolling),
+        Shape::Circle,
+        GREEN.mix(0.8).filled(),
+        Some("rendered, rolling"),
+    )?;
+    draw_markers(
+        ch,
+        &pick(ContactState::Sliding),
+        Shape::Circle,
+        MAGENTA.mix(0.8).filled(),
+        Some("rendered, sliding"),
+    )?;
+    Ok(())
 }
 
 /// For a scene that twists while sliding: chart its load path into `dir/limit_surface_path.svg`

@@ -1,6 +1,7 @@
 //! The speed–accuracy chart: time per step against the largest contact-path error, log–log, with the
 //! Pareto front.
 
+use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 
 use super::pareto;
@@ -62,98 +63,134 @@ pub fn svg(points: &[Point]) -> Result<String, String> {
             .draw()
             .map_err(|e| format!("{e:?}"))?;
 
-        // The front first, wide and pale, so the points stay visible on it.
-        let idx = front(points);
-        let front_xy: Vec<(f64, f64)> = idx.iter().map(|&i| xy(&points[i])).collect();
-        draw_line(
-            &mut chart,
-            &pareto::staircase(&front_xy, x1),
-            FRONT_COLOR.mix(0.45).stroke_width(9),
-            Some("Pareto front (no other point is both faster and more accurate)"),
-        )?;
-
-        for v in Variant::all() {
-            let mut pts: Vec<&Point> = points
-                .iter()
-                .filter(|p| p.series == Series::Ours(v))
-                .collect();
-            pts.sort_by(|a, b| a.rate_hz.total_cmp(&b.rate_hz));
-            let line: Vec<(f64, f64)> = pts.iter().map(|p| xy(p)).collect();
-            let color = variant_color(v.method, v.backend);
-            draw_line(&mut chart, &line, color.mix(0.5).stroke_width(1), None)?;
-            let rates = match (pts.first(), pts.last()) {
-                (Some(a), Some(b)) if pts.len() > 1 => {
-                    format!(" ({} … {})", rate_label(a.rate_hz), rate_label(b.rate_hz))
-                }
-                (Some(a), _) => format!(" ({})", rate_label(a.rate_hz)),
-                _ => String::new(),
-            };
-            draw_markers(
-                &mut chart,
-                &line,
-                backend_shape(v.backend),
-                color.filled(),
-                Some(&format!("{}{rates}", v.name())),
-            )?;
-            // Rates written next to the recommended variant's points.
-            if v.method == softfinger_core::decompose::Method::Exact
-                && v.backend == crate::validate::ours::Backend::Libm
-            {
-                chart
-                    .draw_series(pts.iter().map(|p| {
-                        Text::new(
-                            rate_label(p.rate_hz),
-                            xy(p),
-                            ("sans-serif", 12).into_font().color(&color),
-                        )
-                    }))
-                    .map_err(|e| format!("{e:?}"))?;
-            }
-        }
-
-        for (call, color) in [Rk45Call::Restart, Rk45Call::SingleCall]
-            .into_iter()
-            .zip(RK45_COLORS)
-        {
-            let pts: Vec<&Point> = points
-                .iter()
-                .filter(|p| p.series == Series::Rk45(call))
-                .collect();
-            let line: Vec<(f64, f64)> = pts.iter().map(|p| xy(p)).collect();
-            draw_line(&mut chart, &line, color.stroke_width(2), None)?;
-            let rate = pts.first().map_or(String::new(), |p| rate_label(p.rate_hz));
-            draw_markers(
-                &mut chart,
-                &line,
-                Shape::Diamond,
-                color.filled(),
-                Some(&format!(
-                    "classical RK45 (f64), {}, {rate}, rtol 1e-3 … 1e-12",
-                    call.describe()
-                )),
-            )?;
-            // rtol written next to the points, skipping points that sit on the last labelled one.
-            let mut last: Option<(f64, f64)> = None;
-            let mut labels = Vec::new();
-            for p in &pts {
-                let (x, y) = xy(p);
-                let apart = last.is_none_or(|(lx, ly)| {
-                    (x / lx).log10().abs() > 0.08 || (y / ly).log10().abs() > 0.3
-                });
-                if let (Some(r), true) = (p.rtol, apart) {
-                    labels.push(Text::new(
-                        format!("{r:.0e}"),
-                        (x, y),
-                        ("sans-serif", 11).into_font().color(&color),
-                    ));
-                    last = Some((x, y));
-                }
-            }
-            chart.draw_series(labels).map_err(|e| format!("{e:?}"))?;
-        }
-
+        draw_front(&mut chart, points, x1)?;
+        draw_ours(&mut chart, points)?;
+        draw_rk45(&mut chart, points)?;
         draw_legend(&mut chart, SeriesLabelPosition::UpperRight, 13)?;
         root.present().map_err(|e| format!("{e:?}"))?;
     }
     Ok(buf)
+}
+
+/// The Pareto front, drawn first, wide and pale, so the points stay visible on it; `x1`: the
+/// x axis end the staircase runs to.
+fn draw_front<'a, 'b: 'a, CT>(
+    chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
+    points: &[Point],
+    x1: f64,
+) -> Result<(), String>
+where
+    CT: CoordTranslate<From = (f64, f64)>,
+{
+    let idx = front(points);
+    let front_xy: Vec<(f64, f64)> = idx.iter().map(|&i| xy(&points[i])).collect();
+    draw_line(
+        chart,
+        &pareto::staircase(&front_xy, x1),
+        FRONT_COLOR.mix(0.45).stroke_width(9),
+        Some("Pareto front (no other point is both faster and more accurate)"),
+    )?;
+    Ok(())
+}
+
+/// Our variants: one line and marker set per method x backend over the rates, the recommended
+/// variant's points labelled with their rate.
+fn draw_ours<'a, 'b: 'a, CT>(
+    chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
+    points: &[Point],
+) -> Result<(), String>
+where
+    CT: CoordTranslate<From = (f64, f64)>,
+{
+    for v in Variant::all() {
+        let mut pts: Vec<&Point> = points
+            .iter()
+            .filter(|p| p.series == Series::Ours(v))
+            .collect();
+        pts.sort_by(|a, b| a.rate_hz.total_cmp(&b.rate_hz));
+        let line: Vec<(f64, f64)> = pts.iter().map(|p| xy(p)).collect();
+        let color = variant_color(v.method, v.backend);
+        draw_line(chart, &line, color.mix(0.5).stroke_width(1), None)?;
+        let rates = match (pts.first(), pts.last()) {
+            (Some(a), Some(b)) if pts.len() > 1 => {
+                format!(" ({} … {})", rate_label(a.rate_hz), rate_label(b.rate_hz))
+            }
+            (Some(a), _) => format!(" ({})", rate_label(a.rate_hz)),
+            _ => String::new(),
+        };
+        draw_markers(
+            chart,
+            &line,
+            backend_shape(v.backend),
+            color.filled(),
+            Some(&format!("{}{rates}", v.name())),
+        )?;
+        // Rates written next to the recommended variant's points.
+        if v.method == softfinger_core::decompose::Method::Exact
+            && v.backend == crate::validate::ours::Backend::Libm
+        {
+            chart
+                .draw_series(pts.iter().map(|p| {
+                    Text::new(
+                        rate_label(p.rate_hz),
+                        xy(p),
+                        ("sans-serif", 12).into_font().color(&color),
+                    )
+                }))
+                .map_err(|e| format!("{e:?}"))?;
+        }
+    }
+    Ok(())
+}
+
+/// The classical RK45 runs: one line per call style over the tolerances, points labelled with
+/// their rtol.
+fn draw_rk45<'a, 'b: 'a, CT>(
+    chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
+    points: &[Point],
+) -> Result<(), String>
+where
+    CT: CoordTranslate<From = (f64, f64)>,
+{
+    for (call, color) in [Rk45Call::Restart, Rk45Call::SingleCall]
+        .into_iter()
+        .zip(RK45_COLORS)
+    {
+        let pts: Vec<&Point> = points
+            .iter()
+            .filter(|p| p.series == Series::Rk45(call))
+            .collect();
+        let line: Vec<(f64, f64)> = pts.iter().map(|p| xy(p)).collect();
+        draw_line(chart, &line, color.stroke_width(2), None)?;
+        let rate = pts.first().map_or(String::new(), |p| rate_label(p.rate_hz));
+        draw_markers(
+            chart,
+            &line,
+            Shape::Diamond,
+            color.filled(),
+            Some(&format!(
+                "classical RK45 (f64), {}, {rate}, rtol 1e-3 … 1e-12",
+                call.describe()
+            )),
+        )?;
+        // rtol written next to the points, skipping points that sit on the last labelled one.
+        let mut last: Option<(f64, f64)> = None;
+        let mut labels = Vec::new();
+        for p in &pts {
+            let (x, y) = xy(p);
+            let apart = last.is_none_or(|(lx, ly)| {
+                (x / lx).log10().abs() > 0.08 || (y / ly).log10().abs() > 0.3
+            });
+            if let (Some(r), true) = (p.rtol, apart) {
+                labels.push(Text::new(
+                    format!("{r:.0e}"),
+                    (x, y),
+                    ("sans-serif", 11).into_font().color(&color),
+                ));
+                last = Some((x, y));
+            }
+        }
+        chart.draw_series(labels).map_err(|e| format!("{e:?}"))?;
+    }
+    Ok(())
 }

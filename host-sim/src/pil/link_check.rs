@@ -10,26 +10,21 @@
 //! operator is ignored) and the link's timing depends on the host, so this run is not compared
 //! with the in-process pipeline and its instruction counts are not budgeted.
 
+use super::link_client::{Client, ANSWER_TIMEOUT};
 use super::qemu;
 use super::session;
 use softfinger_protocol::frame::encode_frame_with_version;
 use softfinger_protocol::{
-    encode_frame, AckResult, DeviceMsg, ErrorCode, FrameDecoder, FrameErrorKind, HostMsg,
-    LinkCounters, LocalModel, Mode, Request, StateSample, SurfaceKind, SurfaceShape, MAX_FRAME_LEN,
+    encode_frame, AckResult, DeviceMsg, ErrorCode, FrameErrorKind, HostMsg, LinkCounters,
+    LocalModel, Mode, Request, StateSample, SurfaceKind, SurfaceShape, MAX_FRAME_LEN,
     PROTOCOL_VERSION,
 };
-use std::io::{Read, Write};
-use std::os::unix::net::UnixStream;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// The socket QEMU's UART0 listens on, in the run's work directory.
 pub const UART_SOCKET: &str = "uart0.sock";
-
-/// Longest wait for one answer or state, wall clock (the emulated board runs about 6x slower
-/// than real time under the lock-step plant, measured on the 10 kHz default scene).
-pub(super) const ANSWER_TIMEOUT: Duration = Duration::from_secs(30);
 
 /// Longest wait for homing to finish (2.4 s of board time in the default scene), wall clock.
 const HOMING_TIMEOUT: Duration = Duration::from_secs(120);
@@ -55,150 +50,6 @@ impl LinkReport {
     /// Every check passed (and there were some).
     pub fn passed(&self) -> bool {
         !self.checks.is_empty() && self.checks.iter().all(|(_, ok, _)| *ok)
-    }
-}
-
-/// One connection to the board's UART0.
-pub(super) struct Client {
-    stream: UnixStream,
-    decoder: FrameDecoder,
-    /// Decoded messages not yet looked at.
-    inbox: std::collections::VecDeque<DeviceMsg>,
-    pub(super) states: Vec<StateSample>,
-    seq: u16,
-}
-
-impl Client {
-    fn connect(path: &Path) -> Result<Client, String> {
-        let deadline = Instant::now() + Duration::from_secs(20);
-        loop {
-            match UnixStream::connect(path) {
-                Ok(stream) => {
-                    stream
-                        .set_read_timeout(Some(Duration::from_millis(50)))
-                        .map_err(|e| e.to_string())?;
-                    return Ok(Client {
-                        stream,
-                        decoder: FrameDecoder::new(),
-                        inbox: Default::default(),
-                        states: Vec::new(),
-                        seq: 0,
-                    });
-                }
-                Err(_) if Instant::now() < deadline => {
-                    std::thread::sleep(Duration::from_millis(20))
-                }
-                Err(e) => return Err(format!("{}: {e}", path.display())),
-            }
-        }
-    }
-
-    fn send_raw(&mut self, bytes: &[u8]) -> Result<(), String> {
-        self.stream
-            .write_all(bytes)
-            .map_err(|e| format!("UART write: {e}"))
-    }
-
-    fn send(&mut self, msg: &HostMsg) -> Result<(), String> {
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        let n = encode_frame(msg, &mut buf).map_err(|e| format!("{e:?}"))?;
-        self.send_raw(&buf[..n])
-    }
-
-    /// Send request `req`; returns its sequence number.
-    pub(super) fn request(&mut self, req: Request) -> Result<u16, String> {
-        self.seq = self.seq.wrapping_add(1);
-        let seq = self.seq;
-        self.send(&HostMsg::Request { seq, req })?;
-        Ok(seq)
-    }
-
-    /// Read what arrived; state frames are kept aside.
-    fn pump(&mut self) -> Result<(), String> {
-        let mut buf = [0u8; 1024];
-        let n = match self.stream.read(&mut buf) {
-            Ok(0) => return Err("UART closed".into()),
-            Ok(n) => n,
-            Err(e)
-                if e.kind() == std::io::ErrorKind::WouldBlock
-                    || e.kind() == std::io::ErrorKind::TimedOut =>
-            {
-                return Ok(())
-            }
-            Err(e) => return Err(format!("UART read: {e}")),
-        };
-        for &b in &buf[..n] {
-            match self.decoder.push::<DeviceMsg>(b) {
-                Some(Ok(DeviceMsg::State(s))) => self.states.push(s),
-                Some(Ok(m)) => self.inbox.push_back(m),
-                Some(Err(_)) | None => {}
-            }
-        }
-        Ok(())
-    }
-
-    /// The next non-state message, waiting up to `timeout`.
-    fn next(&mut self, timeout: Duration) -> Result<DeviceMsg, String> {
-        let deadline = Instant::now() + timeout;
-        loop {
-            if let Some(m) = self.inbox.pop_front() {
-                return Ok(m);
-            }
-            if Instant::now() > deadline {
-                return Err(format!("no answer within {} s", timeout.as_secs()));
-            }
-            self.pump()?;
-        }
-    }
-
-    /// Wait for the acknowledgement of `seq`.
-    pub(super) fn ack(&mut self, seq: u16) -> Result<AckResult, String> {
-        match self.next(ANSWER_TIMEOUT)? {
-            DeviceMsg::Ack { seq: s, result } if s == seq => Ok(result),
-            other => Err(format!("expected the ack of {seq}, got {other:?}")),
-        }
-    }
-
-    /// Wait until `done` holds for the states received, up to [`ANSWER_TIMEOUT`].
-    pub(super) fn wait_for(&mut self, done: impl Fn(&[StateSample]) -> bool) -> Result<(), String> {
-        let deadline = Instant::now() + ANSWER_TIMEOUT;
-        while !done(&self.states) {
-            if Instant::now() > deadline {
-                return Err(format!(
-                    "the state stream did not show what was expected within {} s (last {:?})",
-                    ANSWER_TIMEOUT.as_secs(),
-                    self.states.last()
-                ));
-            }
-            self.pump()?;
-        }
-        Ok(())
-    }
-
-    /// Wait until `n` states have arrived; all of them.
-    pub(super) fn wait_states(&mut self, n: usize) -> Result<&[StateSample], String> {
-        self.wait_for(|s| s.len() >= n)?;
-        Ok(&self.states)
-    }
-
-    /// Wait for a state sample in `mode`, up to `timeout`.
-    fn wait_mode(&mut self, mode: Mode, timeout: Duration) -> Result<StateSample, String> {
-        let deadline = Instant::now() + timeout;
-        let mut seen = 0;
-        loop {
-            if let Some(s) = self.states[seen..].iter().find(|s| s.mode == mode) {
-                return Ok(*s);
-            }
-            seen = self.states.len();
-            if Instant::now() > deadline {
-                let last = self.states.last().map(|s| s.mode);
-                return Err(format!(
-                    "no {mode:?} state in {} s (last {last:?})",
-                    timeout.as_secs()
-                ));
-            }
-            self.pump()?;
-        }
     }
 }
 
@@ -229,6 +80,20 @@ fn frame_error(c: &mut Client) -> Result<FrameErrorKind, String> {
 
 /// The conversation; each step's outcome goes into `r`.
 fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), String> {
+    let min_divisor = handshake(c, rate_hz, r)?;
+    start_stream(c, min_divisor, r)?;
+    bad_frames(c, r)?;
+    refused_models(c, r)?;
+    let armed = home_and_arm(c, rate_hz, r)?;
+    super::link_model::check(c, rate_hz, min_divisor, r)?;
+    let states = check_state_frames(c, rate_hz, min_divisor, armed.tick, r);
+    check_tick_timing(c, rate_hz, r);
+    check_mode_order(c, r);
+    final_counters(c, states, r)
+}
+
+/// Hello and device info; returns the device's minimum stream divisor.
+fn handshake(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<u16, String> {
     c.send(&HostMsg::Hello {
         min_version: 1,
         max_version: PROTOCOL_VERSION,
@@ -245,7 +110,7 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
     );
 
     let seq = c.request(Request::GetInfo)?;
-    let min_divisor = match c.next(ANSWER_TIMEOUT)? {
+    match c.next(ANSWER_TIMEOUT)? {
         DeviceMsg::Info { seq: s, info } if s == seq => {
             let ok = info.control_rate_hz == rate_hz
                 && !info.virtual_device
@@ -261,11 +126,14 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
                 && !info.name.is_empty()
                 && !info.firmware_version.is_empty();
             r.check("device info", ok, format!("{info:?}"));
-            info.min_stream_divisor
+            Ok(info.min_stream_divisor)
         }
-        other => return Err(format!("expected device info, got {other:?}")),
-    };
+        other => Err(format!("expected device info, got {other:?}")),
+    }
+}
 
+/// A stream one below the minimum divisor (refused), then at the minimum (started).
+fn start_stream(c: &mut Client, min_divisor: u16, r: &mut LinkReport) -> Result<(), String> {
     let seq = c.request(Request::SetStream {
         divisor: min_divisor - 1,
     })?;
@@ -280,8 +148,11 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
     })?;
     let ok = c.ack(seq)?;
     r.check("the stream starts", ok == AckResult::Ok, format!("{ok:?}"));
+    Ok(())
+}
 
-    // Bad frames: each answered with its kind, the link usable after each.
+/// Bad frames: each answered with its kind, the link usable after each, each counted.
+fn bad_frames(c: &mut Client, r: &mut LinkReport) -> Result<(), String> {
     let mut kinds = Vec::new();
     c.send_raw(&[0x05, 0x11, 0x00])?;
     kinds.push(frame_error(c)?);
@@ -342,8 +213,11 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
         ),
         other => return Err(format!("expected counters, got {other:?}")),
     }
+    Ok(())
+}
 
-    // Models before homing: refused by the pipeline's validation, with their codes.
+/// Models before homing: refused by the pipeline's validation, with their codes.
+fn refused_models(c: &mut Client, r: &mut LinkReport) -> Result<(), String> {
     let initial_seq = LocalModel {
         seq: 0,
         shape: SurfaceShape::Plane,
@@ -370,7 +244,12 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
             && bad_pose == AckResult::Err(ErrorCode::InvalidValue),
         format!("{stale:?} {bad_pose:?}"),
     );
+    Ok(())
+}
 
+/// Arming before homing (refused), home, arm, then a few samples while armed (the force ramps
+/// in over 0.5 s); returns the first armed state.
+fn home_and_arm(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<StateSample, String> {
     let seq = c.request(Request::Arm)?;
     let early = c.ack(seq)?;
     r.check(
@@ -392,12 +271,21 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
     let arm = c.ack(seq)?;
     r.check("arm accepted", arm == AckResult::Ok, format!("{arm:?}"));
     let armed = c.wait_mode(Mode::Armed, ANSWER_TIMEOUT)?;
-    // A few more samples while armed (the force ramps in over 0.5 s).
     let ramped = armed.tick + u64::from(rate_hz) * 6 / 10;
     c.wait_for(|s| s.last().is_some_and(|x| x.tick >= ramped))?;
-    super::link_model::check(c, rate_hz, min_divisor, r)?;
+    Ok(armed)
+}
+
+/// Every multiple of the divisor from the first sample to the last: no gap, nothing dropped,
+/// finite values, the stream started by `armed_tick`; returns the number of states.
+fn check_state_frames(
+    c: &Client,
+    rate_hz: u32,
+    min_divisor: u16,
+    armed_tick: u64,
+    r: &mut LinkReport,
+) -> usize {
     let ticks: Vec<u64> = c.states.iter().map(|s| s.tick).collect();
-    // Every multiple of the divisor from the first sample to the last: no gap, nothing dropped.
     let gaps = ticks
         .windows(2)
         .filter(|w| w[1] != w[0] + u64::from(min_divisor))
@@ -418,7 +306,7 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
         .map_or(0.0, |(b, a)| (b - a) as f64 / f64::from(rate_hz));
     r.check(
         "state frames: every tick on the divisor, no gap, none dropped, finite values",
-        gaps == 0 && dropped == 0 && finite && ticks.first() <= Some(&armed.tick),
+        gaps == 0 && dropped == 0 && finite && ticks.first() <= Some(&armed_tick),
         format!(
             "{} states over {seconds:.2} s of board time ({:.0} Hz), ticks {:?}..{:?}, gaps {gaps}, \
              dropped {dropped}",
@@ -428,8 +316,12 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
             ticks.last()
         ),
     );
-    // The tick's timing, as the board measured it: a mean within the longest, both within the
-    // control period (no overrun on this scene).
+    ticks.len()
+}
+
+/// The tick's timing, as the board measured it: a mean within the longest, both within the
+/// control period (no overrun on this scene).
+fn check_tick_timing(c: &Client, rate_hz: u32, r: &mut LinkReport) {
     let period_ns = 1e9 / f64::from(rate_hz);
     let timed = c.states.iter().filter(|s| s.mode == Mode::Armed).all(|s| {
         let t = s.tick_stats;
@@ -449,7 +341,10 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
         timed,
         format!("longest tick {longest} ns of {period_ns:.0} ns"),
     );
-    // The modes in the order the stream showed them, repeats removed.
+}
+
+/// The modes in the order the stream showed them (repeats removed), and no force before armed.
+fn check_mode_order(c: &Client, r: &mut LinkReport) {
     let mut modes: Vec<Mode> = c.states.iter().map(|s| s.mode).collect();
     modes.dedup();
     let unarmed_force = c
@@ -463,12 +358,16 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
         modes == [Mode::Unhomed, Mode::Homing, Mode::Disarmed, Mode::Armed] && unarmed_force == 0.0,
         format!("{modes:?}, largest force before armed {unarmed_force} N"),
     );
+}
+
+/// The device's counters at the end: no new errors, at least `states` frames sent.
+fn final_counters(c: &mut Client, states: usize, r: &mut LinkReport) -> Result<(), String> {
     let seq = c.request(Request::GetCounters)?;
     match c.next(ANSWER_TIMEOUT)? {
         DeviceMsg::Counters { seq: s, counters } if s == seq => {
             r.check(
                 "final counters: errors unchanged, frames sent",
-                counters.rx_errors == 4 && counters.tx_frames >= ticks.len() as u32,
+                counters.rx_errors == 4 && counters.tx_frames >= states as u32,
                 format!("{counters:?}"),
             );
             r.counters = Some(counters);

@@ -13,7 +13,8 @@
 //!    exactly zero from the fade's length (20 ms) after the first flagged sample; turning the
 //!    watchdog off and re-arming clears it.
 
-use super::link_check::{Client, LinkReport};
+use super::link_check::LinkReport;
+use super::link_client::Client;
 use softfinger_core::local_model::RendererConfig;
 use softfinger_core::params::ContactParams;
 use softfinger_core::Flags;
@@ -123,12 +124,29 @@ pub(super) fn check(
     divisor: u16,
     r: &mut LinkReport,
 ) -> Result<(), String> {
-    let ticks = |s: f32| (s * rate_hz as f32).ceil() as u64;
     let stream = u64::from(divisor);
     // The blend of a switch, then one stream period.
-    let settle = ticks(RendererConfig::DEFAULT.blend_s) + stream;
-    let radius = CONTACT.fingertip_radius_m;
+    let settle = ticks_at(rate_hz, RendererConfig::DEFAULT.blend_s) + stream;
+    sphere_out_of_reach(c, settle, r)?;
+    raised_plane(c, settle, r)?;
+    let ack = watchdog_fed(c, rate_hz, stream, r)?;
+    watchdog_silence(c, rate_hz, ack, r)?;
+    watchdog_off_and_rearm(c, r)
+}
 
+/// Control ticks in `s` seconds at `rate_hz`, rounded up.
+fn ticks_at(rate_hz: u32, s: f32) -> u64 {
+    (s * rate_hz as f32).ceil() as u64
+}
+
+/// The state flags COMM_TIMEOUT.
+fn timed_out(s: &StateSample) -> bool {
+    s.flags & Flags::COMM_TIMEOUT.0 != 0
+}
+
+/// Check 1: a sphere out of the probe's reach renders no contact and zero force.
+fn sphere_out_of_reach(c: &mut Client, settle: u64, r: &mut LinkReport) -> Result<(), String> {
+    let radius = CONTACT.fingertip_radius_m;
     let p = c.states.last().ok_or("no state yet")?.probe_m;
     let centre = [p[0], p[1], p[2] - (SPHERE_R_M + radius + SPHERE_GAP_M)];
     let sphere = model(
@@ -158,6 +176,13 @@ pub(super) fn check(
         ),
     );
 
+    Ok(())
+}
+
+/// Check 2: a plane pressing into the fingertip is named by the stream, its contact point under
+/// the probe, and its force the spring-damper law on the streamed probe state.
+fn raised_plane(c: &mut Client, settle: u64, r: &mut LinkReport) -> Result<(), String> {
+    let radius = CONTACT.fingertip_radius_m;
     let z = c.states.last().ok_or("no state yet")?.probe_m[2];
     let top = z - radius + PLANE_PRESS_M;
     let plane = model(2, SurfaceShape::Plane, [0.0, 0.0, top]);
@@ -212,15 +237,25 @@ pub(super) fn check(
         ),
     );
 
+    Ok(())
+}
+
+/// Check 3, first part: set the watchdog, then pings back to back must keep it from firing;
+/// returns the watchdog request's acknowledgement.
+fn watchdog_fed(
+    c: &mut Client,
+    rate_hz: u32,
+    stream: u64,
+    r: &mut LinkReport,
+) -> Result<AckResult, String> {
     let seq = c.request(Request::SetWatchdog {
         timeout_ms: WATCHDOG_MS,
     })?;
     let ack = c.ack(seq)?;
     // Pings back to back (each answered) for three timeouts of board time: every valid frame
     // feeds the watchdog, so it must not fire.
-    let timed_out = |s: &StateSample| s.flags & Flags::COMM_TIMEOUT.0 != 0;
     let fed_from = c.states.last().ok_or("no state yet")?.tick + stream;
-    let fed_until = fed_from + 3 * ticks(f32::from(WATCHDOG_MS) * 1e-3);
+    let fed_until = fed_from + 3 * ticks_at(rate_hz, f32::from(WATCHDOG_MS) * 1e-3);
     let mut pings = 0u32;
     while c.states.last().is_none_or(|s| s.tick < fed_until) {
         let seq = c.request(Request::Ping)?;
@@ -243,6 +278,17 @@ pub(super) fn check(
             fed.iter().filter(|s| timed_out(s)).count()
         ),
     );
+    Ok(ack)
+}
+
+/// Check 3, second part: silence latches COMM_TIMEOUT after the timeout and fades the force to
+/// zero; `ack`: the watchdog request's acknowledgement.
+fn watchdog_silence(
+    c: &mut Client,
+    rate_hz: u32,
+    ack: AckResult,
+    r: &mut LinkReport,
+) -> Result<(), String> {
     // Silence from here: wait for the timeout, then for the fade to end.
     let before = c.states.last().ok_or("no state yet")?.tick;
     c.wait_for(|s| s.iter().any(timed_out))?;
@@ -252,7 +298,7 @@ pub(super) fn check(
         .find(|s| timed_out(s))
         .map(|s| s.tick)
         .ok_or("no timeout")?;
-    let faded = t1 + ticks(zero_after_timeout_s());
+    let faded = t1 + ticks_at(rate_hz, zero_after_timeout_s());
     c.wait_for(|s| s.iter().filter(|x| x.tick >= faded).count() >= 3)?;
     let later: Vec<&StateSample> = c.states.iter().filter(|s| s.tick >= t1).collect();
     let prior = c
@@ -267,7 +313,7 @@ pub(super) fn check(
         .iter()
         .filter(|s| s.tick >= faded)
         .all(|s| s.force_n == [0.0; 3]);
-    let timeout_ticks = ticks(f32::from(WATCHDOG_MS) * 1e-3);
+    let timeout_ticks = ticks_at(rate_hz, f32::from(WATCHDOG_MS) * 1e-3);
     r.check(
         "silence: COMM_TIMEOUT latches after the timeout, the force goes to zero and stays there",
         ack == AckResult::Ok && t1 >= before + timeout_ticks && pressing_before && latched && zero,
@@ -283,6 +329,11 @@ pub(super) fn check(
         ),
     );
 
+    Ok(())
+}
+
+/// Check 3, last part: watchdog off, re-armed: the latch clears and the force returns.
+fn watchdog_off_and_rearm(c: &mut Client, r: &mut LinkReport) -> Result<(), String> {
     // Watchdog off (itself a message), then re-arm: the latch clears and the force comes back.
     let seq = c.request(Request::SetWatchdog { timeout_ms: 0 })?;
     let off = c.ack(seq)?;

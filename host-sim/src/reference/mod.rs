@@ -16,6 +16,7 @@
 //! orientation samples map the sphere's body frame to the fixed frame; all lengths in metres.
 
 pub mod closed_form;
+mod dopri5;
 pub mod limit_surface;
 pub mod montana;
 pub mod montana_paths;

@@ -1,7 +1,7 @@
 //! SVG charts (plotters, SVG backend only: text is left to the browser's fonts).
 //!
 //! Three kinds: line charts with one or more panels ([`line_chart`]), heatmaps with a colour bar
-//! ([`heatmap`]) and grouped bar charts ([`bar_chart`]). Log axes cannot show zero or negative
+//! ([`heatmap`]) and grouped bar charts ([`super::bar_chart`]). Log axes cannot show zero or negative
 //! values: callers clamp to a stated floor.
 
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
@@ -11,11 +11,11 @@ use std::path::Path;
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 
-fn err<E: std::fmt::Debug>(path: &Path) -> impl Fn(E) -> String + '_ {
+pub(super) fn err<E: std::fmt::Debug>(path: &Path) -> impl Fn(E) -> String + '_ {
     move |e| format!("{}: drawing failed: {e:?}", path.display())
 }
 
-const FONT: &str = "sans-serif";
+pub(super) const FONT: &str = "sans-serif";
 
 /// How a series is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -271,62 +271,82 @@ pub fn heatmap(
     let root = SVGBackend::new(path, (pw * n + bar_w, h)).into_drawing_area();
     root.fill(&WHITE).map_err(err(path))?;
     let (maps, bar) = root.split_horizontally(pw * n);
-    let e = err(path);
     for (area, p) in maps.split_evenly((1, n as usize)).iter().zip(panels) {
-        let xe = edges(p.x, true);
-        let ye = edges(p.y, false);
-        let mut chart = ChartBuilder::on(area)
-            .caption(&p.title, (FONT, 18))
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(60)
-            .build_cartesian_2d(
-                (xe[0]..xe[xe.len() - 1]).log_scale(),
-                ye[0]..ye[ye.len() - 1],
-            )
-            .map_err(&e)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc(p.x_label.as_str())
-            .y_desc(p.y_label.as_str())
-            .x_label_formatter(&|v| fmt_num(*v))
-            .y_label_formatter(&|v| format!("{v:.0}"))
-            .label_style((FONT, 13))
-            .axis_desc_style((FONT, 15))
-            .draw()
-            .map_err(&e)?;
-        let mut cells = Vec::new();
-        let mut marks = Vec::new();
-        for (iy, row) in p.value.iter().enumerate() {
-            for (ix, &v) in row.iter().enumerate() {
-                let failed = p.failed[iy][ix];
-                let color = if failed {
-                    FAIL_COLOR
-                } else {
-                    viridis((v - vmin) / (vmax - vmin))
-                };
-                cells.push(Rectangle::new(
-                    [(xe[ix], ye[iy]), (xe[ix + 1], ye[iy + 1])],
-                    color.filled(),
-                ));
-                if failed {
-                    marks.push((p.x[ix], p.y[iy]));
-                }
+        heat_panel(path, area, p, vmin, vmax)?;
+    }
+    colour_bar(path, &bar, vmin, vmax, bar_label)?;
+    root.present().map_err(err(path))?;
+    Ok(())
+}
+
+/// One heatmap: cells coloured by value over [vmin, vmax], flagged cells in the failure colour
+/// with a marker.
+fn heat_panel(path: &Path, area: &Area, p: &HeatPanel, vmin: f64, vmax: f64) -> Result<(), String> {
+    let e = err(path);
+    let xe = edges(p.x, true);
+    let ye = edges(p.y, false);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&p.title, (FONT, 18))
+        .margin(12)
+        .x_label_area_size(48)
+        .y_label_area_size(60)
+        .build_cartesian_2d(
+            (xe[0]..xe[xe.len() - 1]).log_scale(),
+            ye[0]..ye[ye.len() - 1],
+        )
+        .map_err(&e)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc(p.x_label.as_str())
+        .y_desc(p.y_label.as_str())
+        .x_label_formatter(&|v| fmt_num(*v))
+        .y_label_formatter(&|v| format!("{v:.0}"))
+        .label_style((FONT, 13))
+        .axis_desc_style((FONT, 15))
+        .draw()
+        .map_err(&e)?;
+    let mut cells = Vec::new();
+    let mut marks = Vec::new();
+    for (iy, row) in p.value.iter().enumerate() {
+        for (ix, &v) in row.iter().enumerate() {
+            let failed = p.failed[iy][ix];
+            let color = if failed {
+                FAIL_COLOR
+            } else {
+                viridis((v - vmin) / (vmax - vmin))
+            };
+            cells.push(Rectangle::new(
+                [(xe[ix], ye[iy]), (xe[ix + 1], ye[iy + 1])],
+                color.filled(),
+            ));
+            if failed {
+                marks.push((p.x[ix], p.y[iy]));
             }
         }
-        chart.draw_series(cells).map_err(&e)?;
-        // Markers keep narrow failed columns (the inserted π/2) visible.
-        chart
-            .draw_series(
-                marks
-                    .iter()
-                    .map(|&c| Circle::new(c, 3, ShapeStyle::from(&FAIL_COLOR).filled())),
-            )
-            .map_err(&e)?;
     }
-    // Colour bar.
-    let mut cb = ChartBuilder::on(&bar)
+    chart.draw_series(cells).map_err(&e)?;
+    // Markers keep narrow failed columns (the inserted π/2) visible.
+    chart
+        .draw_series(
+            marks
+                .iter()
+                .map(|&c| Circle::new(c, 3, ShapeStyle::from(&FAIL_COLOR).filled())),
+        )
+        .map_err(&e)?;
+    Ok(())
+}
+
+/// The colour bar over [vmin, vmax] labelled `bar_label`, with the failure colour's key below.
+fn colour_bar(
+    path: &Path,
+    bar: &Area,
+    vmin: f64,
+    vmax: f64,
+    bar_label: &str,
+) -> Result<(), String> {
+    let e = err(path);
+    let mut cb = ChartBuilder::on(bar)
         .margin_top(40)
         .margin_bottom(60)
         .margin_left(10)
@@ -365,102 +385,6 @@ pub fn heatmap(
         (FONT, 13).into_font(),
     ))
     .map_err(&e)?;
-    root.present().map_err(err(path))?;
-    Ok(())
-}
-
-/// A grouped bar chart on a log y axis: `groups` (one colour and label each) × `categories`;
-/// `values[g][c]`. Zero values draw no bar but a "0" at the floor. Every bar is annotated.
-#[allow(clippy::too_many_arguments)]
-pub fn bar_chart(
-    path: &Path,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
-    categories: &[String],
-    groups: &[(String, RGBColor)],
-    values: &[Vec<f64>],
-    y_range: (f64, f64),
-) -> Result<(), String> {
-    let root = SVGBackend::new(path, (1000, 560)).into_drawing_area();
-    root.fill(&WHITE).map_err(err(path))?;
-    let e = err(path);
-    let nc = categories.len() as f64;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, (FONT, 20))
-        .margin(14)
-        .x_label_area_size(50)
-        .y_label_area_size(78)
-        .build_cartesian_2d(0.0..nc, (y_range.0..y_range.1).log_scale())
-        .map_err(&e)?;
-    chart
-        .configure_mesh()
-        .disable_x_mesh()
-        .x_labels(0)
-        .x_desc(x_label)
-        .y_desc(y_label)
-        .y_label_formatter(&|v| fmt_num(*v))
-        .label_style((FONT, 13))
-        .axis_desc_style((FONT, 15))
-        .draw()
-        .map_err(&e)?;
-    let ng = groups.len().max(1) as f64;
-    let bw = 0.8 / ng;
-    for (g, (label, color)) in groups.iter().enumerate() {
-        let c = *color;
-        let bars: Vec<_> = values[g]
-            .iter()
-            .enumerate()
-            .filter(|(_, &v)| v > y_range.0)
-            .map(|(i, &v)| {
-                let x0 = i as f64 + 0.1 + bw * g as f64;
-                Rectangle::new([(x0, y_range.0), (x0 + bw * 0.92, v)], c.filled())
-            })
-            .collect();
-        chart
-            .draw_series(bars)
-            .map_err(&e)?
-            .label(label.as_str())
-            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], c.filled()));
-        let texts: Vec<_> = values[g]
-            .iter()
-            .enumerate()
-            .map(|(i, &v)| {
-                let x0 = i as f64 + 0.1 + bw * (g as f64 + 0.1);
-                let y = if v > y_range.0 {
-                    v * 1.15
-                } else {
-                    y_range.0 * 1.3
-                };
-                let t = if v >= 10.0 {
-                    format!("{v:.0}")
-                } else {
-                    fmt_num(v)
-                };
-                Text::new(t, (x0, y), (FONT, 10).into_font())
-            })
-            .collect();
-        chart.draw_series(texts).map_err(&e)?;
-    }
-    // Category labels under the axis, centred on each group of bars.
-    for (i, c) in categories.iter().enumerate() {
-        let px = chart.backend_coord(&(i as f64 + 0.5, y_range.0));
-        root.draw(&Text::new(
-            c.as_str(),
-            (px.0 - 4 * c.len() as i32, px.1 + 8),
-            (FONT, 13).into_font(),
-        ))
-        .map_err(&e)?;
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font((FONT, 12))
-        .position(SeriesLabelPosition::UpperLeft)
-        .draw()
-        .map_err(&e)?;
-    root.present().map_err(err(path))?;
     Ok(())
 }
 

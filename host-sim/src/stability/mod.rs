@@ -11,11 +11,13 @@
 //!
 //! The tables are also written to `summary.txt` in the output folder.
 
+pub mod bar_chart;
 pub mod charts;
 pub mod chatter;
 pub mod decomp_map;
 pub mod drift;
 pub mod haptic;
+pub mod haptic_charts;
 pub mod haptic_device;
 pub mod haptic_eigen;
 pub mod haptic_present;
@@ -25,7 +27,11 @@ pub mod present;
 pub mod rng;
 pub mod table;
 
-use std::path::PathBuf;
+use haptic_device::DeviceRow;
+use haptic_present::HapticJson;
+use haptic_timing::TimingRow;
+use passivity_scene::SceneDifference;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 #[derive(Debug, clap::Args)]
@@ -73,103 +79,25 @@ pub fn main(args: &Args) -> Result<(), String> {
     let out = &args.out;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
     let start = Instant::now();
-    let mut summary = String::new();
-    let json = args.json;
-    let mut emit = |s: String| {
-        if !json {
-            println!("{s}");
-        }
-        summary += &s;
-        summary.push('\n');
+    let mut summary = Summary {
+        print: !args.json,
+        text: String::new(),
     };
-
     if !args.haptic_only {
-        let t = Instant::now();
-        let grid = decomp_map::Grid::DEFAULT;
-        let maps = decomp_map::sweep_all(&grid);
-        present::decomp_charts(out, &grid, &maps)?;
-        emit(present::decomp_table(&grid, &maps).render());
-        emit(present::decomp_failures(&grid, &maps));
-        emit(format!("(part 1: {:.1} s)\n", t.elapsed().as_secs_f64()));
-
-        let t = Instant::now();
-        let total = args.drift_steps * (decompose_methods() * drift::DRIFT_BACKENDS.len()) as u64;
-        let pb = indicatif::ProgressBar::new(total);
-        pb.set_style(
-            indicatif::ProgressStyle::with_template(
-                "drift {bar:40} {percent:>3}% {human_pos}/{human_len} steps, eta {eta}",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        let runs = drift::run_all(args.drift_steps, Some(&pb));
-        pb.finish_and_clear();
-        present::drift_charts(out, &runs)?;
-        emit(present::drift_table(&runs).render());
-        emit(format!("(part 2: {:.1} s)\n", t.elapsed().as_secs_f64()));
+        decomposition_part(out, &mut summary)?;
+        drift_part(args, &mut summary)?;
     }
-
-    let t = Instant::now();
-    let device = haptic::Device::DEFAULT;
-    let rows = haptic::run_all(&device, 0.0, args.haptic_seconds);
-    haptic_present::haptic_charts(out, &device, &rows)?;
-    emit(haptic_present::haptic_table(&device, &rows, args.haptic_seconds).render());
-    emit(haptic_present::haptic_notes(&device, args.haptic_seconds));
-    let timing = haptic_timing::run_all(&device, args.haptic_seconds);
-    let at10 = timing.iter().find(|r| r.rate_hz == 10_000.0);
-    let (delay10, k10) = at10
-        .and_then(|r| r.at_multiple.as_ref().map(|m| (r.delay_ticks, m.0)))
-        .ok_or("part 3: no passive wall found at 10 kHz")?;
-    let imp = haptic_timing::impact(&device, 10_000.0, delay10, k10);
-    haptic_present::timing_chart(out, &device, &timing)?;
-    haptic_present::impact_chart(out, &imp)?;
-    emit(haptic_present::timing_table(&device, &timing, args.haptic_seconds).render());
-    emit(haptic_present::impact_notes(&imp));
-    let (device_rows, scene_diff) = if args.skip_closed_loop {
-        (Vec::new(), None)
-    } else {
-        let device_rows = timing
-            .iter()
-            .filter(|r| r.rate_hz >= 10_000.0)
-            .map(|r| haptic_device::row(r.rate_hz, r.delay_ticks))
-            .collect::<Result<Vec<_>, _>>()?;
-        emit(haptic_present::device_table(&device_rows).render());
-        let scene_diff = passivity_scene::compare()?;
-        emit(format!(
-            "Default scene with the passivity stage on vs observing only ({} ticks): largest force difference {:e} N (largest force {:.2} N), observed energy into the user from {:e} to {:e} J, {} ticks damped.\n",
-            scene_diff.ticks,
-            scene_diff.max_force_difference_n,
-            scene_diff.max_force_n,
-            scene_diff.min_observed_energy_j,
-            scene_diff.max_observed_energy_j,
-            scene_diff.damped_ticks
-        ));
-        (device_rows, Some(scene_diff))
-    };
-    let mut haptic_json = haptic_present::haptic_json(&timing, &imp, device_rows);
-    haptic_json.default_scene = scene_diff;
-    emit(format!("(part 3: {:.1} s)\n", t.elapsed().as_secs_f64()));
-
+    let haptic_json = haptic_part(args, &mut summary)?;
     if !args.haptic_only {
-        let t = Instant::now();
-        let ch = chatter::run_all(args.chatter_steps);
-        present::chatter_chart(out, &ch)?;
-        emit(present::chatter_table(&ch, args.chatter_steps).render());
-        emit(format!("(part 4: {:.1} s)\n", t.elapsed().as_secs_f64()));
+        chatter_part(args, &mut summary)?;
     }
-
-    emit(format!(
+    summary.emit(format!(
         "host-sim stability: total {:.1} s; charts and summary.txt in {}",
         start.elapsed().as_secs_f64(),
         out.display()
     ));
-    let path = out.join("summary.txt");
-    let mut f = crate::atomic_file::AtomicFile::create(&path)
-        .map_err(|e| format!("{}: cannot create: {e}", path.display()))?;
-    std::io::Write::write_all(f.writer(), summary.as_bytes())
-        .map_err(|e| format!("{}: write failed: {e}", path.display()))?;
-    f.commit()
-        .map_err(|e| format!("{}: cannot publish: {e}", path.display()))?;
-    if json {
+    write_summary(&out.join("summary.txt"), &summary.text)?;
+    if args.json {
         let v = serde_json::json!({ "haptic": haptic_json });
         println!(
             "{}",
@@ -177,6 +105,131 @@ pub fn main(args: &Args) -> Result<(), String> {
         );
     }
     Ok(())
+}
+
+/// The run's tables and notes: printed as they come (unless the JSON goes to stdout) and kept
+/// for summary.txt.
+struct Summary {
+    print: bool,
+    text: String,
+}
+
+impl Summary {
+    fn emit(&mut self, s: String) {
+        if self.print {
+            println!("{s}");
+        }
+        self.text += &s;
+        self.text.push('\n');
+    }
+}
+
+/// Part 1: where each decomposition fails, charts and tables.
+fn decomposition_part(out: &Path, summary: &mut Summary) -> Result<(), String> {
+    let t = Instant::now();
+    let grid = decomp_map::Grid::DEFAULT;
+    let maps = decomp_map::sweep_all(&grid);
+    present::decomp_charts(out, &grid, &maps)?;
+    summary.emit(present::decomp_table(&grid, &maps).render());
+    summary.emit(present::decomp_failures(&grid, &maps));
+    summary.emit(format!("(part 1: {:.1} s)\n", t.elapsed().as_secs_f64()));
+    Ok(())
+}
+
+/// Part 2: f32 drift over `--drift-steps` per method and backend, with a progress bar.
+fn drift_part(args: &Args, summary: &mut Summary) -> Result<(), String> {
+    let t = Instant::now();
+    let total = args.drift_steps * (decompose_methods() * drift::DRIFT_BACKENDS.len()) as u64;
+    let pb = indicatif::ProgressBar::new(total);
+    pb.set_style(
+        indicatif::ProgressStyle::with_template(
+            "drift {bar:40} {percent:>3}% {human_pos}/{human_len} steps, eta {eta}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let runs = drift::run_all(args.drift_steps, Some(&pb));
+    pb.finish_and_clear();
+    present::drift_charts(&args.out, &runs)?;
+    summary.emit(present::drift_table(&runs).render());
+    summary.emit(format!("(part 2: {:.1} s)\n", t.elapsed().as_secs_f64()));
+    Ok(())
+}
+
+/// Part 3: haptic stability of the virtual wall (rates, delays, impact), and unless skipped the
+/// closed-loop runs with the device plant; returns its JSON figures.
+fn haptic_part(args: &Args, summary: &mut Summary) -> Result<HapticJson, String> {
+    let out = &args.out;
+    let t = Instant::now();
+    let device = haptic::Device::DEFAULT;
+    let rows = haptic::run_all(&device, 0.0, args.haptic_seconds);
+    haptic_charts::haptic_charts(out, &device, &rows)?;
+    summary.emit(haptic_present::haptic_table(&device, &rows, args.haptic_seconds).render());
+    summary.emit(haptic_present::haptic_notes(&device, args.haptic_seconds));
+    let timing = haptic_timing::run_all(&device, args.haptic_seconds);
+    let at10 = timing.iter().find(|r| r.rate_hz == 10_000.0);
+    let (delay10, k10) = at10
+        .and_then(|r| r.at_multiple.as_ref().map(|m| (r.delay_ticks, m.0)))
+        .ok_or("part 3: no passive wall found at 10 kHz")?;
+    let imp = haptic_timing::impact(&device, 10_000.0, delay10, k10);
+    haptic_charts::timing_chart(out, &device, &timing)?;
+    haptic_charts::impact_chart(out, &imp)?;
+    summary.emit(haptic_present::timing_table(&device, &timing, args.haptic_seconds).render());
+    summary.emit(haptic_present::impact_notes(&imp));
+    let (device_rows, scene_diff) = if args.skip_closed_loop {
+        (Vec::new(), None)
+    } else {
+        let (device_rows, scene_diff) = closed_loop_part(&timing, summary)?;
+        (device_rows, Some(scene_diff))
+    };
+    let mut haptic_json = haptic_present::haptic_json(&timing, &imp, device_rows);
+    haptic_json.default_scene = scene_diff;
+    summary.emit(format!("(part 3: {:.1} s)\n", t.elapsed().as_secs_f64()));
+    Ok(haptic_json)
+}
+
+/// Part 3's closed-loop runs: the device-wall rows at 10 kHz and above, and the default scene
+/// with the passivity stage on against observing only.
+fn closed_loop_part(
+    timing: &[TimingRow],
+    summary: &mut Summary,
+) -> Result<(Vec<DeviceRow>, SceneDifference), String> {
+    let device_rows = timing
+        .iter()
+        .filter(|r| r.rate_hz >= 10_000.0)
+        .map(|r| haptic_device::row(r.rate_hz, r.delay_ticks))
+        .collect::<Result<Vec<_>, _>>()?;
+    summary.emit(haptic_present::device_table(&device_rows).render());
+    let scene_diff = passivity_scene::compare()?;
+    summary.emit(format!(
+        "Default scene with the passivity stage on vs observing only ({} ticks): largest force difference {:e} N (largest force {:.2} N), observed energy into the user from {:e} to {:e} J, {} ticks damped.\n",
+        scene_diff.ticks,
+        scene_diff.max_force_difference_n,
+        scene_diff.max_force_n,
+        scene_diff.min_observed_energy_j,
+        scene_diff.max_observed_energy_j,
+        scene_diff.damped_ticks
+    ));
+    Ok((device_rows, scene_diff))
+}
+
+/// Part 4: state chatter over `--chatter-steps` per configuration.
+fn chatter_part(args: &Args, summary: &mut Summary) -> Result<(), String> {
+    let t = Instant::now();
+    let ch = chatter::run_all(args.chatter_steps);
+    present::chatter_chart(&args.out, &ch)?;
+    summary.emit(present::chatter_table(&ch, args.chatter_steps).render());
+    summary.emit(format!("(part 4: {:.1} s)\n", t.elapsed().as_secs_f64()));
+    Ok(())
+}
+
+/// summary.txt, written whole or not at all.
+fn write_summary(path: &Path, text: &str) -> Result<(), String> {
+    let mut f = crate::atomic_file::AtomicFile::create(path)
+        .map_err(|e| format!("{}: cannot create: {e}", path.display()))?;
+    std::io::Write::write_all(f.writer(), text.as_bytes())
+        .map_err(|e| format!("{}: write failed: {e}", path.display()))?;
+    f.commit()
+        .map_err(|e| format!("{}: cannot publish: {e}", path.display()))
 }
 
 fn decompose_methods() -> usize {

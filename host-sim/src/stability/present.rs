@@ -1,5 +1,6 @@
 //! Tables and charts of the four experiments.
 
+use super::bar_chart;
 use super::charts::{self, Axes, HeatPanel, Series, Style};
 use super::chatter::{self, ChatterRun};
 use super::decomp_map::{self, Grid, MethodMap};
@@ -324,7 +325,7 @@ pub fn chatter_chart(out: &Path, runs: &[ChatterRun]) -> Result<(), String> {
             i += 1;
         }
     }
-    charts::bar_chart(
+    bar_chart::bar_chart(
         &out.join("chatter.svg"),
         "State-machine transitions with f_T held on the static cone (10 kHz)",
         "noise amplitude on f_T (uniform, fraction of mu_s f_N)",

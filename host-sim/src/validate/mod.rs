@@ -185,14 +185,7 @@ pub fn run(timing: Timing) -> Result<Validation, String> {
         .collect();
     // The best variant depends on the times, not known yet: find the matched tolerance for the error of
     // every variant that could be best, time them all, and keep those of the best below.
-    let candidates: Vec<f64> = match ours.iter().any(|o| o.errors.max_mm() <= TARGET_MM) {
-        true => ours
-            .iter()
-            .map(|o| o.errors.max_mm())
-            .filter(|&e| e <= TARGET_MM)
-            .collect(),
-        false => vec![ours[pick_best(&ours)].errors.max_mm()],
-    };
+    let candidates = candidate_errors(&ours);
     let sref = SceneRef {
         samples: &scene.samples,
         dt: scene.dt,
@@ -210,50 +203,19 @@ pub fn run(timing: Timing) -> Result<Validation, String> {
     .into_iter()
     .map(|call| classical::run(sref, call, rtol, atol))
     .collect::<Result<Vec<_>, _>>()?;
-    let mut matched: Vec<Rk45Run> = Vec::new();
-    for call in [Rk45Call::Restart, Rk45Call::SingleCall] {
-        for &target in &candidates {
-            if let Some(r) = classical::matched(sref, call, target)? {
-                if !matched.iter().any(|m| m.call == r.call && m.rtol == r.rtol) {
-                    matched.push(r);
-                }
-            }
-        }
-    }
+    let mut matched = matched_runs(sref, &candidates)?;
 
     // Time everything in one interleaved measurement.
-    let samples32 = ours::to_f32(&scene.samples);
-    let radius32 = scene.radius as f32;
-    let mut cases: Vec<timing::Case<'_>> = ours
-        .iter()
-        .map(|o| o.variant.case(&samples32, radius32))
-        .collect();
-    let classical_runs = std::iter::once(&reference_run)
-        .chain(&ode45_defaults)
-        .chain(&matched);
-    cases.extend(classical_runs.map(|r| r.case(sref)));
-    let rounds = timing::measure_rounds(&mut cases, timing);
-    drop(cases);
-    let ns: Vec<f64> = rounds
-        .iter()
-        .map(|s| {
-            let mut s = s.clone();
-            s.sort_by(f64::total_cmp);
-            timing::median(&s)
-        })
-        .collect();
-    let n_ours = ours.len();
-    let matched_first = n_ours + 1 + ode45_defaults.len();
-    let mut ns = ns.into_iter();
-    for o in ours.iter_mut() {
-        o.ns_per_step = ns.next().unwrap_or(f64::NAN);
-    }
-    let classical_runs = std::iter::once(&mut reference_run)
-        .chain(&mut ode45_defaults)
-        .chain(&mut matched);
-    for r in classical_runs {
-        r.ns_per_step = ns.next();
-    }
+    let rounds = time_all(
+        &scene,
+        sref,
+        &mut ours,
+        &mut reference_run,
+        &mut ode45_defaults,
+        &mut matched,
+        timing,
+    );
+    let matched_first = ours.len() + 1 + ode45_defaults.len();
     let best = pick_best(&ours);
     let timed_matched: Vec<(Rk45Call, f64)> = matched.iter().map(|m| (m.call, m.rtol)).collect();
     let matched = select_matched(matched, ours[best].errors.max_mm());
@@ -275,6 +237,79 @@ pub fn run(timing: Timing) -> Result<Validation, String> {
         matched,
         speedup_spread,
     })
+}
+
+/// Times ours and every classical run in one interleaved measurement, stores each run's median
+/// ns per step, and returns the rounds (ours, then the reference, ode45 defaults, matched).
+fn time_all(
+    scene: &Scene,
+    sref: SceneRef<'_>,
+    ours: &mut [OurRun],
+    reference_run: &mut Rk45Run,
+    ode45_defaults: &mut [Rk45Run],
+    matched: &mut [Rk45Run],
+    timing: Timing,
+) -> Vec<Vec<f64>> {
+    let samples32 = ours::to_f32(&scene.samples);
+    let radius32 = scene.radius as f32;
+    let mut cases: Vec<timing::Case<'_>> = ours
+        .iter()
+        .map(|o| o.variant.case(&samples32, radius32))
+        .collect();
+    let classical_runs = std::iter::once(&*reference_run)
+        .chain(&*ode45_defaults)
+        .chain(&*matched);
+    cases.extend(classical_runs.map(|r| r.case(sref)));
+    let rounds = timing::measure_rounds(&mut cases, timing);
+    drop(cases);
+    let ns: Vec<f64> = rounds
+        .iter()
+        .map(|s| {
+            let mut s = s.clone();
+            s.sort_by(f64::total_cmp);
+            timing::median(&s)
+        })
+        .collect();
+    let mut ns = ns.into_iter();
+    for o in ours.iter_mut() {
+        o.ns_per_step = ns.next().unwrap_or(f64::NAN);
+    }
+    let classical_runs = std::iter::once(reference_run)
+        .chain(ode45_defaults.iter_mut())
+        .chain(matched.iter_mut());
+    for r in classical_runs {
+        r.ns_per_step = ns.next();
+    }
+    rounds
+}
+
+/// The errors of every variant of ours that could be the best: those within [`TARGET_MM`], else
+/// the most accurate one's.
+fn candidate_errors(ours: &[OurRun]) -> Vec<f64> {
+    match ours.iter().any(|o| o.errors.max_mm() <= TARGET_MM) {
+        true => ours
+            .iter()
+            .map(|o| o.errors.max_mm())
+            .filter(|&e| e <= TARGET_MM)
+            .collect(),
+        false => vec![ours[pick_best(ours)].errors.max_mm()],
+    }
+}
+
+/// For each call style and each candidate error, the loosest-tolerance classical run that reaches
+/// it (each distinct run once).
+fn matched_runs(sref: SceneRef<'_>, candidates: &[f64]) -> Result<Vec<Rk45Run>, String> {
+    let mut matched: Vec<Rk45Run> = Vec::new();
+    for call in [Rk45Call::Restart, Rk45Call::SingleCall] {
+        for &target in candidates {
+            if let Some(r) = classical::matched(sref, call, target)? {
+                if !matched.iter().any(|m| m.call == r.call && m.rtol == r.rtol) {
+                    matched.push(r);
+                }
+            }
+        }
+    }
+    Ok(matched)
 }
 
 /// Per call style, the run with the loosest `rtol` whose error is within `target_mm`.

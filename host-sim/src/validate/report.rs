@@ -166,8 +166,17 @@ fn header(out: &mut String, first: &str, tail: &str) {
 /// The human-readable report.
 pub fn table(v: &Validation) -> String {
     let mut out = String::new();
-    let [phi, theta, psi] = PAPER_INCREMENTS_ZYX;
     let steps = v.scene.samples.len().saturating_sub(1);
+    scene_and_reference(&mut out, v, steps);
+    ours_rows(&mut out, v);
+    classical_rows(&mut out, v, steps);
+    paper_comparison(&mut out, v, steps);
+    out
+}
+
+/// The scene and the reference run with its check against the closed form.
+fn scene_and_reference(out: &mut String, v: &Validation, steps: usize) {
+    let [phi, theta, psi] = PAPER_INCREMENTS_ZYX;
     let _ = writeln!(
         out,
         "Paper §3.1 scene: sphere of radius {} mm on a plane; per sample body-fixed δφ = {phi}, δθ = {theta}, \
@@ -195,29 +204,29 @@ pub fn table(v: &Validation) -> String {
         r.max_distance_mm.0,
         r.max_distance_mm.1
     );
+}
 
+/// One row per method x backend of ours, errors against the reference.
+fn ours_rows(out: &mut String, v: &Validation) {
     let _ = writeln!(
         out,
         "\nOurs: softfinger-core Rolling<Plane> in f32, method/backend; errors against the reference:"
     );
-    header(&mut out, "method", "");
+    header(out, "method", "");
     for (i, o) in v.ours.iter().enumerate() {
         let note = if i == v.best { "<- best" } else { "" };
-        line(
-            &mut out,
-            &o.variant.name(),
-            &o.errors,
-            Some(o.ns_per_step),
-            note,
-        );
+        line(out, &o.variant.name(), &o.errors, Some(o.ns_per_step), note);
     }
+}
 
+/// One row per classical run (the reference, ode45 defaults, matched accuracy).
+fn classical_rows(out: &mut String, v: &Validation, steps: usize) {
     let _ = writeln!(
         out,
         "\nClassical: Montana + RK45 in f64; errors against the closed form; ns/step = one whole integration \
          over the scene / {steps} samples:"
     );
-    header(&mut out, "run", "   rtol     atol   steps  f-evals  call");
+    header(out, "run", "   rtol     atol   steps  f-evals  call");
     let classical = |out: &mut String, kind: &str, r: &Rk45Run| {
         let tail = format!(
             "{:>7.1e}  {:>7.1e}  {:>6}  {:>7}  {}",
@@ -229,14 +238,18 @@ pub fn table(v: &Validation) -> String {
         );
         line(out, &rk45_name(kind, r), &r.errors, r.ns_per_step, &tail);
     };
-    classical(&mut out, "reference", &v.reference_run);
+    classical(out, "reference", &v.reference_run);
     for r in &v.ode45_defaults {
-        classical(&mut out, "ode45-defaults", r);
+        classical(out, "ode45-defaults", r);
     }
     for r in &v.matched {
-        classical(&mut out, "matched", r);
+        classical(out, "matched", r);
     }
+}
 
+/// The paper's figures beside ours: best variant, matched-accuracy speed-up, speed-up against
+/// ode45's defaults.
+fn paper_comparison(out: &mut String, v: &Validation, steps: usize) {
     let best = v.best();
     let paper_speedup = PAPER_CLASSICAL_S / PAPER_PROPOSED_S;
     let _ = writeln!(
@@ -304,5 +317,4 @@ pub fn table(v: &Validation) -> String {
         "Speed-up against ode45 defaults (rtol 1e-3, atol 1e-6): {}",
         vs.join(", ")
     );
-    out
 }

@@ -1,0 +1,100 @@
+//! Grouped bar charts on a log y axis (plotters, SVG backend), in the style of [`super::charts`].
+
+use super::charts::{err, fmt_num, FONT};
+use plotters::prelude::*;
+use std::path::Path;
+
+/// A grouped bar chart on a log y axis: `groups` (one colour and label each) × `categories`;
+/// `values[g][c]`. Zero values draw no bar but a "0" at the floor. Every bar is annotated.
+#[allow(clippy::too_many_arguments)]
+pub fn bar_chart(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    categories: &[String],
+    groups: &[(String, RGBColor)],
+    values: &[Vec<f64>],
+    y_range: (f64, f64),
+) -> Result<(), String> {
+    let root = SVGBackend::new(path, (1000, 560)).into_drawing_area();
+    root.fill(&WHITE).map_err(err(path))?;
+    let e = err(path);
+    let nc = categories.len() as f64;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, (FONT, 20))
+        .margin(14)
+        .x_label_area_size(50)
+        .y_label_area_size(78)
+        .build_cartesian_2d(0.0..nc, (y_range.0..y_range.1).log_scale())
+        .map_err(&e)?;
+    chart
+        .configure_mesh()
+        .disable_x_mesh()
+        .x_labels(0)
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .y_label_formatter(&|v| fmt_num(*v))
+        .label_style((FONT, 13))
+        .axis_desc_style((FONT, 15))
+        .draw()
+        .map_err(&e)?;
+    let ng = groups.len().max(1) as f64;
+    let bw = 0.8 / ng;
+    for (g, (label, color)) in groups.iter().enumerate() {
+        let c = *color;
+        let bars: Vec<_> = values[g]
+            .iter()
+            .enumerate()
+            .filter(|(_, &v)| v > y_range.0)
+            .map(|(i, &v)| {
+                let x0 = i as f64 + 0.1 + bw * g as f64;
+                Rectangle::new([(x0, y_range.0), (x0 + bw * 0.92, v)], c.filled())
+            })
+            .collect();
+        chart
+            .draw_series(bars)
+            .map_err(&e)?
+            .label(label.as_str())
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], c.filled()));
+        let texts: Vec<_> = values[g]
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| {
+                let x0 = i as f64 + 0.1 + bw * (g as f64 + 0.1);
+                let y = if v > y_range.0 {
+                    v * 1.15
+                } else {
+                    y_range.0 * 1.3
+                };
+                let t = if v >= 10.0 {
+                    format!("{v:.0}")
+                } else {
+                    fmt_num(v)
+                };
+                Text::new(t, (x0, y), (FONT, 10).into_font())
+            })
+            .collect();
+        chart.draw_series(texts).map_err(&e)?;
+    }
+    // Category labels under the axis, centred on each group of bars.
+    for (i, c) in categories.iter().enumerate() {
+        let px = chart.backend_coord(&(i as f64 + 0.5, y_range.0));
+        root.draw(&Text::new(
+            c.as_str(),
+            (px.0 - 4 * c.len() as i32, px.1 + 8),
+            (FONT, 13).into_font(),
+        ))
+        .map_err(&e)?;
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font((FONT, 12))
+        .position(SeriesLabelPosition::UpperLeft)
+        .draw()
+        .map_err(&e)?;
+    root.present().map_err(err(path))?;
+    Ok(())
+}

@@ -1,0 +1,276 @@
+//! Charts of part 3 (haptic stability of the virtual wall): K_max against the control rate,
+//! the energy ratio over the stiffness sweep, K_max against the delay and the impact trace.
+
+use super::charts::{self, Axes, Series, Style};
+use super::haptic::TraceSample;
+use super::haptic::{self, Device, RateRow};
+use super::haptic_timing::{Impact, TimingRow, IMPACT_SECONDS, IMPACT_SPEED};
+use super::present::PALETTE;
+use plotters::style::RGBColor;
+use std::path::Path;
+
+pub fn haptic_charts(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), String> {
+    kmax_chart(out, d, rows)?;
+    energy_chart(out, rows)
+}
+
+/// haptic_kmax.svg: K_max against the control rate, the bounds and eigenvalue limits as lines and
+/// the simulated values as markers, without and with one tick of delay.
+fn kmax_chart(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), String> {
+    let fine: Vec<f64> = (0..=40)
+        .map(|i| 1_000.0 * 20f64.powf(i as f64 / 40.0))
+        .collect();
+    let line = |label: &str, color, style, f: &dyn Fn(f64) -> f64| Series {
+        label: label.into(),
+        color,
+        style,
+        points: fine.iter().map(|&r| (r, f(1.0 / r))).collect(),
+    };
+    let pts = |label: &str, color, get: &dyn Fn(&RateRow) -> Option<f64>| Series {
+        label: label.into(),
+        color,
+        style: Style::Markers,
+        points: rows
+            .iter()
+            .filter_map(|r| get(r).map(|k| (r.rate_hz, k)))
+            .collect(),
+    };
+    let b = d.damping;
+    let black = RGBColor(0, 0, 0);
+    let (blue, red) = (PALETTE[0], PALETTE[3]);
+    let eig = |delay: f64| {
+        move |t: f64| {
+            haptic::eigen_kmax(&haptic::Loop::wall(*d, 1.0 / t, delay, 0.0)).unwrap_or(f64::NAN)
+        }
+    };
+    let series = vec![
+        line(
+            "Colgate-Schenkel passivity bound 2b/T",
+            black,
+            Style::Line,
+            &|t| haptic::colgate_kmax(b, 0.0, t),
+        ),
+        line("eigenvalue limit, no delay", blue, Style::Dashed, &eig(0.0)),
+        pts("measured (simulation), no delay", blue, &|r| {
+            r.measured_no_delay
+        }),
+        line(
+            "estimate 2b/(3T) with one tick delay",
+            black,
+            Style::Dotted,
+            &|t| haptic::delayed_estimate_kmax(b, 0.0, t, t),
+        ),
+        line(
+            "eigenvalue limit, one tick delay",
+            red,
+            Style::Dashed,
+            &eig(1.0),
+        ),
+        pts("measured (simulation), one tick delay", red, &|r| {
+            r.measured_delay
+        }),
+    ];
+    charts::line_chart(
+        &out.join("haptic_kmax.svg"),
+        1000,
+        640,
+        &[(
+            Axes {
+                title: format!(
+                    "Virtual wall K_max vs control rate (m = {} kg, b = {} N s/m, B = 0)",
+                    d.mass_kg, d.damping
+                ),
+                x_label: "control rate 1/T (Hz)".into(),
+                y_label: "largest stable wall stiffness K_max (N/m)".into(),
+                x: (900.0, 22_000.0),
+                y: (1e3, 2e5),
+                x_log: true,
+                y_log: true,
+            },
+            series,
+        )],
+    )?;
+    Ok(())
+}
+
+/// haptic_energy.svg: energy ratio late/early over the K sweep, per rate, both delays.
+fn energy_chart(out: &Path, rows: &[RateRow]) -> Result<(), String> {
+    charts::line_chart(
+        &out.join("haptic_energy.svg"),
+        700,
+        560,
+        &[energy_panel(rows, 0), energy_panel(rows, 1)],
+    )
+}
+
+/// One panel of haptic_energy.svg; `delay`: 0 no delay, 1 one tick.
+fn energy_panel(rows: &[RateRow], delay: usize) -> (Axes, Vec<Series>) {
+    let s: Vec<Series> = rows
+        .iter()
+        .enumerate()
+        .map(|(i, r)| Series {
+            label: format!("{} kHz", r.rate_hz / 1e3),
+            color: PALETTE[i % PALETTE.len()],
+            style: Style::LineMarkers,
+            points: r.sweeps[delay]
+                .iter()
+                .map(|(k, o)| {
+                    // Decayed to rounding (both windows may then hold noise): the floor.
+                    let ratio = if o.late_j < haptic::ENERGY_FLOOR * o.hit_j {
+                        1e-12
+                    } else if o.early_j > 0.0 {
+                        o.late_j / o.early_j
+                    } else {
+                        f64::NAN
+                    };
+                    (*k, ratio.clamp(1e-12, 1e6))
+                })
+                .collect(),
+        })
+        .collect();
+    (
+        Axes {
+            title: format!(
+                "Energy late / early after a wall hit, {}",
+                if delay == 0 {
+                    "no delay"
+                } else {
+                    "one tick delay"
+                }
+            ),
+            x_label: "wall stiffness K (N/m)".into(),
+            y_label: "energy ratio late/early (< 0.5 stable; 1e-12: decayed)".into(),
+            x: (haptic::K_SWEEP.0, haptic::K_SWEEP.1),
+            y: (1e-12, 1e6),
+            x_log: true,
+            y_log: true,
+        },
+        s,
+    )
+}
+
+/// K_max over 2b/T against the control rate: one tick of delay, the firmware's timing, with the
+/// passivity stage (measured markers; eigenvalue lines where they exist).
+pub fn timing_chart(out: &Path, d: &Device, rows: &[TimingRow]) -> Result<(), String> {
+    let pts = |label: &str, color, style, get: &dyn Fn(&TimingRow) -> Option<f64>| Series {
+        label: label.into(),
+        color,
+        style,
+        points: rows
+            .iter()
+            .filter_map(|r| get(r).map(|k| (r.rate_hz, k / r.bound)))
+            .collect(),
+    };
+    let (blue, red, green) = (PALETTE[0], PALETTE[3], PALETTE[2]);
+    let series = vec![
+        pts(
+            "one tick of delay (measured)",
+            red,
+            Style::LineMarkers,
+            &|r| r.measured_one_tick,
+        ),
+        pts(
+            "firmware timing, 40 kHz PWM (measured)",
+            blue,
+            Style::LineMarkers,
+            &|r| r.measured_firmware,
+        ),
+        pts(
+            "firmware timing (eigenvalue limit)",
+            blue,
+            Style::Dashed,
+            &|r| r.eigen_firmware,
+        ),
+        pts(
+            "firmware timing + passivity controller (measured; none = stable to 1e6 N/m)",
+            green,
+            Style::LineMarkers,
+            &|r| r.measured_passivity,
+        ),
+    ];
+    charts::line_chart(
+        &out.join("haptic_kmax_timing.svg"),
+        1000,
+        640,
+        &[(
+            Axes {
+                title: format!(
+                    "Largest passive wall / (2b/T) vs control rate (m = {} kg, b = {} N s/m)",
+                    d.mass_kg, d.damping
+                ),
+                x_label: "control rate 1/T (Hz)".into(),
+                y_label: "K_max / (2b/T)".into(),
+                x: (900.0, 22_000.0),
+                y: (0.1, 100.0),
+                x_log: true,
+                y_log: true,
+            },
+            series,
+        )],
+    )
+}
+
+/// Position and force against time for the fast impact, without and with passivity.
+pub fn impact_chart(out: &Path, imp: &Impact) -> Result<(), String> {
+    let (red, green) = (PALETTE[3], PALETTE[2]);
+    let s = |label: &str, color, tr: &[TraceSample], get: &dyn Fn(&TraceSample) -> f64| Series {
+        label: label.into(),
+        color,
+        style: Style::Line,
+        points: tr.iter().map(|p| (p.time_s * 1e3, get(p))).collect(),
+    };
+    let clamp = |v: f64, lim: f64| v.clamp(-lim, lim);
+    let x_lim = 4.0 * imp.ideal_peak_n / imp.stiffness * 1e3;
+    let f_lim = 4.0 * imp.ideal_peak_n;
+    let title = |what: &str| {
+        format!(
+            "{what}: wall {:.0} N/mm hit at {} m/s, {} kHz, delay {:.2} tick",
+            imp.stiffness / 1e3,
+            IMPACT_SPEED,
+            imp.rate_hz / 1e3,
+            imp.delay_ticks
+        )
+    };
+    let pos = |p: &TraceSample| clamp(p.x_m * 1e3, x_lim);
+    let force = |p: &TraceSample| clamp(-p.force_n, f_lim);
+    let ms = (0.0, IMPACT_SECONDS * 1e3);
+    charts::line_chart(
+        &out.join("haptic_impact.svg"),
+        800,
+        560,
+        &[
+            (
+                Axes {
+                    title: title("Penetration"),
+                    x_label: "time (ms)".into(),
+                    y_label: format!("penetration x (mm, clipped at ±{x_lim:.2})"),
+                    x: ms,
+                    y: (-x_lim, x_lim),
+                    x_log: false,
+                    y_log: false,
+                },
+                vec![
+                    s("without passivity", red, &imp.without, &pos),
+                    s("with passivity", green, &imp.with, &pos),
+                ],
+            ),
+            (
+                Axes {
+                    title: title("Wall force"),
+                    x_label: "time (ms)".into(),
+                    y_label: format!(
+                        "force on the probe, out of the wall (N, clipped at ±{f_lim:.1})"
+                    ),
+                    x: ms,
+                    y: (-f_lim, f_lim),
+                    x_log: false,
+                    y_log: false,
+                },
+                vec![
+                    s("without passivity", red, &imp.without, &force),
+                    s("with passivity", green, &imp.with, &force),
+                ],
+            ),
+        ],
+    )
+}
