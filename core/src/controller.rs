@@ -239,8 +239,23 @@ impl<M: Math, S: Scene> Controller<M, S> {
         self.pending = Flags::NONE;
 
         // Kinematics.
-        let (pose, angles, q, kflags) = self.kinematics(counts);
+        let dev = &self.config.device;
+        let mut angles = [0.0f32; 3];
+        for (a, c) in angles.iter_mut().zip(counts.iter()) {
+            *a = dev.motor_counts_to_arm_angle_rad(*c);
+        }
+        let wrist = [
+            dev.wrist_counts_to_angle_rad(counts[3]),
+            dev.wrist_counts_to_angle_rad(counts[4]),
+            dev.wrist_counts_to_angle_rad(counts[5]),
+        ];
+        let (pose, mut kflags) = dev.delta.pose::<M>(angles);
+        let [lo, hi] = self.config.limits.arm_angle_range_rad;
+        if angles.iter().any(|a| !(lo..=hi).contains(a)) {
+            kflags |= Flags::OUT_OF_RANGE;
+        }
         flags |= kflags;
+        let q = DeviceParams::wrist_orientation::<M>(wrist);
         let probe_dev = pose.effector_m;
 
         // Velocities: filtered finite differences.
@@ -268,29 +283,6 @@ impl<M: Math, S: Scene> Controller<M, S> {
             tau_n_nm: contact.tau_n_nm * self.force_scale,
             state: contact.state,
         }
-    }
-
-    /// Kinematics stage: arm angles (rad), the delta's pose, the wrist orientation and the
-    /// kinematics flags ([`Flags::OUT_OF_RANGE`] for an arm angle outside the limits' range).
-    #[inline(always)]
-    fn kinematics(&self, counts: &[i32; 6]) -> (DeltaPose, [f32; 3], Quat, Flags) {
-        let dev = &self.config.device;
-        let mut angles = [0.0f32; 3];
-        for (a, c) in angles.iter_mut().zip(counts.iter()) {
-            *a = dev.motor_counts_to_arm_angle_rad(*c);
-        }
-        let wrist = [
-            dev.wrist_counts_to_angle_rad(counts[3]),
-            dev.wrist_counts_to_angle_rad(counts[4]),
-            dev.wrist_counts_to_angle_rad(counts[5]),
-        ];
-        let (pose, mut kflags) = dev.delta.pose::<M>(angles);
-        let [lo, hi] = self.config.limits.arm_angle_range_rad;
-        if angles.iter().any(|a| !(lo..=hi).contains(a)) {
-            kflags |= Flags::OUT_OF_RANGE;
-        }
-        let q = DeviceParams::wrist_orientation::<M>(wrist);
-        (pose, angles, q, kflags)
     }
 
     /// Velocity stage: low-pass filtered finite differences of the probe position (base frame,
