@@ -24,7 +24,7 @@ use crate::limit_surface::{patch_radius, project};
 use crate::math::Math;
 use crate::params::{ContactParams, ParamError};
 use crate::quat::Quat;
-use crate::rolling::Rolling;
+use crate::rolling::{RollStep, Rolling};
 use crate::spin::{torsion_limit, SpinSpring};
 use crate::surface::Surface;
 use crate::vec3::Vec3;
@@ -235,27 +235,11 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
                 Flags::NON_FINITE_INPUT
             });
         }
-        let p = &self.params;
-        let r = p.fingertip_radius_m;
-        let inv_dt = self.inv_dt;
         let probe = input.probe_m;
-        let vel = input.probe_vel;
 
-        // 1. Rolling kinematics (only while touching; when apart just track the orientation).
-        let roll = if self.state == ContactState::Broken {
-            let (q, f) = input.q.normalized_checked::<M>();
-            if !f.intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS) {
-                self.rolling.q_prev = q;
-                self.rolling.surface.place_under::<M>(probe);
-            }
-            crate::rolling::RollStep {
-                flags: f,
-                ..Default::default()
-            }
-        } else {
-            self.rolling.step::<M>(input.q)
-        };
-        // A non-finite or zero quaternion: both branches above left every state untouched.
+        // 1. Rolling kinematics.
+        let roll = self.roll(input);
+        // A non-finite or zero quaternion: `roll` left every state untouched.
         if roll
             .flags
             .intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS)
@@ -264,6 +248,86 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         }
         let q_now = self.rolling.q_prev;
         let mut flags = roll.flags;
+
+        // 2.–3. Normal force, rolling coupling and the state machine's inputs.
+        let sensed = self.sense(probe, input.probe_vel, &roll);
+
+        // 4. State transition and entry actions.
+        let (state, reason) = self.transition(&sensed.inputs, probe, q_now);
+
+        // 5. Force and spin torque for the new state.
+        let p = self.params;
+        let k_z = p.spin_stiffness;
+        let s = &sensed;
+        let dphi = roll.angles.phi;
+        let (force, tau_n_nm, saturated) = match state {
+            ContactState::Broken => (Vec3::ZERO, 0.0, false),
+            ContactState::Rolling => {
+                let f_t = if reason == Reason::MadeContact || reason == Reason::Stuck {
+                    Vec3::ZERO // anchor just placed under the probe
+                } else {
+                    s.f_couple
+                };
+                // The torsion spring gets what the tangential load leaves of the static limit
+                // surface: τ ≤ τ_max·√(1 − (|f_t|/(μ_s·f_N))²).
+                let f_max = p.mu_s * s.f_n;
+                let (tau, sat) = self.spin.update_within::<M>(
+                    dphi,
+                    k_z,
+                    s.tau_max_s,
+                    f_t.norm_squared(),
+                    f_max * f_max,
+                );
+                (s.surface.along_normal(s.f_n) + f_t, tau, sat)
+            }
+            ContactState::Sliding => self.slide(probe, q_now, dphi, s.f_n, s.patch),
+        };
+        if saturated && sensed.f_n > p.force_eps_n {
+            flags |= Flags::SPIN_SATURATED;
+        }
+
+        // 6. Limits and the last NaN guard.
+        let (force, tau_n_nm) = guard_output::<M>(force, tau_n_nm, p.max_force_n, &mut flags);
+        ContactOutput {
+            force_n: force,
+            tau_n_nm,
+            spin_rad: self.spin.accumulated_rad,
+            state,
+            reason,
+            object_point_m: self.rolling.surface.contact_point(),
+            angles: roll.angles,
+            flags,
+        }
+    }
+
+    /// Stage 1: rolling kinematics while touching; when apart only the orientation is tracked
+    /// and the contact placed under the probe. A non-finite or zero quaternion leaves every
+    /// state untouched (the returned flags tell).
+    #[inline(always)]
+    fn roll(&mut self, input: &ContactInput) -> RollStep {
+        if self.state == ContactState::Broken {
+            let (q, f) = input.q.normalized_checked::<M>();
+            if !f.intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS) {
+                self.rolling.q_prev = q;
+                self.rolling.surface.place_under::<M>(input.probe_m);
+            }
+            RollStep {
+                flags: f,
+                ..Default::default()
+            }
+        } else {
+            self.rolling.step::<M>(input.q)
+        }
+    }
+
+    /// Stages 2 and 3: the normal geometry and kinematics (penetration, velocity and acceleration
+    /// split along the normal, the unilateral normal force), then the rolling coupling force as
+    /// it would be if rolling is kept, gathered into the state machine's inputs.
+    #[inline(always)]
+    fn sense(&mut self, probe: Vec3, vel: Vec3, roll: &RollStep) -> Sensed<S> {
+        let p = &self.params;
+        let r = p.fingertip_radius_m;
+        let inv_dt = self.inv_dt;
 
         // 2. Normal geometry and kinematics.
         let pen = self.rolling.surface.penetration::<M>(probe, r);
@@ -314,9 +378,26 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             spin_torque_nm: p.spin_stiffness * (self.spin.elastic_rad + roll.angles.phi),
             torsion_limit_nm: tau_max_s,
         };
+        Sensed {
+            inputs,
+            surface,
+            f_n,
+            f_couple,
+            patch,
+            tau_max_s,
+        }
+    }
 
-        // 4. State transition and entry actions.
-        let (state, reason) = next_state(self.state, &inputs, &self.state_params);
+    /// Stage 4: the state transition and its entry actions (a new rolling contact restarts
+    /// under the probe at orientation `q_now`; a broken one drops the spin).
+    #[inline(always)]
+    fn transition(
+        &mut self,
+        inputs: &StateInputs,
+        probe: Vec3,
+        q_now: Quat,
+    ) -> (ContactState, Reason) {
+        let (state, reason) = next_state(self.state, inputs, &self.state_params);
         if state == self.state {
             // Saturates (f32 stops growing past 2^24 ticks of 1e-4 s), which is harmless.
             self.time_in_state_s += self.dt_s;
@@ -329,49 +410,25 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             }
         }
         self.state = state;
-
-        // 5. Force and spin torque for the new state.
-        let p = self.params;
-        let k_z = p.spin_stiffness;
-        let (force, tau_n_nm, saturated) = match state {
-            ContactState::Broken => (Vec3::ZERO, 0.0, false),
-            ContactState::Rolling => {
-                let f_t = if reason == Reason::MadeContact || reason == Reason::Stuck {
-                    Vec3::ZERO // anchor just placed under the probe
-                } else {
-                    f_couple
-                };
-                // The torsion spring gets what the tangential load leaves of the static limit
-                // surface: τ ≤ τ_max·√(1 − (|f_t|/(μ_s·f_N))²).
-                let f_max = p.mu_s * f_n;
-                let (tau, sat) = self.spin.update_within::<M>(
-                    roll.angles.phi,
-                    k_z,
-                    tau_max_s,
-                    f_t.norm_squared(),
-                    f_max * f_max,
-                );
-                (surface.along_normal(f_n) + f_t, tau, sat)
-            }
-            ContactState::Sliding => self.slide(probe, q_now, roll.angles.phi, f_n, patch),
-        };
-        if saturated && f_n > p.force_eps_n {
-            flags |= Flags::SPIN_SATURATED;
-        }
-
-        // 6. Limits and the last NaN guard.
-        let (force, tau_n_nm) = guard_output::<M>(force, tau_n_nm, p.max_force_n, &mut flags);
-        ContactOutput {
-            force_n: force,
-            tau_n_nm,
-            spin_rad: self.spin.accumulated_rad,
-            state,
-            reason,
-            object_point_m: self.rolling.surface.contact_point(),
-            angles: roll.angles,
-            flags,
-        }
+        (state, reason)
     }
+}
+
+/// What stages 2 and 3 of the contact step hand on to the later stages.
+#[derive(Clone, Copy)]
+struct Sensed<S> {
+    /// The state machine's inputs.
+    inputs: StateInputs,
+    /// The surface as it was before the transition (a restart moves the contact).
+    surface: S,
+    /// Normal force, N (≥ 0).
+    f_n: f32,
+    /// The rolling coupling force (tangential), object frame, N.
+    f_couple: Vec3,
+    /// Contact patch radius at `f_n`, m.
+    patch: f32,
+    /// Static torsion limit at `f_n`, N·m.
+    tau_max_s: f32,
 }
 
 /// The contact step's last stage: |F| ≤ `max_force_n` (N; a larger force is rescaled to 4 ulps

@@ -192,9 +192,10 @@ fn pipeline_config(rate_hz: u32) -> PipelineConfig<config::TickScene> {
     }
 }
 
-#[embassy_executor::main]
-async fn main(spawner: Spawner) {
-    let reset_cause = faults::take_reset_cause();
+/// Bring up the board (interrupt priorities, the free-running counter, the log sink, the time
+/// base, the plant link) and take the run's configuration from the plant; any failure ends the
+/// emulation.
+fn open_board(reset_cause: u32) -> link::RunConfig {
     let Some(mut core) = cortex_m::Peripherals::take() else {
         exit(false)
     };
@@ -211,21 +212,68 @@ async fn main(spawner: Spawner) {
         error!("no plant link (run under scripts/pil)");
         exit(false);
     }
-    let Some(link::RunConfig {
-        rate_hz,
-        fault_code,
-        host_link,
-    }) = link::hello(reset_cause)
-    else {
+    let Some(run) = link::hello(reset_cause) else {
         exit(false)
     };
     if reset_cause != faults::CAUSE_POWER_ON {
         warn!("reset by the watchdog");
     }
-    if !PCLK_HZ.is_multiple_of(rate_hz.max(1)) {
-        error!("control rate {=u32} Hz does not divide 25 MHz", rate_hz);
+    if !PCLK_HZ.is_multiple_of(run.rate_hz.max(1)) {
+        error!("control rate {=u32} Hz does not divide 25 MHz", run.rate_hz);
         exit(false);
     }
+    run
+}
+
+/// With the host link, its task takes the commands, their outcomes and the tick's stream
+/// points; the plant's operator and the supervisor stand aside. Without it, nothing streams.
+/// Returns where the plant operator's commands go and the tick's stream; any failure ends the
+/// emulation.
+fn spawn_command_side(
+    spawner: Spawner,
+    host_link: bool,
+    rate_hz: u32,
+    config: &PipelineConfig<config::TickScene>,
+    command_tx: Producer<'static, Command>,
+    outcome_rx: Consumer<'static, CommandOutcome>,
+) -> (Producer<'static, Command>, hw::StreamTx) {
+    if host_link {
+        let Some((queues, stream_tx)) = link_queues(outcome_rx) else {
+            error!("the host link needs the local-model build (as the STM32's USB build)");
+            exit(false)
+        };
+        match host_link_task(host_link_config(rate_hz, config), command_tx, queues) {
+            Ok(t) => spawner.spawn(t),
+            Err(e) => error!("host link task not spawned: {}", e),
+        }
+        // The plant operator's commands go to a queue nobody reads (the tick's code stays the
+        // scene runs' code).
+        let Some(discarded) =
+            cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())
+        else {
+            exit(false)
+        };
+        (discarded.split().0, stream_tx)
+    } else {
+        match supervisor_task(outcome_rx) {
+            Ok(t) => spawner.spawn(t),
+            Err(e) => error!("supervisor task not spawned: {}", e),
+        }
+        let Some(stream_tx) = hw::idle_stream() else {
+            exit(false)
+        };
+        (command_tx, stream_tx)
+    }
+}
+
+#[embassy_executor::main]
+async fn main(spawner: Spawner) {
+    let reset_cause = faults::take_reset_cause();
+    let link::RunConfig {
+        rate_hz,
+        fault_code,
+        host_link,
+    } = open_board(reset_cause);
     let config = pipeline_config(rate_hz);
     let pipeline = match tick::TickPipeline::new(config) {
         Ok(p) => p,
@@ -268,36 +316,8 @@ async fn main(spawner: Spawner) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("logger task not spawned: {}", e),
     }
-    // With the host link, its task takes the commands, their outcomes and the tick's stream
-    // points; the plant's operator and the supervisor stand aside. Without it, nothing streams.
-    let (command_tx, stream_tx) = if host_link {
-        let Some((queues, stream_tx)) = link_queues(outcome_rx) else {
-            error!("the host link needs the local-model build (as the STM32's USB build)");
-            exit(false)
-        };
-        match host_link_task(host_link_config(rate_hz, &config), command_tx, queues) {
-            Ok(t) => spawner.spawn(t),
-            Err(e) => error!("host link task not spawned: {}", e),
-        }
-        // The plant operator's commands go to a queue nobody reads (the tick's code stays the
-        // scene runs' code).
-        let Some(discarded) =
-            cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())
-        else {
-            exit(false)
-        };
-        (discarded.split().0, stream_tx)
-    } else {
-        match supervisor_task(outcome_rx) {
-            Ok(t) => spawner.spawn(t),
-            Err(e) => error!("supervisor task not spawned: {}", e),
-        }
-        let Some(stream_tx) = hw::idle_stream() else {
-            exit(false)
-        };
-        (command_tx, stream_tx)
-    };
-
+    let (command_tx, stream_tx) =
+        spawn_command_side(spawner, host_link, rate_hz, &config, command_tx, outcome_rx);
     let fault = hw::Injected::from_code(fault_code);
     if fault != hw::Injected::None {
         warn!("test hook armed: {}", fault);

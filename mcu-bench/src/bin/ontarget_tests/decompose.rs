@@ -19,6 +19,13 @@ fn arr(a: Angles) -> [f32; 3] {
 }
 
 pub fn checks<M: Accuracy>(c: &mut Checker) {
+    exact_and_rpy::<M>(c);
+    paper_verbatim::<M>(c);
+    non_finite::<M>(c);
+}
+
+/// The exact and Z-Y-X decompositions of the paper scene's increment, and Z-Y-X at its pole.
+fn exact_and_rpy<M: Accuracy>(c: &mut Checker) {
     // The paper scene's increment: δφ = 0.05 about z, δθ = 0.02 about y, δψ = 0.03 about x.
     let (phi, theta, psi) = (0.05f32, 0.02f32, 0.03f32);
 
@@ -69,7 +76,11 @@ pub fn checks<M: Accuracy>(c: &mut Checker) {
         "rpy at the pole: phi = 0, all finite",
         a.phi == 0.0 && a.psi.is_finite(),
     );
+}
 
+/// The paper-verbatim split (eqs. 5-7) off and at its singularity, and the exact method where
+/// the paper's is singular.
+fn paper_verbatim<M: Accuracy>(c: &mut Checker) {
     // Paper-verbatim eqs. (5)-(7) (a Z-Y-Z-style split; φ, ψ are direction angles):
     // 1 mrad about x → (φ, θ, ψ) = (0, 0.001, 0); 1 mrad about y → (π/2, 0.001, −π/2).
     // θ = atan2(s, r33) with s from sqrt: ATAN2 + 0.001·SQRT_REL; φ and ψ divide both atan2
@@ -112,8 +123,10 @@ pub fn checks<M: Accuracy>(c: &mut Checker) {
         &[0.05, 0.0, 0.0],
         t,
     );
+}
 
-    // Non-finite input: zero angles and NON_FINITE_INPUT for every method.
+/// Non-finite input: zero angles and NON_FINITE_INPUT for every method.
+fn non_finite<M: Math>(c: &mut Checker) {
     for m in Method::ALL {
         let (a, f) = decompose::<M>(m, bb(Quat::new(f32::NAN, 0.0, 0.0, 0.0)));
         c.ok(

@@ -14,6 +14,13 @@ fn arr(v: Vec3) -> [f32; 3] {
 }
 
 pub fn checks<M: Accuracy>(c: &mut Checker) {
+    rodrigues::<M>(c);
+    quat_maps::<M>(c);
+    round_trips::<M>(c);
+}
+
+/// Rodrigues' formula (eq. 4): quarter and third turns, and a non-unit axis.
+fn rodrigues<M: Accuracy>(c: &mut Checker) {
     // 90° about z: R·x = (cos, sin, 0) at π/2 = (0, 1, 0). Each entry is off by at most the sin/cos
     // error, plus 1.2e-7 for the f32 rounding of π/2.
     let (r, f) = Rot3::from_axis_angle::<M>(bb(Vec3::Z), bb(FRAC_PI_2));
@@ -78,7 +85,10 @@ pub fn checks<M: Accuracy>(c: &mut Checker) {
         &[0.0, 0.0, 1.0],
         t,
     );
+}
 
+/// The axis-angle quaternion, and the log and exp maps at known rotations.
+fn quat_maps<M: Accuracy>(c: &mut Checker) {
     // Quaternion of 90° about z is (cos π/4, 0, 0, sin π/4); its rotation of x is y.
     let q = Quat::from_axis_angle::<M>(bb(Vec3::Z), bb(FRAC_PI_2));
     let s = core::f32::consts::FRAC_1_SQRT_2;
@@ -138,7 +148,10 @@ pub fn checks<M: Accuracy>(c: &mut Checker) {
         &[s, 0.0, 0.0, s],
         t,
     );
+}
 
+/// Round trips of the exp and log maps, and the matrix of a quaternion against Rodrigues.
+fn round_trips<M: Accuracy>(c: &mut Checker) {
     // Round trips log(exp(w)) = w from tiny (series branch) to near π. exp puts each quaternion
     // component within TRIG + (θ/2)·SQRT_REL (as above); the log map's sensitivity to a component is
     // ≤ 2; then the log map's own error. Total 2·TRIG + 2·ATAN2 + 2θ·SQRT_REL, and 1e-6·(1 + θ) of
