@@ -11,7 +11,7 @@ mod stream;
 #[path = "../firmware/src/stream_point.rs"]
 mod stream_point;
 
-use link::info::{min_stream_divisor, InfoSource, MAX_STREAM_HZ};
+use link::info::{min_stream_divisor, InfoSource};
 use link::session::{CommandSink, LinkConfig, LinkSession};
 use link::state::{StateBuilder, TickExtender};
 use link::tx::TxRing;
@@ -25,6 +25,7 @@ use softfinger_protocol::{
     encode_frame, AckResult, ContactStateWire, DeviceMsg, ErrorCode, FrameDecoder, FrameErrorKind,
     HostMsg, LocalModel, Mode, Request, SurfaceKind, SurfaceShape, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
+use stream::MAX_STREAM_HZ;
 use stream_point::StreamPoint;
 
 const RATE_HZ: u32 = 10_000;

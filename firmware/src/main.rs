@@ -105,7 +105,7 @@ fn start_usb_link(
     commands: Producer<'static, Command>,
 ) -> Option<(OutcomeTap, bsp::StreamTx, CommandTx)> {
     let link_stream = cortex_m::singleton!(
-        : Queue<stream::StreamPoint, {usb_link::STREAM_QUEUE_LEN}> = Queue::new()
+        : Queue<stream::StreamPoint, {stream::QUEUE_LEN}> = Queue::new()
     )?;
     let link_outcomes =
         cortex_m::singleton!(: Queue<CommandOutcome, {usb_link::LINK_QUEUE_LEN}> = Queue::new())?;

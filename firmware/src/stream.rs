@@ -12,6 +12,30 @@ use heapless::spsc::Producer;
 
 pub use crate::stream_point::StreamPoint;
 
+/// The fastest state stream the firmware sends, Hz. A state frame is at most
+/// `softfinger_protocol::MAX_FRAME_LEN` bytes and about 80 in practice: 2 kHz is about 160 kB/s, an
+/// eighth of full-speed USB's bulk bandwidth (19 packets of 64 bytes per 1 ms frame).
+pub const MAX_STREAM_HZ: u32 = 2_000;
+
+/// The smallest stream divisor at `control_rate_hz`: the one that keeps the stream at or below
+/// [`MAX_STREAM_HZ`]. At least 1.
+#[allow(dead_code)] // a build without a host link never streams
+pub const fn min_stream_divisor(control_rate_hz: u32) -> u16 {
+    let d = control_rate_hz.div_ceil(MAX_STREAM_HZ);
+    if d < 1 {
+        1
+    } else if d > u16::MAX as u32 {
+        u16::MAX
+    } else {
+        d as u16
+    }
+}
+
+/// Stream points queued for the host link: 8 ms at the fastest stream (2 kHz), four times the
+/// link's 1 ms poll.
+#[allow(dead_code)] // a build without a host link never streams
+pub const QUEUE_LEN: usize = 16;
+
 /// The stream divisor in force (0: no stream), written by the link task, read by the tick.
 static DIVISOR: AtomicU16 = AtomicU16::new(0);
 

@@ -31,9 +31,6 @@ pub const USB_VID: u16 = 0x1209;
 pub const USB_PID: u16 = 0x5F10;
 /// Command outcomes queued for the link.
 pub const LINK_QUEUE_LEN: usize = 8;
-/// Stream points queued for the link: 8 ms at the fastest stream (2 kHz), four times the link's
-/// 1 ms poll.
-pub const STREAM_QUEUE_LEN: usize = 16;
 /// Bytes of frames the link holds for the host (about ten state frames).
 pub const LINK_TX_BYTES: usize = 1024;
 /// Full-speed bulk packet size, bytes.

@@ -28,17 +28,7 @@ pub const SURFACES: [SurfaceKind; 4] = [
     SurfaceKind::Cylinder,
 ];
 
-/// The fastest state stream the firmware sends, Hz. A state frame is at most
-/// `softfinger_protocol::MAX_FRAME_LEN` bytes and about 80 in practice: 2 kHz is about 160 kB/s, an
-/// eighth of full-speed USB's bulk bandwidth (19 packets of 64 bytes per 1 ms frame).
-pub const MAX_STREAM_HZ: u32 = 2_000;
-
-/// The smallest stream divisor at `control_rate_hz`: the one that keeps the stream at or below
-/// [`MAX_STREAM_HZ`]. At least 1.
-pub fn min_stream_divisor(control_rate_hz: u32) -> u16 {
-    let d = control_rate_hz.div_ceil(MAX_STREAM_HZ);
-    d.clamp(1, u32::from(u16::MAX)) as u16
-}
+pub use crate::stream::min_stream_divisor;
 
 /// `s` cut at a character boundary to fit `N` bytes.
 fn text<const N: usize>(s: &str) -> Text<N> {

@@ -61,10 +61,10 @@ type StreamTx = Producer<'static, stream::StreamPoint>;
 #[cfg(not(feature = "local-model"))]
 type StreamTx = stream::NoStream;
 
-/// The host link's smallest stream divisor at the control rate (its fastest stream, 2 kHz:
-/// `link::info::MAX_STREAM_HZ`), so a fifth of the measured ticks at 10 kHz are streamed.
+/// The host link's smallest stream divisor at the control rate (its fastest stream, 2 kHz), so a
+/// fifth of the measured ticks at 10 kHz are streamed.
 #[cfg(feature = "local-model")]
-const STREAM_DIVISOR: u32 = config::CONTROL_RATE_HZ.div_ceil(2_000);
+const STREAM_DIVISOR: u16 = stream::min_stream_divisor(config::CONTROL_RATE_HZ);
 
 /// Stream points queued between two drains: more than one measurement's (`N / STREAM_DIVISOR`),
 /// so every streamed tick queues its point.
@@ -225,7 +225,7 @@ fn main() -> ! {
     #[cfg(not(feature = "local-model"))]
     let ptx = stream::NoStream;
     #[cfg(feature = "local-model")]
-    stream::set_divisor(STREAM_DIVISOR as u16);
+    stream::set_divisor(STREAM_DIVISOR);
     let tick_queues = TickQueues {
         commands: crx,
         outcomes: otx,

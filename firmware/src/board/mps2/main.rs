@@ -101,16 +101,12 @@ async fn host_link_task(
     host_link::task::run(uart::Uart0::open(), session, commands, queues, LINK_POLL_US).await
 }
 
-/// Stream points queued for the host link (8 ms at its fastest stream, 2 kHz).
-#[cfg(feature = "local-model")]
-const STREAM_QUEUE_LEN: usize = 16;
-
 /// The host link's queues (command outcomes, stream points) and the tick's end of the stream;
 /// `None` in a build without a stream (the fixed plane's).
 #[cfg(feature = "local-model")]
 fn link_queues(outcomes: Consumer<'static, CommandOutcome>) -> Option<(LinkQueues, hw::StreamTx)> {
     let q = cortex_m::singleton!(
-        : Queue<stream::StreamPoint, STREAM_QUEUE_LEN> = Queue::new()
+        : Queue<stream::StreamPoint, { stream::QUEUE_LEN }> = Queue::new()
     )?;
     let (tx, rx) = q.split();
     Some((
