@@ -3,7 +3,7 @@
 //! roll, twist, slide, lift off.
 
 use host_sim::run::{simulate_scene, summarize, Args};
-use softfinger_core::contact_state::ContactState;
+use softfinger_core::contact::state::ContactState;
 
 #[test]
 fn default_scene_is_bounded_and_visits_every_state() {

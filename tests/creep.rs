@@ -4,7 +4,7 @@
 //! loop that exposes the contact model's anchor.
 
 use host_sim::creep::closed_loop_hold;
-use softfinger_core::decompose::Method;
+use softfinger_core::contact::decompose::Method;
 use softfinger_core::{Fast, Libm};
 
 /// 3 s of hold (`host-sim creep --hold-s 60` runs the 60 s): the rolling anchor does not

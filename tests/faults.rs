@@ -6,11 +6,13 @@
 
 use host_sim::faults::{campaign_report, closed_loop::scene_config};
 use host_sim::plant::TouchScript;
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::controller::{ParamError, TickLimits};
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::{Command, CommandError, Mode, Pipeline, PipelineOutput, RawInput};
-use softfinger_core::surface::Plane;
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::contact::surface::Plane;
+use softfinger_core::control::controller::{ParamError, TickLimits};
+use softfinger_core::control::pipeline::{
+    Command, CommandError, Mode, Pipeline, PipelineOutput, RawInput,
+};
 use softfinger_core::{Flags, Libm, Vec3};
 
 #[test]

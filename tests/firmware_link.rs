@@ -15,10 +15,10 @@ use link::info::{min_stream_divisor, InfoSource};
 use link::session::{CommandSink, LinkConfig, LinkSession};
 use link::state::{StateBuilder, TickExtender};
 use link::tx::TxRing;
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::devices::OMEGA_LIKE;
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::{Command, CommandError, Mode as CoreMode};
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::control::pipeline::{Command, CommandError, Mode as CoreMode};
+use softfinger_core::device::OMEGA_LIKE;
 use softfinger_core::Flags;
 use softfinger_protocol::frame::encode_frame_with_version;
 use softfinger_protocol::{
@@ -229,7 +229,7 @@ fn each_refusal_of_the_pipeline_has_its_error_code() {
         error_code(CommandError::InvalidParams(e)),
         ErrorCode::InvalidValue
     );
-    use softfinger_core::local_model::ModelError;
+    use softfinger_core::control::local_model::ModelError;
     assert_eq!(
         error_code(CommandError::InvalidModel(ModelError::StaleSequence)),
         ErrorCode::StaleSequence
@@ -338,7 +338,7 @@ fn local_model_and_watchdog_go_to_the_pipeline_the_simulated_hand_is_unsupported
     s.outcome(
         &Command::SetLocalModel(want),
         Err(CommandError::InvalidModel(
-            softfinger_core::local_model::ModelError::StaleSequence,
+            softfinger_core::control::local_model::ModelError::StaleSequence,
         )),
     );
     s.outcome(&Command::SetWatchdog { timeout_s: 0.15 }, Ok(()));
@@ -376,7 +376,7 @@ fn a_refused_watchdog_leaves_the_reported_one() {
     s.outcome(
         &Command::SetWatchdog { timeout_s: 65.0 },
         Err(CommandError::InvalidParams(
-            softfinger_core::params::ParamError::OutOfRange("watchdog_timeout_s"),
+            softfinger_core::contact::params::ParamError::OutOfRange("watchdog_timeout_s"),
         )),
     );
     feed(&mut s, &mut q, &request(2, Request::GetInfo));

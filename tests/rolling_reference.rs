@@ -13,9 +13,9 @@
 
 use host_sim::reference::{reference_paths_on, Ground, ReferenceMethod};
 use nalgebra::{UnitQuaternion, Vector3};
-use softfinger_core::decompose::Method;
-use softfinger_core::rolling::Rolling;
-use softfinger_core::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
+use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::rolling::Rolling;
+use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat};
 
 /// Fingertip radius, m.

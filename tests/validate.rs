@@ -6,7 +6,7 @@ use host_sim::reference::scene::{paper_scene, paper_scene_at_rate, Scene};
 use host_sim::reference::ReferencePaths;
 use host_sim::validate::ours::{Backend, Variant};
 use host_sim::validate::{closed_form, reference_for, run_ours, TARGET_MM};
-use softfinger_core::decompose::Method;
+use softfinger_core::contact::decompose::Method;
 use std::fs;
 use std::path::PathBuf;
 
@@ -64,7 +64,7 @@ fn exact_method_meets_the_accuracy_target_on_the_paper_scene() {
 /// The paper's motion sampled at 20 kHz (20 000 steps of ~2 µm onto ~10 mm coordinates) against
 /// host-sim's closed form: the plane's Kahan-compensated contact point. Measured with Kahan:
 /// plane 3.41e-5 mm, sphere 3.07e-6 mm (both backends); bounds 3x: 1e-4 mm and 9.2e-6 mm.
-/// With plain f32 summation (the compensation removed from `core/src/surface.rs`) the plane path
+/// With plain f32 summation (the compensation removed from `core/src/contact/surface.rs`) the plane path
 /// measured 3.51e-3 mm (when this test was written): it fails then, 35x above the bound.
 #[test]
 fn plane_path_stays_compensated_over_twenty_thousand_steps() {

@@ -4,10 +4,10 @@
 
 use host_sim::stability::haptic::{self, Device, Loop};
 use host_sim::stability::haptic_timing::{firmware_delay_ticks, firmware_loop};
-use softfinger_core::pipeline::output_timing::{
+use softfinger_core::control::pipeline::output_timing::{
     OutputTiming, CCM_CYCLES_PER_INSTRUCTION, PIPELINE_TICK_INSTRUCTIONS,
 };
-use softfinger_core::pipeline::BoardTiming;
+use softfinger_core::control::pipeline::BoardTiming;
 
 const SECONDS: f64 = 5.0;
 

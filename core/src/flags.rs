@@ -108,7 +108,7 @@ impl core::ops::Not for Flags {
     }
 }
 
-/// Flags of the host link and the local model (`crate::local_model`). High bits, apart from the
+/// Flags of the host link and the local model (`crate::control::local_model`). High bits, apart from the
 /// pipeline's, so the two sets grow without colliding.
 impl Flags {
     /// The communication watchdog expired: the force faded to zero and stays there until re-armed.

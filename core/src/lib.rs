@@ -19,31 +19,11 @@
 extern crate std;
 
 pub mod contact;
-pub mod contact_state;
-pub mod controller;
-pub mod decompose;
-pub mod delta;
+pub mod control;
 pub mod device;
-pub mod devices;
-pub mod encoder;
-pub mod fixed;
 pub mod flags;
-pub mod limit_surface;
-pub mod local_model;
 pub mod math;
-pub mod output_guard;
-pub mod params;
-pub mod pipeline;
-pub mod quat;
-pub mod rolling;
-pub mod rot3;
-pub mod spin;
-pub mod surface;
-pub mod telemetry;
-pub mod vec3;
+pub mod prelude;
 
 pub use flags::Flags;
-pub use math::{Fast, Libm, Math, Micromath};
-pub use quat::Quat;
-pub use rot3::Rot3;
-pub use vec3::Vec3;
+pub use math::{Fast, Libm, Math, Micromath, Quat, Rot3, Vec3};

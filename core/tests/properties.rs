@@ -6,13 +6,13 @@
 mod fuzz_harness;
 
 use proptest::prelude::*;
+use softfinger_core::contact::decompose::{decompose, Method};
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::rolling::Rolling;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::contact::surface::{Plane, Sphere, Surface};
 use softfinger_core::contact::{ContactInput, ContactModel};
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::controller::{Controller, ControllerConfig, TickInput, LATCHING};
-use softfinger_core::decompose::{decompose, Method};
-use softfinger_core::params::ContactParams;
-use softfinger_core::rolling::Rolling;
-use softfinger_core::surface::{Plane, Sphere, Surface};
+use softfinger_core::control::controller::{Controller, ControllerConfig, TickInput, LATCHING};
 use softfinger_core::{Fast, Flags, Libm, Math, Micromath, Quat, Rot3, Vec3};
 
 /// Any f32 at all, every class with real weight (proptest's `f32::ANY` covers NaN, ±inf, ±0,
@@ -203,7 +203,7 @@ proptest! {
         prop_assume!(!quat_finite(q));
         for method in Method::ALL {
             let (a, f) = decompose::<Libm>(method, q);
-            prop_assert_eq!(a, softfinger_core::decompose::Angles::ZERO);
+            prop_assert_eq!(a, softfinger_core::contact::decompose::Angles::ZERO);
             prop_assert!(f.contains(Flags::NON_FINITE_INPUT));
         }
     }

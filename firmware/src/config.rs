@@ -2,14 +2,14 @@
 //! periods. Safety limits and fault thresholds are the device definition's (softfinger-core,
 //! physical units, derived for the control rate by the pipeline).
 
-use softfinger_core::delta::DeltaGeometry;
-use softfinger_core::devices::{DeviceDefinition, OMEGA_LIKE};
-#[cfg(feature = "local-model")]
-use softfinger_core::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::{BoardTiming, PipelineConfig};
+use softfinger_core::contact::params::ContactParams;
 #[cfg(not(feature = "local-model"))]
-use softfinger_core::surface::Plane;
+use softfinger_core::contact::surface::Plane;
+#[cfg(feature = "local-model")]
+use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
+use softfinger_core::control::pipeline::{BoardTiming, PipelineConfig};
+use softfinger_core::device::delta::DeltaGeometry;
+use softfinger_core::device::{DeviceDefinition, OMEGA_LIKE};
 use softfinger_core::Vec3;
 
 /// The device this firmware drives.
@@ -18,7 +18,7 @@ pub const DEVICE: DeviceDefinition = OMEGA_LIKE;
 /// Timer clock, PWM and control rates, shared with host-sim's plant: 170 MHz, 40 kHz PWM
 /// (4250 counts), 10 kHz control (four PWM periods per tick). The low-latency output: a compare
 /// written in the tick's first PWM period acts from its second, a quarter tick after the tick's
-/// event (`softfinger_core::pipeline::output_timing`).
+/// event (`softfinger_core::control::pipeline::output_timing`).
 pub const TIMING: BoardTiming = BoardTiming::STM32G474_10KHZ;
 const _: () = assert!(TIMING.is_valid());
 // Four PWM periods per tick: the delay the stability experiment and the passivity stage assume.
@@ -112,7 +112,7 @@ pub fn pipeline_config() -> PipelineConfig<TickScene> {
 }
 
 /// Telemetry records logged per second (decimated from the control rate).
-pub const LOG_RATE_HZ: u32 = softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ;
+pub const LOG_RATE_HZ: u32 = softfinger_core::control::telemetry::DEFAULT_LOG_RATE_HZ;
 
 /// Telemetry queue capacity, records. At 100 Hz this is 320 ms of headroom for a stalled logger.
 pub const TELEMETRY_QUEUE_LEN: usize = 32;

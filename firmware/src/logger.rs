@@ -11,7 +11,7 @@ use core::sync::atomic::Ordering;
 use defmt::{debug, info, warn};
 use embassy_time::{Duration, Ticker};
 use heapless::spsc::Consumer;
-use softfinger_core::pipeline::{PipelineRecord, TimingSummary};
+use softfinger_core::control::pipeline::{PipelineRecord, TimingSummary};
 
 use crate::config;
 use crate::tick::STATUS;

@@ -40,7 +40,7 @@ use defmt::{error, info};
 use defmt_rtt as _;
 use embassy_executor::{Executor, Spawner};
 use heapless::spsc::{Consumer, Producer, Queue};
-use softfinger_core::pipeline::{Command, PipelineRecord, TimingSummary};
+use softfinger_core::control::pipeline::{Command, PipelineRecord, TimingSummary};
 use tap::Tap;
 use tick::{CommandOutcome, ControlLoop, TickQueues};
 

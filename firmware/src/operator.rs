@@ -11,8 +11,8 @@
 
 use defmt::{info, warn};
 use embassy_time::{Duration, Timer};
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::{Command, Mode};
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::control::pipeline::{Command, Mode};
 
 use crate::board::OperatorButton;
 use crate::config;

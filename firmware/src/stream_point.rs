@@ -1,8 +1,8 @@
 //! What the tick hands the host link on a streamed tick (see `crate::stream`). Plain data, no
 //! HAL or executor type, so the link's host tests use it too.
 
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::pipeline::Mode;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::control::pipeline::Mode;
 use softfinger_core::Flags;
 
 /// One streamed tick: what the pipeline rendered, in the device base frame, and the tick timing

@@ -15,7 +15,7 @@ use core::sync::atomic::Ordering;
 use defmt::{info, warn};
 use embassy_time::{Duration, Ticker};
 use heapless::spsc::Consumer;
-use softfinger_core::pipeline::Mode;
+use softfinger_core::control::pipeline::Mode;
 use softfinger_core::Flags;
 
 use crate::board::Indicator;
@@ -40,7 +40,7 @@ const _: () = {
         all |= BLINK_CODES[i].0 .0;
         i += 1;
     }
-    assert!(all == softfinger_core::output_guard::LATCHING.0);
+    assert!(all == softfinger_core::control::output_guard::LATCHING.0);
 };
 
 /// Polls per time slot.

@@ -15,8 +15,8 @@
 use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 
 use heapless::spsc::{Consumer, Producer};
-use softfinger_core::controller::ContactStage;
-use softfinger_core::pipeline::{
+use softfinger_core::control::controller::ContactStage;
+use softfinger_core::control::pipeline::{
     Command, CommandError, Mode, Pipeline, PipelineOutput, PipelineRecord, RawInput, TimingSummary,
 };
 use softfinger_core::Fast;
@@ -119,7 +119,7 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
     #[inline(always)]
     pub fn run(&mut self, entry_count: u32) {
         // Sample first: the sample-to-output delay runs from here to the PWM period boundary
-        // after the compare writes below (`softfinger_core::pipeline::output_timing`).
+        // after the compare writes below (`softfinger_core::control::pipeline::output_timing`).
         let sample = self.hw.read_inputs();
         self.hw.ack_tick();
         let raw = RawInput {

@@ -20,7 +20,7 @@ use embassy_time::{with_timeout, Duration, Timer};
 use embassy_usb::class::cdc_acm::{CdcAcmClass, State};
 use embassy_usb::{Builder, UsbDevice};
 use heapless::spsc::Producer;
-use softfinger_core::pipeline::Command;
+use softfinger_core::control::pipeline::Command;
 
 use crate::link::session::{CommandSink, LinkSession};
 use crate::link::task::LinkQueues;

@@ -8,9 +8,9 @@
 //! measurement (the same one `host-sim validate` uses), round by round with their spread.
 
 use criterion::{BenchmarkId, Criterion, Throughput};
-use softfinger_core::decompose::Method;
-use softfinger_core::rolling::Rolling;
-use softfinger_core::surface::Plane;
+use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::rolling::Rolling;
+use softfinger_core::contact::surface::Plane;
 use softfinger_core::{Fast, Libm, Math, Quat};
 use std::hint::black_box;
 use std::time::Duration;

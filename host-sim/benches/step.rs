@@ -6,9 +6,9 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
-use softfinger_core::decompose::Method;
-use softfinger_core::rolling::Rolling;
-use softfinger_core::surface::Plane;
+use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::rolling::Rolling;
+use softfinger_core::contact::surface::Plane;
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat};
 use std::hint::black_box;
 

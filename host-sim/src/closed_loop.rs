@@ -9,14 +9,14 @@
 
 use crate::plant::{HandScript, Plant, PlantError, PlantParams, TouchScript};
 use crate::scene::{Scene, SurfaceSpec};
-use softfinger_core::controller::Scene as PipelineScene;
-use softfinger_core::delta::DeltaGeometry;
-use softfinger_core::devices::OMEGA_LIKE;
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::{
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
+use softfinger_core::control::controller::Scene as PipelineScene;
+use softfinger_core::control::pipeline::{
     BoardTiming, Command, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
 };
-use softfinger_core::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
+use softfinger_core::device::delta::DeltaGeometry;
+use softfinger_core::device::OMEGA_LIKE;
 use softfinger_core::{Math, Vec3};
 use std::time::{Duration, Instant};
 
@@ -112,7 +112,7 @@ fn config_for<S: Surface>(
         contact,
         surface,
         object_origin_m: origin,
-        log_rate_hz: softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ,
+        log_rate_hz: softfinger_core::control::telemetry::DEFAULT_LOG_RATE_HZ,
     })
 }
 

@@ -21,16 +21,16 @@
 use crate::closed_loop;
 use crate::hold_quantisation::{self, HoldSetup};
 use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
+use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::rolling::Rolling;
+use softfinger_core::contact::spin::SpinSpring;
+use softfinger_core::contact::surface::{Plane, Surface};
 use softfinger_core::contact::{ContactInput, ContactModel};
-use softfinger_core::decompose::Method;
-use softfinger_core::delta::DeltaGeometry;
+use softfinger_core::control::pipeline::{BoardTiming, Pipeline, PipelineConfig};
+use softfinger_core::device::delta::DeltaGeometry;
 use softfinger_core::device::DeviceParams;
-use softfinger_core::devices::OMEGA_LIKE;
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::{BoardTiming, Pipeline, PipelineConfig};
-use softfinger_core::rolling::Rolling;
-use softfinger_core::spin::SpinSpring;
-use softfinger_core::surface::{Plane, Surface};
+use softfinger_core::device::OMEGA_LIKE;
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Vec3};
 
 #[derive(Debug, clap::Args)]
@@ -269,7 +269,7 @@ pub fn hold_scene<M: Math>(
         contact,
         surface: Plane::default(),
         object_origin_m: Vec3::new(0.0, 0.0, top as f32),
-        log_rate_hz: softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ,
+        log_rate_hz: softfinger_core::control::telemetry::DEFAULT_LOG_RATE_HZ,
     };
     let mut ctrl: Pipeline<M, Plane> =
         Pipeline::new(config).map_err(|e| format!("pipeline: {e:?}"))?;

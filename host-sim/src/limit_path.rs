@@ -1,5 +1,5 @@
 //! The rendered (f_t, τn) path of a closed-loop run against the limit surface the contact model
-//! uses (`softfinger_core::limit_surface`): each touching tick's rendered force is split along the
+//! uses (`softfinger_core::contact::limit_surface`): each touching tick's rendered force is split along the
 //! contact normal into f_N and f_t, and the load is normalised by the model's own static limits at
 //! that f_N, x = |f_t|/(μ_s·f_N), y = |τn|/τ_max,s with τ_max,s = (3π/16)·μ_s·f_N·a(f_N) and a(f_N)
 //! the model's patch law (computed with the core's own f32 functions, so the limit is exactly the
@@ -17,10 +17,10 @@ use crate::reference::limit_surface::curve;
 use crate::run::{Row, RunResult};
 use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::limit_surface::patch_radius;
-use softfinger_core::params::ContactParams;
-use softfinger_core::spin::torsion_limit;
+use softfinger_core::contact::limit_surface::patch_radius;
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::spin::torsion_limit;
+use softfinger_core::contact::state::ContactState;
 use std::path::{Path, PathBuf};
 
 /// One touching tick's load, normalised by the model's static limits at its normal force.

@@ -25,11 +25,11 @@
 //! Bad input: a one-line error naming the line on stderr, exit code 2, and no output file.
 
 use crate::atomic_file::AtomicFile;
-use softfinger_core::decompose::Method;
-use softfinger_core::params::ContactParams;
-use softfinger_core::rolling::Rolling;
-use softfinger_core::spin::{torsion_limit, SpinSpring};
-use softfinger_core::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
+use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::rolling::Rolling;
+use softfinger_core::contact::spin::{torsion_limit, SpinSpring};
+use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::{Flags, Libm, Quat};
 use std::io::Write;
 use std::path::PathBuf;

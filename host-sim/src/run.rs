@@ -8,9 +8,9 @@ use crate::atomic_file::AtomicFile;
 use crate::closed_loop::{self, prepare, simulate, Prepared};
 use crate::scene::{Scene, SurfaceSpec};
 use crate::svg_chart::{line_chart, Series, PALETTE};
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::pipeline::{Pipeline, PipelineConfig};
-use softfinger_core::surface::Surface;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::contact::surface::Surface;
+use softfinger_core::control::pipeline::{Pipeline, PipelineConfig};
 use softfinger_core::{Fast, Flags, Math};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -130,7 +130,9 @@ pub fn summarize(rows: &[Row], dt_s: f64) -> Summary {
         let f = dist(r.force_n, [0.0; 3]);
         s.max_force_n = s.max_force_n.max(f);
         s.max_abs_tau_n_nm = s.max_abs_tau_n_nm.max(r.tau_n_nm.abs() as f64);
-        if r.flags.intersects(softfinger_core::controller::LATCHING) {
+        if r.flags
+            .intersects(softfinger_core::control::controller::LATCHING)
+        {
             s.latched_fault_ticks += 1;
         }
         if k > 0 {
@@ -402,7 +404,7 @@ pub fn main(args: &Args) -> Result<(), String> {
     println!(
         "  max force {:.2} N (limit {} N); max |spin torque| {:.2} mN·m",
         s.max_force_n,
-        softfinger_core::params::ContactParams::DEFAULT.max_force_n,
+        softfinger_core::contact::params::ContactParams::DEFAULT.max_force_n,
         s.max_abs_tau_n_nm * 1e3
     );
     println!(

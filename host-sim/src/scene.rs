@@ -4,7 +4,7 @@
 //! scene never computes sphere geometry).
 
 use serde::Deserialize;
-use softfinger_core::decompose::Method;
+use softfinger_core::contact::decompose::Method;
 use std::path::Path;
 
 /// The built-in scenes: (name, TOML text). The first is the default.

@@ -3,7 +3,7 @@
 
 use host_sim::scene::Scene;
 use host_sim::serve::{convert, core::scene_model};
-use softfinger_core::local_model::{LocalModelSpec, ModelKind};
+use softfinger_core::control::local_model::{LocalModelSpec, ModelKind};
 use softfinger_protocol::{ContactParamsWire, LocalModel, SurfaceShape};
 
 /// A core model spec as the wire message (kinds the wire cannot carry are an error).

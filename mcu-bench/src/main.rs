@@ -10,16 +10,16 @@
 
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
+use softfinger_core::contact::decompose::{decompose, Method};
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::rolling::Rolling;
+use softfinger_core::contact::spin::{torsion_limit, SpinSpring};
+use softfinger_core::contact::state::{next_state, ContactState, StateInputs};
+use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::contact::{ContactInput, ContactModel};
-use softfinger_core::contact_state::{next_state, ContactState, StateInputs};
-use softfinger_core::controller::{Controller, ControllerConfig, TickInput};
-use softfinger_core::decompose::{decompose, Method};
+use softfinger_core::control::controller::{Controller, ControllerConfig, TickInput};
+use softfinger_core::control::pipeline::passivity::{Passivity, PassivityConfig};
 use softfinger_core::device::DeviceParams;
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::passivity::{Passivity, PassivityConfig};
-use softfinger_core::rolling::Rolling;
-use softfinger_core::spin::{torsion_limit, SpinSpring};
-use softfinger_core::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Rot3, Vec3};
 use softfinger_mcu_bench::bench::Bencher;
 use softfinger_mcu_bench::counter::Counter;
@@ -404,7 +404,7 @@ fn control_tick<M: Math>(b: &mut Bencher) {
 /// [`control_tick`]. The fast backend (the firmware's). Afterwards the pipeline must still be armed
 /// with the bridges enabled and no fault latched.
 fn pipeline_tick(b: &mut Bencher) {
-    use softfinger_core::pipeline::Mode;
+    use softfinger_core::control::pipeline::Mode;
     use softfinger_mcu_bench::rig::{pressing_counts, Rig};
     let (Some((mut rig, press)), Some(moved)) = (
         Rig::<Fast>::pressing(0.001),

@@ -3,13 +3,13 @@
 //! their stops, stay there for the stall time, then move to the park angle), as a real device
 //! would make them. Shared by the `pipeline_tick` benchmark and the on-target pipeline tests.
 
-use softfinger_core::delta::DeltaGeometry;
-use softfinger_core::device::DeviceParams;
-use softfinger_core::devices::OMEGA_LIKE;
-use softfinger_core::pipeline::{
+use softfinger_core::contact::surface::Plane;
+use softfinger_core::control::pipeline::{
     BoardTiming, Command, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
 };
-use softfinger_core::surface::Plane;
+use softfinger_core::device::delta::DeltaGeometry;
+use softfinger_core::device::DeviceParams;
+use softfinger_core::device::OMEGA_LIKE;
 use softfinger_core::{Libm, Math, Vec3};
 
 /// Homed motor count at the Omega-like stops: −40° at 4096·12 counts per arm turn.

@@ -28,7 +28,7 @@
 //! ([`Request::SetStream`]). A host starts with [`HostMsg::Hello`] to agree on the version.
 //!
 //! Units are SI (m, s, N, N·m, rad) unless a name says otherwise; vectors are in the device base
-//! frame (see `softfinger_core::delta`).
+//! frame (see `softfinger_core::device::delta`).
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_debug_implementations)]

@@ -69,7 +69,7 @@ impl SurfaceShape {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LocalModel {
     /// Sequence number chosen by the application; the device ignores a model whose sequence is not
-    /// newer than the one in force (wrapping comparison, see `softfinger_core::local_model`).
+    /// newer than the one in force (wrapping comparison, see `softfinger_core::control::local_model`).
     pub seq: u32,
     /// Shape and size.
     pub shape: SurfaceShape,

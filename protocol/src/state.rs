@@ -32,7 +32,7 @@ impl Mode {
     }
 }
 
-/// The contact state (see `softfinger_core::contact_state::ContactState`).
+/// The contact state (see `softfinger_core::contact::state::ContactState`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum ContactStateWire {

@@ -1,4 +1,7 @@
-//! Math backends: the scalar functions every other module calls.
+//! Math: the small vector and rotation types ([`Vec3`], [`Quat`], [`Rot3`], [`fixed::Fixed`]) and
+//! the scalar backends every other module calls.
+//!
+//! # Backends
 //!
 //! All core math is generic over a zero-sized backend type `M: Math`, so the choice is made at compile
 //! time with static dispatch and costs nothing at run time, and all backends can be compared in one
@@ -26,6 +29,11 @@
 //! | sqrt, normal x | 0.5 ulp | 6.1 % | 0.5005 ulp |
 //! | sqrt, subnormal x | 0.5 ulp | ×2170 | 0.5002 ulp |
 
+pub mod fixed;
+pub mod quat;
+pub mod rot3;
+pub mod vec3;
+
 mod fast;
 mod libm_backend;
 mod micromath_backend;
@@ -38,6 +46,9 @@ mod sweep;
 pub use fast::Fast;
 pub use libm_backend::Libm;
 pub use micromath_backend::Micromath;
+pub use quat::Quat;
+pub use rot3::Rot3;
+pub use vec3::Vec3;
 
 /// The scalar functions the core needs. Implemented by zero-sized marker types.
 ///

@@ -23,16 +23,18 @@
 //!   `clear_faults`; a latched ENCODER_STUCK needs at least `TickLimits::stuck_ticks` ticks without a count.
 #![allow(dead_code)] // each includer uses its own part
 
+use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::contact::surface::{Plane, Sphere, Surface};
 use softfinger_core::contact::{
     ContactInput, ContactModel, MAX_DT_S, MAX_PROBE_M, MAX_PROBE_SPEED_M_S, MIN_DT_S,
 };
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::controller::{Controller, ControllerConfig, Limits, TickInput, LATCHING};
-use softfinger_core::decompose::Method;
-use softfinger_core::delta::DeltaGeometry;
+use softfinger_core::control::controller::{
+    Controller, ControllerConfig, Limits, TickInput, LATCHING,
+};
+use softfinger_core::device::delta::DeltaGeometry;
 use softfinger_core::device::DeviceParams;
-use softfinger_core::params::ContactParams;
-use softfinger_core::surface::{Plane, Sphere, Surface};
 use softfinger_core::{Fast, Flags, Libm, Math, Micromath, Quat, Vec3};
 
 /// Most steps or ticks one input runs (keeps one execution short for the fuzzer).

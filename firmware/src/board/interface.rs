@@ -12,12 +12,12 @@ pub struct RawSample {
     pub driver_fault: bool,
 }
 
-pub use softfinger_core::pipeline::BridgeCommands;
+pub use softfinger_core::control::pipeline::BridgeCommands;
 
 /// The hardware the control interrupt owns.
 ///
 /// Write order ([`ControlHw::write_bridges`]): the pipeline's contract
-/// (`softfinger_core::pipeline::bridge`): outputs that switch off first (PWM enable, then nSLEEP),
+/// (`softfinger_core::control::pipeline::bridge`): outputs that switch off first (PWM enable, then nSLEEP),
 /// then the phase pins, then the compares (preloaded: in effect from the next PWM period), then
 /// outputs that switch on (PWM enable, then nSLEEP). The tick timer's event must coincide with a
 /// PWM period boundary.

@@ -6,7 +6,7 @@
 //! The hot path (encoder reads, bridge writes) uses single register accesses through the
 //! stm32-metapac register API: one volatile access each, no bounds checks, no lock.
 //!
-//! **Output timing** (`softfinger_core::pipeline::output_timing`): TIM1 runs the shared board
+//! **Output timing** (`softfinger_core::control::pipeline::output_timing`): TIM1 runs the shared board
 //! timing's 40 kHz PWM with its compares preloaded and an update event at *every* PWM period
 //! (repetition counter 0), so a compare written during a PWM period acts from the next one. The
 //! control tick is TIM6's update, on the same 170 MHz clock and started with TIM1 from 0
@@ -196,7 +196,7 @@ impl ControlHw for Stm32Control {
         }
     }
 
-    /// The pipeline's ordering contract (`softfinger_core::pipeline::bridge`): outputs off first
+    /// The pipeline's ordering contract (`softfinger_core::control::pipeline::bridge`): outputs off first
     /// (MOE, then nSLEEP), then the phase pins, then the compares (preloaded: a PWM period
     /// boundary between the two writes loads the old compare, which is 0 whenever a phase
     /// changed), then outputs on (MOE, then nSLEEP).

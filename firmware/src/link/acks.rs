@@ -8,8 +8,8 @@
 //! request only when it is the same command; other outcomes answer nothing.
 
 use heapless::Deque;
-use softfinger_core::local_model::ModelError;
-use softfinger_core::pipeline::{Command, CommandError};
+use softfinger_core::control::local_model::ModelError;
+use softfinger_core::control::pipeline::{Command, CommandError};
 use softfinger_protocol::{AckResult, ErrorCode};
 
 /// Commands the link may have in flight (the tick's command queue holds as many).

@@ -20,7 +20,7 @@ pub struct InfoSource {
     pub watchdog_ms: u16,
 }
 
-/// The surfaces the firmware's local-model renderer draws (`softfinger_core::local_model::ModelKind`).
+/// The surfaces the firmware's local-model renderer draws (`softfinger_core::control::local_model::ModelKind`).
 pub const SURFACES: [SurfaceKind; 4] = [
     SurfaceKind::Plane,
     SurfaceKind::Sphere,

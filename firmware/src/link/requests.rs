@@ -1,9 +1,9 @@
 //! What each request becomes: a pipeline command for the tick, an answer the link gives itself,
 //! or a typed refusal.
 
-use softfinger_core::local_model::{LocalModelSpec, ModelKind, ModelPose};
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::Command;
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::control::local_model::{LocalModelSpec, ModelKind, ModelPose};
+use softfinger_core::control::pipeline::Command;
 use softfinger_core::{Quat, Vec3};
 use softfinger_protocol::{ContactParamsWire, ErrorCode, LocalModel, Request, SurfaceShape};
 

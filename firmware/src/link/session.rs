@@ -4,8 +4,8 @@
 //! ([`LinkSession::stream_divisor`]), and drains [`LinkSession::tx`] into its transport.
 
 use heapless::spsc::Producer;
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::{Command, CommandError};
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::control::pipeline::{Command, CommandError};
 use softfinger_protocol::{
     AckResult, DeviceEndpoint, DeviceMsg, ErrorCode, LinkCounters, Request, StateSample,
 };

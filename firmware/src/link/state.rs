@@ -5,8 +5,8 @@
 //! torque, contact state and point, flags, mode, the local model's sequence number) and the
 //! tick timing since the previous point in timer counts, which the sample reports in ns.
 
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::pipeline::Mode as CoreMode;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::control::pipeline::Mode as CoreMode;
 use softfinger_protocol::{ContactStateWire, Mode, StateSample, TickStatsWire};
 
 use crate::stream_point::StreamPoint;

@@ -42,7 +42,7 @@ use cortex_m::peripheral::SYST;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use heapless::spsc::{Consumer, Producer, Queue};
-use softfinger_core::pipeline::{Command, Mode, PipelineRecord, TimingSummary};
+use softfinger_core::control::pipeline::{Command, Mode, PipelineRecord, TimingSummary};
 
 use fake_hw::{outputs, FakeStm32, Outputs, ENC_CNT, GPIOB_IDR, TIM1_SR, TIM6_CNT};
 use isr_cell::IsrCell;

@@ -8,7 +8,7 @@
 
 use plotters::prelude::*;
 use serde::Deserialize;
-use softfinger_core::decompose::Method;
+use softfinger_core::contact::decompose::Method;
 use std::path::Path;
 
 use super::pareto;

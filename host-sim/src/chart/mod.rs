@@ -27,7 +27,7 @@ use crate::validate::ours::{self, Backend, Variant};
 use crate::validate::timing::Timing;
 use crate::validate::{closed_form, reference_for};
 use points::{Point, Series};
-use softfinger_core::decompose::Method;
+use softfinger_core::contact::decompose::Method;
 
 /// Where `chart` looks for the MCU figures when `--mcu-json` is not given.
 pub const DEFAULT_MCU_JSON: &str = "out/mcu-bench.json";

@@ -126,7 +126,7 @@ where
             Some(&format!("{}{rates}", v.name())),
         )?;
         // Rates written next to the recommended variant's points.
-        if v.method == softfinger_core::decompose::Method::Exact
+        if v.method == softfinger_core::contact::decompose::Method::Exact
             && v.backend == crate::validate::ours::Backend::Libm
         {
             chart

@@ -7,7 +7,7 @@ use plotters::style::full_palette::{
     BLUE_300, BLUE_600, BLUE_700, BLUE_900, DEEPORANGE_400, GREEN_400, GREEN_700, GREEN_900,
     GREY_500, ORANGE_700, PURPLE, RED_700, RED_900,
 };
-use softfinger_core::decompose::Method;
+use softfinger_core::contact::decompose::Method;
 use std::io::Write;
 use std::path::Path;
 

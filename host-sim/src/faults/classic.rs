@@ -16,10 +16,10 @@ use super::scenarios::{
     judged, latch_failures, no_inject, no_latch, Ctx, Judged, Scenario, Setup, K_INJECT, RATE_HZ,
 };
 use crate::plant::{HandScript, Phase, TouchScript, Waypoint};
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::output_guard::LATCHING;
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::Command;
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::control::output_guard::LATCHING;
+use softfinger_core::control::pipeline::Command;
 use softfinger_core::Flags;
 
 /// The table rows (in campaign order).

@@ -16,13 +16,13 @@
 use crate::closed_loop::{prepare, Prepared};
 use crate::plant::{HandScript, Plant, PlantParams, TouchScript};
 use nalgebra::{Matrix3, Vector3};
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::device::DeviceParams;
-use softfinger_core::devices::OMEGA_LIKE;
-use softfinger_core::pipeline::{
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::contact::surface::Plane;
+use softfinger_core::control::pipeline::{
     BoardTiming, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
 };
-use softfinger_core::surface::Plane;
+use softfinger_core::device::DeviceParams;
+use softfinger_core::device::OMEGA_LIKE;
 use softfinger_core::{Fast, Flags, Libm, Vec3};
 
 /// The pipeline the campaign runs: the MCU's fast kernels on the plane scene.

@@ -41,7 +41,7 @@ pub struct CampaignReport {
 /// Run the campaign and summarise it.
 pub fn campaign_report() -> Result<CampaignReport, String> {
     let results = scenarios::campaign()?;
-    let limit = softfinger_core::params::ContactParams::DEFAULT.max_force_n as f64;
+    let limit = softfinger_core::contact::params::ContactParams::DEFAULT.max_force_n as f64;
     let injected = results.iter().filter(|(_, i)| *i).count();
     let survived = results.iter().filter(|(o, i)| *i && o.survived).count();
     let all = || results.iter().map(|(o, _)| o);

@@ -10,7 +10,7 @@
 use super::closed_loop::{ClosedLoop, Pipe, TickRecord, Trace};
 use super::scenarios::{judged, no_inject, no_latch, Ctx, Judged, Scenario, Setup, Start};
 use crate::plant::{HandScript, Phase, Plant, Waypoint};
-use softfinger_core::pipeline::{Command, Mode};
+use softfinger_core::control::pipeline::{Command, Mode};
 use softfinger_core::Flags;
 
 /// The table rows (in campaign order).

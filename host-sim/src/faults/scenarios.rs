@@ -18,10 +18,10 @@ use super::closed_loop::{scene_config, ClosedLoop, Pipe, Trace};
 use super::{classic, pipeline_cases};
 use crate::plant::{HandScript, Plant, PlantParams, TouchScript};
 use serde::Serialize;
-use softfinger_core::controller::TickLimits;
-use softfinger_core::output_guard::LATCHING;
-use softfinger_core::pipeline::{PipelineConfig, RawInput};
-use softfinger_core::surface::Plane;
+use softfinger_core::contact::surface::Plane;
+use softfinger_core::control::controller::TickLimits;
+use softfinger_core::control::output_guard::LATCHING;
+use softfinger_core::control::pipeline::{PipelineConfig, RawInput};
 use softfinger_core::Flags;
 
 /// Control rate of the campaign, Hz (the board timing's).

@@ -16,8 +16,8 @@
 use super::closed_loop::{scene_config, ClosedLoop};
 use crate::plant::{Phase, PlantParams, TouchScript, Waypoint};
 use serde::Serialize;
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::surface::Surface;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::contact::surface::Surface;
 use std::fmt::Write;
 use std::time::Instant;
 

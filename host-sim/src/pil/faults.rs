@@ -7,7 +7,7 @@
 
 use clap::ValueEnum;
 use serde::Serialize;
-use softfinger_core::pipeline::RawInput;
+use softfinger_core::control::pipeline::RawInput;
 
 /// A fault to inject `--fault-at-s` after the scene starts (the device homed and armed).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize)]

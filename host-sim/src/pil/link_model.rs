@@ -15,8 +15,8 @@
 
 use super::link_check::LinkReport;
 use super::link_client::Client;
-use softfinger_core::local_model::RendererConfig;
-use softfinger_core::params::ContactParams;
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::control::local_model::RendererConfig;
 use softfinger_core::Flags;
 use softfinger_protocol::{
     AckResult, ContactStateWire, LocalModel, Mode, Request, StateSample, SurfaceShape,
@@ -60,7 +60,7 @@ const WATCHDOG_MS: u16 = 50;
 /// watchdog holds the force down (`Controller::compute`); before it did, this run measured
 /// 0.8-2.2 N for 140 ms after the timeout.
 fn zero_after_timeout_s() -> f32 {
-    use softfinger_core::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
+    use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
     let any = LocalModelSpec::plane(0, ModelPose::at(softfinger_core::Vec3::ZERO), &CONTACT);
     LocalModelScene::new(any).watchdog_fade_s
 }

@@ -23,7 +23,7 @@ use crate::closed_loop;
 use crate::scene::{Scene, SurfaceSpec};
 use faults::Fault;
 use report::{FaultReport, Summary, REPORT_KEYS};
-use softfinger_core::params::ContactParams;
+use softfinger_core::contact::params::ContactParams;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 use verdict::{check, judge};

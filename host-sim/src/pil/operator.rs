@@ -10,7 +10,7 @@
 
 use crate::closed_loop::{POWER_UP_S, SETTLE_S};
 use crate::plant::Plant;
-use softfinger_core::pipeline::{Command, Mode};
+use softfinger_core::control::pipeline::{Command, Mode};
 
 /// Longest homing the session waits for, s (as `closed_loop::prepare`).
 pub const HOMING_WAIT_S: f64 = 10.0;

@@ -10,13 +10,15 @@
 use super::operator::Operator;
 use super::session::Settings;
 use crate::plant::Plant;
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::controller::Scene;
-use softfinger_core::delta::DeltaGeometry;
-use softfinger_core::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::output_timing::OutputTiming;
-use softfinger_core::pipeline::{BridgeCommands, Mode, Pipeline, PipelineConfig, RawInput};
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::control::controller::Scene;
+use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
+use softfinger_core::control::pipeline::output_timing::OutputTiming;
+use softfinger_core::control::pipeline::{
+    BridgeCommands, Mode, Pipeline, PipelineConfig, RawInput,
+};
+use softfinger_core::device::delta::DeltaGeometry;
 use softfinger_core::{Fast, Vec3};
 
 /// One reference tick.
@@ -38,7 +40,7 @@ pub struct RefRun {
 /// centre with `contact`'s material, watchdog off, poses in the base frame. The plane's height
 /// is computed as the firmware computes it (in f32), so both sides render the same bits.
 pub fn firmware_config(
-    timing: softfinger_core::pipeline::BoardTiming,
+    timing: softfinger_core::control::pipeline::BoardTiming,
     contact: ContactParams,
 ) -> PipelineConfig<LocalModelScene> {
     let top = Vec3::new(
@@ -48,12 +50,12 @@ pub fn firmware_config(
     );
     let initial = LocalModelSpec::plane(0, ModelPose::at(top), &contact);
     PipelineConfig {
-        device: softfinger_core::devices::OMEGA_LIKE,
+        device: softfinger_core::device::OMEGA_LIKE,
         timing,
         contact,
         surface: LocalModelScene::new(initial),
         object_origin_m: Vec3::ZERO,
-        log_rate_hz: softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ,
+        log_rate_hz: softfinger_core::control::telemetry::DEFAULT_LOG_RATE_HZ,
     }
 }
 

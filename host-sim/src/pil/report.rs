@@ -6,8 +6,8 @@ use super::reference::RefTick;
 use super::session::Trace;
 use super::wire::{enabled, signed_compare};
 use serde::Serialize;
-use softfinger_core::pipeline::output_timing::{OutputTiming, CCM_CYCLES_PER_INSTRUCTION};
-use softfinger_core::pipeline::BoardTiming;
+use softfinger_core::control::pipeline::output_timing::{OutputTiming, CCM_CYCLES_PER_INSTRUCTION};
+use softfinger_core::control::pipeline::BoardTiming;
 use std::collections::BTreeMap;
 
 /// Keys of the board's end-of-run figures (`Report` messages), in the board's order.

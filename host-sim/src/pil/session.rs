@@ -12,7 +12,7 @@
 //! ([`Operator`]) acts before each sample; the run stops `scene_ticks` after the scene starts.
 //!
 //! Output timing: the compares a tick writes load at the first PWM period boundary after the
-//! write (`softfinger_core::pipeline::output_timing`). The write instant is the `Drive` message's
+//! write (`softfinger_core::control::pipeline::output_timing`). The write instant is the `Drive` message's
 //! offset from the tick event (the period start), in instructions (5 per 25 MHz count under
 //! `-icount shift=3`) at [`CCM_CYCLES_PER_INSTRUCTION`] cycles each of the 170 MHz timer clock;
 //! the sample instant is the `Sense` message's. Each tick's [`OutputTiming`] is kept.
@@ -22,8 +22,8 @@ use super::operator::{command_code, Operator};
 use super::qemu::Emulator;
 use super::wire::{self, Message};
 use crate::plant::Plant;
-use softfinger_core::pipeline::output_timing::{OutputTiming, CCM_CYCLES_PER_INSTRUCTION};
-use softfinger_core::pipeline::{BoardTiming, BridgeCommands, Mode, RawInput};
+use softfinger_core::control::pipeline::output_timing::{OutputTiming, CCM_CYCLES_PER_INSTRUCTION};
+use softfinger_core::control::pipeline::{BoardTiming, BridgeCommands, Mode, RawInput};
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 

@@ -5,9 +5,9 @@ use super::faults::Fault;
 use super::reference::RefTick;
 use super::report::{self, FaultReport, OutputReport, Summary};
 use super::session::{instructions_to_timer_counts, Trace};
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::pipeline::output_timing::OutputTiming;
-use softfinger_core::pipeline::{BoardTiming, BridgeCommands, Mode};
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::control::pipeline::output_timing::OutputTiming;
+use softfinger_core::control::pipeline::{BoardTiming, BridgeCommands, Mode};
 use std::collections::BTreeMap;
 
 fn on(compare: u16) -> BridgeCommands {
@@ -207,7 +207,7 @@ fn output_report_measures_the_delay_and_fails_a_late_load() {
 fn the_firmware_configs_initial_model_is_the_scenes_plane() {
     use crate::closed_loop;
     use crate::scene::Scene;
-    use softfinger_core::local_model::ModelKind;
+    use softfinger_core::control::local_model::ModelKind;
     let scene = Scene::load("finger-on-plane").unwrap();
     let contact = closed_loop::contact_params(&scene).unwrap();
     let plane = closed_loop::plane_config(&scene, contact).unwrap();

@@ -4,7 +4,7 @@
 
 use crate::svg_chart::{line_chart, Series, PALETTE};
 use softfinger_core::device::DeviceParams;
-use softfinger_core::devices::OMEGA_LIKE;
+use softfinger_core::device::OMEGA_LIKE;
 use softfinger_core::Libm;
 use std::path::Path;
 

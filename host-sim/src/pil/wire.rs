@@ -6,7 +6,7 @@
 //! `[0..12]` raw counts\[6\], `[12]` nFAULT asserted, `[13]` control bits, `[14]` operator command;
 //! to `Hello`: `[0..4]` control rate, `[4..8]` the fault the board's test hook injects when asked.
 
-use softfinger_core::pipeline::{BridgeCommands, Mode};
+use softfinger_core::control::pipeline::{BridgeCommands, Mode};
 
 /// Bytes per message from the board.
 pub const MSG_LEN: usize = 32;

@@ -55,7 +55,7 @@ pub fn arm_accelerations(
 mod tests {
     use super::*;
     use crate::plant::mechanism::Mechanism;
-    use softfinger_core::delta::DeltaGeometry;
+    use softfinger_core::device::delta::DeltaGeometry;
 
     #[test]
     fn a_force_on_the_effector_alone_accelerates_it_by_f_over_m_when_arms_are_weightless() {

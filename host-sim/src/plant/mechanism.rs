@@ -1,12 +1,12 @@
 //! The delta linkage in f64: the plant's own kinematics, independent of the controller's f32 code.
 //!
-//! Same frame and conventions as `softfinger_core::delta` (base frame `B`, z from the effector
+//! Same frame and conventions as `softfinger_core::device::delta` (base frame `B`, z from the effector
 //! towards the base, motor i at azimuth 120°·i, θ = 0 arm horizontal outwards, positive down),
 //! re-derived here in f64 because the dynamics need more than the controller does (forearm
 //! vectors, the velocity-product acceleration) and because a plant that shared the controller's
 //! kinematics could not catch a mistake in them. `tests` cross-check the two.
 
-use softfinger_core::delta::DeltaGeometry;
+use softfinger_core::device::delta::DeltaGeometry;
 
 pub use super::linalg::{M3, V3};
 
@@ -173,8 +173,8 @@ impl Kinematics {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use softfinger_core::math::vec3::Vec3;
     use softfinger_core::math::Libm;
-    use softfinger_core::vec3::Vec3;
 
     const G: DeltaGeometry = DeltaGeometry::OMEGA_LIKE;
 

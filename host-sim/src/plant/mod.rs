@@ -38,8 +38,8 @@ pub mod params;
 pub mod pwm;
 pub mod timing;
 
+use softfinger_core::control::pipeline::{BoardTiming, BridgeCommands};
 use softfinger_core::device::{DeviceParamError, DeviceParams};
-use softfinger_core::pipeline::{BoardTiming, BridgeCommands};
 
 pub use hand::{HandRef, HandScript, ScriptError};
 #[allow(unused_imports)] // the rest of the public script API, for the CLI

@@ -3,7 +3,7 @@
 //! - **bridge commands** ([`BridgeStage`]), as the control pipeline writes them to the firmware's
 //!   timer and pins: the phase pins and the enable act when written, a compare value is preloaded
 //!   and acts from the next PWM period boundary (the board timing is the core's
-//!   [`BoardTiming`](softfinger_core::pipeline::BoardTiming), the same the firmware uses). This is
+//!   [`BoardTiming`](softfinger_core::control::pipeline::BoardTiming), the same the firmware uses). This is
 //!   the path of every closed loop of the simulator;
 //! - plain duties (the plant's own unit tests), through the one-tick latch below.
 //!
@@ -18,13 +18,13 @@
 //! computed from the counts of tick k acts during tick k+1, as on the MCU where the compare
 //! registers are written at the end of a tick's computation and take effect on the next period.
 
+use softfinger_core::control::pipeline::BridgeCommands;
 use softfinger_core::device::DeviceParams;
-use softfinger_core::pipeline::BridgeCommands;
 
 // The plant's duty path quantises with the device's PWM period: it must be the board's.
 const _: () = assert!(
     softfinger_core::device::DeviceParams::OMEGA_LIKE.pwm_period_counts
-        == softfinger_core::pipeline::BoardTiming::STM32G474_10KHZ.pwm_period_counts()
+        == softfinger_core::control::pipeline::BoardTiming::STM32G474_10KHZ.pwm_period_counts()
 );
 
 /// One motor command as the drive sees it.

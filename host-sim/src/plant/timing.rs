@@ -3,7 +3,7 @@
 //!
 //! Timeline of one tick of `dt` seconds from the encoder sample (the plant's tick boundary is
 //! the sample instant; the sample's offset from the timer event is the same every tick, so only
-//! the sample-to-output delay matters, see `softfinger_core::pipeline::output_timing`):
+//! the sample-to-output delay matters, see `softfinger_core::control::pipeline::output_timing`):
 //!
 //! ```text
 //! [0, d·dt)      the previous tick's command still acts (its compare is in the PWM registers)

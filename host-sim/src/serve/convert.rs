@@ -1,9 +1,9 @@
 //! Conversions between the wire types of `softfinger-protocol` and the core's types.
 
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::local_model::{LocalModelSpec, ModelKind, ModelPose};
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::{Command, CommandError};
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::control::local_model::{LocalModelSpec, ModelKind, ModelPose};
+use softfinger_core::control::pipeline::{Command, CommandError};
 use softfinger_core::{Quat, Vec3};
 use softfinger_protocol::{
     ContactParamsWire, ContactStateWire, ErrorCode, LocalModel, Mode, Request, SurfaceKind,
@@ -101,8 +101,8 @@ pub fn core_request(req: &Request, base: &ContactParams) -> Option<Command> {
 
 /// The protocol's mode of the pipeline's: the one place the two meet (same five modes, same
 /// order; `mode_codes_agree` checks every one).
-pub fn mode(m: softfinger_core::pipeline::Mode) -> Mode {
-    use softfinger_core::pipeline::Mode as P;
+pub fn mode(m: softfinger_core::control::pipeline::Mode) -> Mode {
+    use softfinger_core::control::pipeline::Mode as P;
     match m {
         P::Unhomed => Mode::Unhomed,
         P::Homing => Mode::Homing,
@@ -114,7 +114,7 @@ pub fn mode(m: softfinger_core::pipeline::Mode) -> Mode {
 
 /// The wire code of a refused pipeline command.
 pub fn error_code(e: CommandError) -> ErrorCode {
-    use softfinger_core::local_model::ModelError;
+    use softfinger_core::control::local_model::ModelError;
     match e {
         CommandError::NotHomed | CommandError::Armed | CommandError::Homing => ErrorCode::WrongMode,
         CommandError::Faulted => ErrorCode::Faulted,
@@ -131,7 +131,7 @@ mod tests {
 
     #[test]
     fn mode_codes_agree() {
-        use softfinger_core::pipeline::Mode as P;
+        use softfinger_core::control::pipeline::Mode as P;
         for m in [P::Unhomed, P::Homing, P::Disarmed, P::Armed, P::Faulted] {
             assert_eq!(mode(m).name(), m.name());
         }

@@ -1,5 +1,5 @@
 //! The device side of the virtual device: the one control pipeline
-//! ([`softfinger_core::pipeline::Pipeline`]) on the local-model scene, against the plant.
+//! ([`softfinger_core::control::pipeline::Pipeline`]) on the local-model scene, against the plant.
 //!
 //! [`DeviceCore`] is the seam the server calls: `tick` with the plant (the pipeline reads the
 //! plant's raw 16-bit counter values, `Plant::raw_counts`, and its bridge commands drive the
@@ -10,11 +10,13 @@
 
 use crate::plant::Plant;
 use crate::serve::convert;
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::controller::ContactStage;
-use softfinger_core::local_model::{LocalModelScene, LocalModelSpec, ModelKind, ModelPose};
-use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::{Command, Pipeline, PipelineConfig};
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::control::controller::ContactStage;
+use softfinger_core::control::local_model::{
+    LocalModelScene, LocalModelSpec, ModelKind, ModelPose,
+};
+use softfinger_core::control::pipeline::{Command, Pipeline, PipelineConfig};
 use softfinger_core::{Fast, Flags, Vec3};
 use softfinger_protocol::{AckResult, Mode};
 
@@ -79,7 +81,7 @@ impl PipelineCore {
     pub fn new(scene: &crate::scene::Scene, blend_s: f32, watchdog_s: f32) -> Result<Self, String> {
         let (contact, model) = scene_model(scene)?;
         let config = PipelineConfig {
-            device: softfinger_core::devices::OMEGA_LIKE,
+            device: softfinger_core::device::OMEGA_LIKE,
             timing: crate::closed_loop::board_timing(scene.rate_hz)?,
             contact,
             surface: LocalModelScene {

@@ -1,6 +1,6 @@
 use super::*;
 use crate::scene::Scene;
-use softfinger_core::pipeline::passivity::PassivityConfig;
+use softfinger_core::control::pipeline::passivity::PassivityConfig;
 use softfinger_protocol::ErrorCode;
 
 /// A core on the default scene and its plant, powered up for 10 ms.
@@ -49,7 +49,7 @@ fn no_force_before_homing_and_arming_then_the_real_homing() {
     let scene = Scene::default_scene();
     let (contact, _) = scene_model(&scene).unwrap();
     let script = crate::closed_loop::touch_script(&scene, &contact);
-    let device = softfinger_core::devices::OMEGA_LIKE.params;
+    let device = softfinger_core::device::OMEGA_LIKE.params;
     let mut next = crate::serve::hand::following(&plant, &script, device).unwrap();
     next.continue_counters_from(&plant);
     plant = next;
@@ -82,7 +82,7 @@ fn a_fault_cuts_the_force_at_once_and_latches() {
     let (_, out, _) = crate::closed_loop::step(core.pipeline_mut(), &mut plant, |r| {
         r.counts[0] = r.counts[0].wrapping_add(5_000);
     });
-    assert_eq!(out.mode, softfinger_core::pipeline::Mode::Faulted);
+    assert_eq!(out.mode, softfinger_core::control::pipeline::Mode::Faulted);
     assert!(out.flags.contains(Flags::ENCODER_GLITCH));
     assert_eq!(
         (out.control.force_n, out.bridges.pwm_enable),
@@ -209,7 +209,7 @@ fn moving_plane_largest_step_n(damps: bool) -> f32 {
         position_m: [0.0, 0.0, top + radius - 0.001],
         wrist_rad: [0.0; 3],
     };
-    let device = softfinger_core::devices::OMEGA_LIKE.params;
+    let device = softfinger_core::device::OMEGA_LIKE.params;
     let mut held = crate::serve::hand::holding(&plant, target, device).unwrap();
     held.continue_counters_from(&plant);
     plant = held;

@@ -11,8 +11,8 @@ use crate::serve::convert;
 use crate::serve::core::{CoreOutput, DeviceCore};
 use crate::serve::hand::{self, HandMode};
 use crate::serve::link::{Event, LinkStats, Outbox};
+use softfinger_core::control::pipeline::Command;
 use softfinger_core::device::DeviceParams;
-use softfinger_core::pipeline::Command;
 use softfinger_protocol::{
     AckResult, DeviceInfo, DeviceMsg, ErrorCode, HostMsg, Mode, Request, StateSample,
     TickStatsWire, PROTOCOL_VERSION,

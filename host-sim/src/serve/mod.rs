@@ -62,7 +62,7 @@ impl Server {
     pub fn start(args: &Args) -> Result<Server, String> {
         let scene = Scene::load(&args.scene)?;
         let (contact, _) = core::scene_model(&scene)?;
-        let device = softfinger_core::devices::OMEGA_LIKE.params;
+        let device = softfinger_core::device::OMEGA_LIKE.params;
         let watchdog_s = args.watchdog_ms * 1e-3;
         let mut core = core::PipelineCore::new(&scene, args.blend_ms * 1e-3, watchdog_s)?;
         let script = crate::closed_loop::touch_script(&scene, &contact);
@@ -72,8 +72,10 @@ impl Server {
             // The operator's session in simulated time: home against the plant, the hand takes
             // the handle, arm. Bench mode: no client feeds the watchdog, so it is off.
             let pipe = core.pipeline_mut();
-            pipe.command(softfinger_core::pipeline::Command::SetWatchdog { timeout_s: 0.0 })
-                .map_err(|e| format!("watchdog: {e:?}"))?;
+            pipe.command(softfinger_core::control::pipeline::Command::SetWatchdog {
+                timeout_s: 0.0,
+            })
+            .map_err(|e| format!("watchdog: {e:?}"))?;
             crate::closed_loop::prepare(pipe, &mut plant)?;
         }
         let listener =

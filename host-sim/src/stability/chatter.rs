@@ -18,8 +18,8 @@
 //! two thresholds.
 
 use super::rng::SplitMix64;
-use softfinger_core::contact_state::{next_state, ContactState, Reason, StateInputs};
-use softfinger_core::params::ContactParams;
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::state::{next_state, ContactState, Reason, StateInputs};
 use softfinger_core::Vec3;
 
 /// Step rate of the state machine, Hz.

@@ -21,7 +21,7 @@
 //! fraction of azimuths whose result was flagged.
 
 use nalgebra::{UnitQuaternion, Vector3};
-use softfinger_core::decompose::{decompose, Method};
+use softfinger_core::contact::decompose::{decompose, Method};
 use softfinger_core::{Flags, Math, Quat};
 use std::f64::consts::{FRAC_PI_2, PI};
 

@@ -20,9 +20,9 @@
 
 use indicatif::ProgressBar;
 use nalgebra::{UnitQuaternion, Vector3};
-use softfinger_core::decompose::Method;
-use softfinger_core::rolling::Rolling;
-use softfinger_core::surface::Plane;
+use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::rolling::Rolling;
+use softfinger_core::contact::surface::Plane;
 use softfinger_core::{Math, Quat};
 use std::f64::consts::PI;
 
@@ -195,7 +195,7 @@ mod tests {
     /// in f32 is 9e-10 m): measured 1.15e-8 m (plane) and 2.5e-9 m (finger) at worst; bounds 3×.
     /// RPY's second-order error ½·ρ·w_z·w_x per step used to be even in w, so it did not cancel
     /// when the path was retraced and grew with time. The core now decomposes every increment in
-    /// a canonical sign (odd angles, see `softfinger_core::rolling`), so a retraced path returns
+    /// a canonical sign (odd angles, see `softfinger_core::contact::rolling`), so a retraced path returns
     /// the contact exactly for RPY too: at the end of each period its error is the reference's own
     /// f64 residual (measured 1.4e-17 m after one period, 3.8e-17 m after two; bounds 3×), while
     /// mid-path it keeps its first-order error, far above exact's (measured 5.9e-7 m, 51× exact's

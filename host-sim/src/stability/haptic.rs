@@ -10,10 +10,10 @@
 //!   is held constant (zero-order hold) over one period. With `delay_ticks = d` the force computed
 //!   from the sample at k acts from k + d to k + 1 + d: d = 1 is a full tick (read the encoders
 //!   at k, the PWM changes at k+1), d = 0 Colgate's idealisation, and a fraction of a tick the
-//!   firmware's low-latency output ([`softfinger_core::pipeline::output_timing`]). The plant is
+//!   firmware's low-latency output ([`softfinger_core::control::pipeline::output_timing`]). The plant is
 //!   then integrated in two exact pieces per period, split where the new force takes effect.
 //! - **Passivity** (optional): the core's observer and controller
-//!   ([`softfinger_core::pipeline::passivity`], f32, the same code as the firmware) between the
+//!   ([`softfinger_core::control::pipeline::passivity`], f32, the same code as the firmware) between the
 //!   wall and the output, with the velocity (x[k] − x[k−1])/T.
 //! - **User**: a constant force F_h pushing the probe into the wall (a hand holding the probe on
 //!   the surface). The probe hits the wall at speed v₀ from outside.
@@ -40,8 +40,8 @@
 //! K_max ≈ 2(b − |B|)/(T + 2·t_d) = 2(b − |B|)/(3T) for t_d = T: one tick of delay costs a factor 3.
 
 pub use super::haptic_eigen::{criterion_kmax, eigen_kmax, spectral_radius, transition};
-use softfinger_core::pipeline::passivity::{Passivity, PassivityConfig};
-use softfinger_core::vec3::Vec3;
+use softfinger_core::control::pipeline::passivity::{Passivity, PassivityConfig};
+use softfinger_core::math::vec3::Vec3;
 use std::collections::VecDeque;
 
 /// Device and scene parameters (SI).

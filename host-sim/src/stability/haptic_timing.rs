@@ -4,7 +4,7 @@
 //! **Firmware timing** per control rate: the board timing the firmware runs
 //! ([`crate::closed_loop::board_timing`], from `BoardTiming::STM32G474_10KHZ`, the constant
 //! `firmware/src/config.rs` asserts on) with the output timing of
-//! [`softfinger_core::pipeline::output_timing`] — 40 kHz PWM (an integer multiple of every rate
+//! [`softfinger_core::control::pipeline::output_timing`] — 40 kHz PWM (an integer multiple of every rate
 //! here), the tick starting on a PWM period boundary, the encoders sampled at the interrupt's start
 //! and the compare written as soon as the force is known; the compare takes effect at the next PWM
 //! period start. The compute time is the planned pipeline tick
@@ -17,10 +17,10 @@
 //! never exceeds [`BOUNDED_ENERGY_FACTOR`] times the hit's.
 
 use super::haptic::{self, Device, Loop, Outcome};
-use softfinger_core::pipeline::output_timing::{
+use softfinger_core::control::pipeline::output_timing::{
     OutputTiming, CCM_CYCLES_PER_INSTRUCTION, PIPELINE_TICK_INSTRUCTIONS,
 };
-use softfinger_core::pipeline::passivity::PassivityConfig;
+use softfinger_core::control::pipeline::passivity::PassivityConfig;
 
 /// A passivity run is bounded when its oscillation energy stays below this multiple of the hit's.
 pub const BOUNDED_ENERGY_FACTOR: f64 = 2.0;

@@ -233,5 +233,5 @@ fn write_summary(path: &Path, text: &str) -> Result<(), String> {
 }
 
 fn decompose_methods() -> usize {
-    softfinger_core::decompose::Method::ALL.len()
+    softfinger_core::contact::decompose::Method::ALL.len()
 }

@@ -4,10 +4,10 @@
 
 use crate::closed_loop::{self, prepare, simulate};
 use crate::scene::{Scene, SurfaceSpec};
+use softfinger_core::contact::surface::Plane;
+use softfinger_core::control::pipeline::passivity::PassivityConfig;
+use softfinger_core::control::pipeline::Pipeline;
 use softfinger_core::math::Fast;
-use softfinger_core::pipeline::passivity::PassivityConfig;
-use softfinger_core::pipeline::Pipeline;
-use softfinger_core::surface::Plane;
 
 /// The comparison's figures.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]

@@ -7,7 +7,7 @@ use super::decomp_map::{self, Grid, MethodMap};
 use super::drift::DriftRun;
 use super::table::{sci, Table};
 use plotters::style::RGBColor;
-use softfinger_core::decompose::Method;
+use softfinger_core::contact::decompose::Method;
 use std::path::Path;
 
 /// Floor of the log error axes, rad (errors are clamped to it for display only).

@@ -6,7 +6,7 @@
 //! The reference is the classical formulation: Montana's rolling equations integrated in f64 by our
 //! adaptive Dormand–Prince RK45 at `rtol` 1e-12 ([`classical::REFERENCE_TOLERANCES`]); it is itself checked
 //! against the exact closed form and that check is reported. Every method × math backend of the core
-//! (f32, [`softfinger_core::rolling::Rolling`] on [`softfinger_core::surface::Plane`]) runs over the same
+//! (f32, [`softfinger_core::contact::rolling::Rolling`] on [`softfinger_core::contact::surface::Plane`]) runs over the same
 //! samples; its contact paths on the plane (plane frame) and on the sphere (fingertip frame) are compared
 //! with the reference axis by axis, in mm, and its time per step is measured in the same run
 //! ([`timing`]). The classical method is timed too: at Matlab's `ode45` defaults (the paper's setting),
@@ -358,7 +358,7 @@ mod tests {
     use super::*;
     use crate::reference::ReferenceStats;
     use ours::Backend;
-    use softfinger_core::decompose::Method;
+    use softfinger_core::contact::decompose::Method;
 
     fn our(method: Method, err: f64, ns: f64) -> OurRun {
         OurRun {

@@ -2,9 +2,9 @@
 //! per step, for every decomposition method × math backend.
 
 use nalgebra::UnitQuaternion;
-use softfinger_core::decompose::Method;
-use softfinger_core::rolling::Rolling;
-use softfinger_core::surface::Plane;
+use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::rolling::Rolling;
+use softfinger_core::contact::surface::Plane;
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat};
 use std::hint::black_box;
 

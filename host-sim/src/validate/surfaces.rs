@@ -9,9 +9,9 @@
 use crate::reference::rolling_ode::{integrate, Object};
 use crate::reference::{max_distance, reference_paths_on, Ground, ReferenceMethod};
 use nalgebra::UnitQuaternion;
-use softfinger_core::decompose::Method;
-use softfinger_core::rolling::Rolling;
-use softfinger_core::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
+use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::rolling::Rolling;
+use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::{Fast, Libm, Math, Quat};
 
 /// Fingertip radius, m.

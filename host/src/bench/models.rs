@@ -146,7 +146,7 @@ pub fn run(
     d.set_timeout(Duration::from_secs(3));
     let watchdog_before = d.info()?.watchdog_ms;
     let top = host_sim::closed_loop::surface_top_z_m();
-    let c = softfinger_core::delta::DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
+    let c = softfinger_core::device::delta::DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
     let _ = d.disarm();
     d.clear_faults()?;
     d.home()?;

@@ -6,7 +6,7 @@
 use core::mem::MaybeUninit;
 use core::sync::atomic::{compiler_fence, Ordering};
 
-use softfinger_core::pipeline::BridgeCommands;
+use softfinger_core::control::pipeline::BridgeCommands;
 
 use super::link::{self, Kind};
 

@@ -13,7 +13,7 @@ use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 use cortex_m::peripheral::NVIC;
 use heapless::spsc::Producer;
-use softfinger_core::pipeline::{BridgeCommands, Command};
+use softfinger_core::control::pipeline::{BridgeCommands, Command};
 
 use super::cmsdk::{FreeRunning, Irq, Watchdog, PCLK_HZ, TICK_TIMER};
 use super::defmt_sink::READER_STALLED;

@@ -21,7 +21,7 @@
 use core::sync::atomic::{AtomicUsize, Ordering};
 use cortex_m_semihosting::{nr, syscall};
 
-use softfinger_core::pipeline::{BridgeCommands, Command};
+use softfinger_core::control::pipeline::{BridgeCommands, Command};
 
 use super::cmsdk::FreeRunning;
 

@@ -56,7 +56,7 @@ use defmt::{error, info, warn};
 use embassy_executor::Spawner;
 use embassy_time::Timer;
 use heapless::spsc::{Consumer, Producer, Queue};
-use softfinger_core::pipeline::{
+use softfinger_core::control::pipeline::{
     BoardTiming, Command, PipelineConfig, PipelineRecord, TimingSummary,
 };
 

@@ -3,11 +3,11 @@
 
 use crate::accuracy::Accuracy;
 use core::hint::black_box as bb;
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::spin::{torsion_limit, SpinSpring};
+use softfinger_core::contact::state::{next_state, ContactState, Reason, StateInputs};
+use softfinger_core::contact::surface::Plane;
 use softfinger_core::contact::{ContactInput, ContactModel};
-use softfinger_core::contact_state::{next_state, ContactState, Reason, StateInputs};
-use softfinger_core::params::ContactParams;
-use softfinger_core::spin::{torsion_limit, SpinSpring};
-use softfinger_core::surface::Plane;
 use softfinger_core::{Flags, Quat, Vec3};
 use softfinger_mcu_bench::check::Checker;
 

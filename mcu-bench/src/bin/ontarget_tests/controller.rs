@@ -3,10 +3,10 @@
 
 use crate::accuracy::Accuracy;
 use core::hint::black_box as bb;
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::controller::{Controller, ControllerConfig, TickInput, TickOutput};
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::contact::surface::Plane;
+use softfinger_core::control::controller::{Controller, ControllerConfig, TickInput, TickOutput};
 use softfinger_core::device::DeviceParams;
-use softfinger_core::surface::Plane;
 use softfinger_core::{Flags, Libm, Vec3};
 use softfinger_mcu_bench::check::Checker;
 

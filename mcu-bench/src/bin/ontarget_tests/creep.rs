@@ -4,11 +4,11 @@
 //! the normal, every second tick is back exactly (plane: every method; curved surfaces: exact).
 
 use core::hint::black_box as bb;
+use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::state::ContactState;
+use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::contact::{ContactInput, ContactModel};
-use softfinger_core::contact_state::ContactState;
-use softfinger_core::decompose::Method;
-use softfinger_core::params::ContactParams;
-use softfinger_core::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::{Libm, Math, Quat, Vec3};
 use softfinger_mcu_bench::check::Checker;
 

@@ -3,7 +3,7 @@
 use crate::accuracy::Accuracy;
 use core::f32::consts::FRAC_PI_2;
 use core::hint::black_box as bb;
-use softfinger_core::decompose::{decompose, Angles, Method};
+use softfinger_core::contact::decompose::{decompose, Angles, Method};
 use softfinger_core::{Flags, Libm, Math, Quat, Vec3};
 use softfinger_mcu_bench::check::Checker;
 

@@ -5,7 +5,9 @@
 //! thresholds, not host runs.
 
 use core::hint::black_box as bb;
-use softfinger_core::pipeline::{BridgeCommands, BridgeMapper, Command, CommandError, Mode};
+use softfinger_core::control::pipeline::{
+    BridgeCommands, BridgeMapper, Command, CommandError, Mode,
+};
 use softfinger_core::{Fast, Flags};
 use softfinger_mcu_bench::check::Checker;
 use softfinger_mcu_bench::rig::{pressing_counts, Rig, STOP_COUNT};

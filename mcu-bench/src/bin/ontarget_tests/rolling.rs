@@ -3,9 +3,9 @@
 use crate::accuracy::Accuracy;
 use crate::decompose::axis_quat;
 use core::hint::black_box as bb;
-use softfinger_core::decompose::Method;
-use softfinger_core::rolling::Rolling;
-use softfinger_core::surface::{Plane, Sphere, Surface};
+use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::rolling::Rolling;
+use softfinger_core::contact::surface::{Plane, Sphere, Surface};
 use softfinger_core::{Flags, Libm, Math, Quat, Vec3};
 use softfinger_mcu_bench::check::Checker;
 

@@ -1,0 +1,440 @@
+//! Validated parameters of the contact model. Invalid values are rejected with a typed error that
+//! names the field; nothing is clamped silently.
+
+use crate::contact::decompose::Method;
+use crate::contact::state::StateParams;
+
+/// Why a parameter set was rejected. Each variant names the offending field.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ParamError {
+    /// The field is NaN or ±inf.
+    NotFinite(&'static str),
+    /// The field must be > 0.
+    NotPositive(&'static str),
+    /// The field must be ≥ 0.
+    Negative(&'static str),
+    /// The field is outside its documented range.
+    OutOfRange(&'static str),
+    /// μ_k must not exceed μ_s.
+    KineticAboveStatic,
+    /// The device parameters were rejected.
+    Device(crate::device::DeviceParamError),
+}
+
+impl core::fmt::Display for ParamError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ParamError::NotFinite(n) => write!(f, "{n} is not finite"),
+            ParamError::NotPositive(n) => write!(f, "{n} must be > 0"),
+            ParamError::Negative(n) => write!(f, "{n} must be >= 0"),
+            ParamError::OutOfRange(n) => write!(f, "{n} is out of range"),
+            ParamError::KineticAboveStatic => write!(f, "mu_k must not exceed mu_s"),
+            ParamError::Device(e) => write!(f, "device parameters: {e}"),
+        }
+    }
+}
+
+impl core::error::Error for ParamError {}
+
+/// Check `v` is finite and > 0.
+pub fn positive(name: &'static str, v: f32) -> Result<(), ParamError> {
+    if !v.is_finite() {
+        Err(ParamError::NotFinite(name))
+    } else if v <= 0.0 {
+        Err(ParamError::NotPositive(name))
+    } else {
+        Ok(())
+    }
+}
+
+/// Check `v` is finite and ≥ 0.
+pub fn non_negative(name: &'static str, v: f32) -> Result<(), ParamError> {
+    if !v.is_finite() {
+        Err(ParamError::NotFinite(name))
+    } else if v < 0.0 {
+        Err(ParamError::Negative(name))
+    } else {
+        Ok(())
+    }
+}
+
+/// Check `v` is finite and at most `max` (the upper end of its documented range).
+pub fn at_most(name: &'static str, v: f32, max: f32) -> Result<(), ParamError> {
+    if !v.is_finite() {
+        Err(ParamError::NotFinite(name))
+    } else if v > max {
+        Err(ParamError::OutOfRange(name))
+    } else {
+        Ok(())
+    }
+}
+
+/// Everything the contact model needs. SI units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ContactParams {
+    /// Decomposition method for the rolling increments.
+    pub method: Method,
+    /// Fingertip sphere radius R₁, m (paper: 10 mm).
+    pub fingertip_radius_m: f32,
+    /// Normal (penetration) stiffness of the virtual surface, N/m.
+    pub normal_stiffness: f32,
+    /// Normal damping, N·s/m.
+    pub normal_damping: f32,
+    /// Tangential spring between the rolled position and the probe (section 3.2), N/m.
+    pub tangential_stiffness: f32,
+    /// Tangential damper of that coupling, N·s/m.
+    pub tangential_damping: f32,
+    /// μ_s: static friction coefficient.
+    pub mu_s: f32,
+    /// μ_k: kinetic friction coefficient (0 < μ_k ≤ μ_s).
+    pub mu_k: f32,
+    /// k_z: spin stiffness of eq. (1), N·m/rad.
+    pub spin_stiffness: f32,
+    /// a_ref: radius of the contact patch at the normal force `patch_ref_force_n`, m. The patch
+    /// radius is a = a_ref·(f_N/f_ref)^γ ([`crate::contact::limit_surface::patch_radius`]) and sets the
+    /// torsional limit τ_max = (3π/16)·μ·f_N·a.
+    pub patch_radius_m: f32,
+    /// f_ref: the normal force at which the patch radius is `patch_radius_m`, N (> 0).
+    pub patch_ref_force_n: f32,
+    /// γ: exponent of the patch radius's power law in [0, 1] (Hertz 1/3; human fingertips about
+    /// 0.2-0.3, Xydas and Kao 1999; 0: a fixed patch).
+    pub patch_exponent: f32,
+    /// k_τ: twist stiffness of the rolling→sliding threshold, N·m·s/rad.
+    pub k_tau: f32,
+    /// Largest force the model may ask for, N (the device's limit; also enforced after it).
+    pub max_force_n: f32,
+    /// Tolerances of the state machine (see [`StateParams`]); `mu_s`, `mu_k`, `k_tau` and the
+    /// radius there are overwritten from the fields above.
+    pub force_eps_n: f32,
+    /// See [`StateParams::accel_eps`].
+    pub accel_eps: f32,
+    /// See [`StateParams::normal_accel_tol`].
+    pub normal_accel_tol: f32,
+    /// See [`StateParams::gap_eps_m`].
+    pub gap_eps_m: f32,
+    /// See [`StateParams::stick_speed`].
+    pub stick_speed: f32,
+    /// See [`StateParams::hysteresis`], fraction in [0, 1).
+    pub hysteresis: f32,
+    /// See [`StateParams::make_force_n`] (≥ `force_eps_n`).
+    pub make_force_n: f32,
+    /// See [`StateParams::min_slide_s`].
+    pub min_slide_s: f32,
+    /// See [`StateParams::min_broken_s`].
+    pub min_broken_s: f32,
+}
+
+impl ContactParams {
+    /// Defaults for a human fingertip on a rigid surface rendered by an Omega.6-class device:
+    /// 10 mm fingertip (the paper's), 2 N/mm surface (the Omega.6 renders up to 14.5 N/mm),
+    /// μ_s = 0.8 / μ_k = 0.6 (skin on smooth surfaces is reported between 0.5 and 1.0), a 5 mm patch,
+    /// k_z = 0.01 N·m/rad, 12 N force limit (the Omega.6's continuous force).
+    pub const DEFAULT: ContactParams = ContactParams {
+        method: Method::Exact,
+        fingertip_radius_m: 0.01,
+        normal_stiffness: 2000.0,
+        normal_damping: 2.0,
+        tangential_stiffness: 1000.0,
+        tangential_damping: 1.0,
+        mu_s: 0.8,
+        mu_k: 0.6,
+        spin_stiffness: 0.01,
+        patch_radius_m: 0.005,
+        // 2 N: the default scenes' press (1 mm at 2 N/mm), where the patch is a_ref = 5 mm.
+        patch_ref_force_n: 2.0,
+        patch_exponent: 1.0 / 3.0,
+        k_tau: 4.0,
+        max_force_n: 12.0,
+        force_eps_n: 0.01,
+        accel_eps: 0.05,
+        normal_accel_tol: 50.0,
+        gap_eps_m: 1e-4,
+        stick_speed: 0.002,
+        hysteresis: 0.05,
+        // 0.05 N is 25 µm of penetration at 2 N/mm: about two counts of the default encoders'
+        // quantisation at the effector (~13 µm), the noise a grazing probe sees.
+        make_force_n: 0.05,
+        min_slide_s: 0.02,
+        min_broken_s: 0.002,
+    };
+
+    /// Largest accepted value of each field (see [`Self::validate`]): far beyond any device or
+    /// scene (a 1 m fingertip, 10⁷ N/m, 10 kN), and small enough that products of fields with
+    /// workspace-sized lengths, speeds and rates stay far from f32 overflow.
+    pub const MAX: ContactParams = ContactParams {
+        method: Method::Exact,
+        fingertip_radius_m: 1.0,
+        normal_stiffness: 1.0e7,
+        normal_damping: 1.0e5,
+        tangential_stiffness: 1.0e7,
+        tangential_damping: 1.0e5,
+        mu_s: 100.0,
+        mu_k: 100.0,
+        spin_stiffness: 1.0e3,
+        patch_radius_m: 1.0,
+        patch_ref_force_n: 1.0e4,
+        patch_exponent: 1.0,
+        k_tau: 1.0e6,
+        max_force_n: 1.0e4,
+        force_eps_n: 1.0e4,
+        accel_eps: 1.0e6,
+        normal_accel_tol: 1.0e6,
+        gap_eps_m: 1.0,
+        stick_speed: 100.0,
+        hysteresis: 1.0,
+        make_force_n: 1.0e4,
+        min_slide_s: 1.0e3,
+        min_broken_s: 1.0e3,
+    };
+
+    /// Smallest accepted fingertip radius, m (0.1 mm): 1/ρ stays finite and meaningful.
+    pub const MIN_FINGERTIP_RADIUS_M: f32 = 1.0e-4;
+
+    /// Smallest accepted force limit, N (1 mN): the limit is applied by a rescale F·(max/|F|),
+    /// which must not fall into the subnormal range, where it would lose its precision.
+    pub const MIN_MAX_FORCE_N: f32 = 1.0e-3;
+
+    /// Check every field; the first bad one is reported. Each field must be finite, within its
+    /// sign constraint and at most its value in [`Self::MAX`].
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let m = &Self::MAX;
+        positive("fingertip_radius_m", self.fingertip_radius_m)?;
+        if self.fingertip_radius_m < Self::MIN_FINGERTIP_RADIUS_M {
+            return Err(ParamError::OutOfRange("fingertip_radius_m"));
+        }
+        at_most(
+            "fingertip_radius_m",
+            self.fingertip_radius_m,
+            m.fingertip_radius_m,
+        )?;
+        non_negative("normal_stiffness", self.normal_stiffness)?;
+        at_most(
+            "normal_stiffness",
+            self.normal_stiffness,
+            m.normal_stiffness,
+        )?;
+        non_negative("normal_damping", self.normal_damping)?;
+        at_most("normal_damping", self.normal_damping, m.normal_damping)?;
+        non_negative("tangential_stiffness", self.tangential_stiffness)?;
+        at_most(
+            "tangential_stiffness",
+            self.tangential_stiffness,
+            m.tangential_stiffness,
+        )?;
+        non_negative("tangential_damping", self.tangential_damping)?;
+        at_most(
+            "tangential_damping",
+            self.tangential_damping,
+            m.tangential_damping,
+        )?;
+        positive("mu_s", self.mu_s)?;
+        at_most("mu_s", self.mu_s, m.mu_s)?;
+        positive("mu_k", self.mu_k)?;
+        if self.mu_k > self.mu_s {
+            return Err(ParamError::KineticAboveStatic);
+        }
+        non_negative("spin_stiffness", self.spin_stiffness)?;
+        at_most("spin_stiffness", self.spin_stiffness, m.spin_stiffness)?;
+        non_negative("patch_radius_m", self.patch_radius_m)?;
+        at_most("patch_radius_m", self.patch_radius_m, m.patch_radius_m)?;
+        positive("patch_ref_force_n", self.patch_ref_force_n)?;
+        at_most(
+            "patch_ref_force_n",
+            self.patch_ref_force_n,
+            m.patch_ref_force_n,
+        )?;
+        non_negative("patch_exponent", self.patch_exponent)?;
+        at_most("patch_exponent", self.patch_exponent, m.patch_exponent)?;
+        positive("k_tau", self.k_tau)?;
+        at_most("k_tau", self.k_tau, m.k_tau)?;
+        positive("max_force_n", self.max_force_n)?;
+        if self.max_force_n < Self::MIN_MAX_FORCE_N {
+            return Err(ParamError::OutOfRange("max_force_n"));
+        }
+        at_most("max_force_n", self.max_force_n, m.max_force_n)?;
+        non_negative("force_eps_n", self.force_eps_n)?;
+        at_most("force_eps_n", self.force_eps_n, m.force_eps_n)?;
+        non_negative("accel_eps", self.accel_eps)?;
+        at_most("accel_eps", self.accel_eps, m.accel_eps)?;
+        non_negative("normal_accel_tol", self.normal_accel_tol)?;
+        at_most(
+            "normal_accel_tol",
+            self.normal_accel_tol,
+            m.normal_accel_tol,
+        )?;
+        non_negative("gap_eps_m", self.gap_eps_m)?;
+        at_most("gap_eps_m", self.gap_eps_m, m.gap_eps_m)?;
+        non_negative("stick_speed", self.stick_speed)?;
+        at_most("stick_speed", self.stick_speed, m.stick_speed)?;
+        non_negative("hysteresis", self.hysteresis)?;
+        if self.hysteresis >= 1.0 {
+            return Err(ParamError::OutOfRange("hysteresis"));
+        }
+        non_negative("make_force_n", self.make_force_n)?;
+        at_most("make_force_n", self.make_force_n, m.make_force_n)?;
+        if self.make_force_n < self.force_eps_n {
+            return Err(ParamError::OutOfRange("make_force_n"));
+        }
+        non_negative("min_slide_s", self.min_slide_s)?;
+        at_most("min_slide_s", self.min_slide_s, m.min_slide_s)?;
+        non_negative("min_broken_s", self.min_broken_s)?;
+        at_most("min_broken_s", self.min_broken_s, m.min_broken_s)?;
+        Ok(())
+    }
+
+    /// The state machine's view of these parameters.
+    pub fn state_params(&self) -> StateParams {
+        StateParams {
+            mu_s: self.mu_s,
+            mu_k: self.mu_k,
+            k_tau: self.k_tau,
+            radius_m: self.fingertip_radius_m,
+            force_eps_n: self.force_eps_n,
+            accel_eps: self.accel_eps,
+            normal_accel_tol: self.normal_accel_tol,
+            gap_eps_m: self.gap_eps_m,
+            stick_speed: self.stick_speed,
+            hysteresis: self.hysteresis,
+            roll_eps_m: 1e-9,
+            make_force_n: self.make_force_n,
+            min_slide_s: self.min_slide_s,
+            min_broken_s: self.min_broken_s,
+        }
+    }
+}
+
+impl Default for ContactParams {
+    fn default() -> Self {
+        ContactParams::DEFAULT
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid() {
+        assert_eq!(ContactParams::DEFAULT.validate(), Ok(()));
+    }
+
+    #[test]
+    fn each_bad_field_is_named() {
+        let d = ContactParams::DEFAULT;
+        let cases: [(ContactParams, ParamError); 9] = [
+            (
+                ContactParams {
+                    fingertip_radius_m: 0.0,
+                    ..d
+                },
+                ParamError::NotPositive("fingertip_radius_m"),
+            ),
+            (
+                ContactParams {
+                    fingertip_radius_m: f32::NAN,
+                    ..d
+                },
+                ParamError::NotFinite("fingertip_radius_m"),
+            ),
+            (
+                ContactParams {
+                    normal_stiffness: -1.0,
+                    ..d
+                },
+                ParamError::Negative("normal_stiffness"),
+            ),
+            (
+                ContactParams {
+                    mu_s: f32::INFINITY,
+                    ..d
+                },
+                ParamError::NotFinite("mu_s"),
+            ),
+            (
+                ContactParams { mu_k: 0.0, ..d },
+                ParamError::NotPositive("mu_k"),
+            ),
+            (
+                ContactParams { mu_k: 0.9, ..d },
+                ParamError::KineticAboveStatic,
+            ),
+            (
+                ContactParams { k_tau: 0.0, ..d },
+                ParamError::NotPositive("k_tau"),
+            ),
+            (
+                ContactParams {
+                    hysteresis: 1.0,
+                    ..d
+                },
+                ParamError::OutOfRange("hysteresis"),
+            ),
+            (
+                ContactParams {
+                    max_force_n: -3.0,
+                    ..d
+                },
+                ParamError::NotPositive("max_force_n"),
+            ),
+        ];
+        for (p, e) in cases {
+            assert_eq!(p.validate(), Err(e));
+        }
+    }
+
+    /// The patch law's parameters: exponent in [0, 1], reference force > 0 (both ends and just
+    /// beyond them).
+    #[test]
+    fn patch_law_parameters_are_checked_at_their_ends() {
+        let d = ContactParams::DEFAULT;
+        let with = |g: f32, f: f32| ContactParams {
+            patch_exponent: g,
+            patch_ref_force_n: f,
+            ..d
+        };
+        assert_eq!(with(0.0, 2.0).validate(), Ok(()));
+        assert_eq!(with(1.0, 2.0).validate(), Ok(()));
+        assert_eq!(
+            with(-1e-6, 2.0).validate(),
+            Err(ParamError::Negative("patch_exponent"))
+        );
+        assert_eq!(
+            with(1.000_001, 2.0).validate(),
+            Err(ParamError::OutOfRange("patch_exponent"))
+        );
+        assert_eq!(
+            with(0.3, 0.0).validate(),
+            Err(ParamError::NotPositive("patch_ref_force_n"))
+        );
+        assert_eq!(with(0.3, 1e-6).validate(), Ok(()));
+        assert_eq!(
+            with(0.3, f32::NAN).validate(),
+            Err(ParamError::NotFinite("patch_ref_force_n"))
+        );
+    }
+
+    /// The message names the field, and a device error is shown by its message (not `Debug`).
+    #[test]
+    fn display_names_the_field() {
+        use std::string::ToString;
+        let bad = ContactParams {
+            fingertip_radius_m: 0.0,
+            ..ContactParams::DEFAULT
+        };
+        let e: &dyn core::error::Error = &bad.validate().unwrap_err();
+        assert_eq!(e.to_string(), "fingertip_radius_m must be > 0");
+        assert_eq!(
+            ParamError::OutOfRange("mu_s").to_string(),
+            "mu_s is out of range"
+        );
+        let device = ParamError::Device(crate::device::DeviceParamError::NotPositive(
+            crate::device::DeviceParamField::CapstanRatio,
+        ));
+        assert_eq!(
+            device.to_string(),
+            "device parameters: motor.capstan_ratio must be > 0"
+        );
+    }
+}

@@ -1,0 +1,217 @@
+//! The contact state machine: rolling, sliding, broken (paper section 3.2, after Yin, Sugimoto and
+//! Hosoe, 2005), written as robust f32 predicates.
+//!
+//! The paper's five conditions use exact equalities (f_N = 0, a_N = 0, μ²f_N² − f_T² = 0, v_T = 0).
+//! Here each equality is a tolerance band (`*_tol`/`*_eps` in [`StateParams`]) and the friction cone
+//! has a hysteresis margin, so a force sitting on the cone boundary does not chatter:
+//!
+//! | from | to | condition (all must hold) |
+//! | --- | --- | --- |
+//! | any contact | broken | f_N ≤ ε_f and (a_N > ε_a or gap > ε_gap) — the paper's "f_N = 0, a_N > 0"; the gap test is ours, so a probe lifted off at constant speed also breaks contact |
+//! | broken | rolling | f_N > f_make (contact made; the paper gives no rule for it). f_make > ε_f is a hysteresis band: encoder quantisation makes the penetration of a grazing probe flicker around zero, and without the band the state chatters broken ↔ rolling ↔ sliding; and at least t_broken since the break (a probe lifted off fast re-crosses zero penetration for single ticks) |
+//! | rolling | sliding | |a_N| ≤ tol_a, (\|f_T\|/(μ_s·f_N))² + (τn/τ_max)² > (1 + h)² (the limit surface; the friction cone when τn = 0), relative tangential motion (\|a_T\| > ε_a or \|v_T\| > v_stick), and the haptic rule: f_T·d_roll ≥ 0 (the user's tangential force agrees with the rolling displacement d_roll) or no rolling this step |
+//! | rolling | sliding | the twist threshold: Δθ > Δθ_max = f_N·μ_s/(k_τ·r), with Δθ the tilt rate δξ/T (see below) |
+//! | sliding | rolling | |a_N| ≤ tol_a, \|f_T\| ≤ μ_k·f_N, \|v_T\| ≤ v_stick, and at least t_slide in sliding (a dwell: at the onset of a slide the probe has not picked up speed yet) |
+//! | otherwise | unchanged | rolling kept inside the cone; sliding kept while moving or pushed |
+//!
+//! The paper asks for a_T ≠ 0 to leave rolling; a probe dragged at constant speed has a_T = 0 yet
+//! is plainly slipping, so we accept either a non-zero a_T or a slip velocity v_T above v_stick.
+//!
+//! All vectors are in the object frame with their normal component removed (tangential). f_T is
+//! the tangential force the **user applies to the fingertip** (minus the force rendered), so the
+//! rendering spring that drags the probe along during rolling (force opposite to d_roll on the
+//! fingertip side) never triggers sliding — the reason for the paper's haptic rule.
+//!
+//! Twist threshold: the paper compares the angular displacement Δθ measured by the device with
+//! Δθ_max = f_N·μ_s/(k_τ·r). A per-step displacement shrinks with the control rate, so we use the
+//! tilt rate Δθ = δξ/T (rad/s) and k_τ in N·m·s/rad: the threshold then means the same at 1 kHz and
+//! at 20 kHz.
+
+use crate::math::vec3::Vec3;
+
+/// The contact state.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ContactState {
+    /// No contact: no force.
+    #[default]
+    Broken,
+    /// Rolling without slip: the contact point moves by rolling.
+    Rolling,
+    /// Sliding: the contact point follows the probe, kinetic friction opposes the motion.
+    Sliding,
+}
+
+impl ContactState {
+    /// Name used in files and logs.
+    pub const fn name(self) -> &'static str {
+        match self {
+            ContactState::Broken => "broken",
+            ContactState::Rolling => "rolling",
+            ContactState::Sliding => "sliding",
+        }
+    }
+}
+
+/// Why the state is what it is after a step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Reason {
+    /// No transition.
+    #[default]
+    Kept,
+    /// Broken → rolling: the probe pressed on the surface.
+    MadeContact,
+    /// Rolling/sliding → broken: no normal force and the surfaces separate.
+    Separated,
+    /// Rolling → sliding: the user's tangential force left the static friction cone.
+    ConeExceeded,
+    /// Rolling → sliding: the tilt rate exceeded the twist threshold Δθ_max.
+    TwistExceeded,
+    /// Sliding → rolling: the probe stopped inside the kinetic friction cone.
+    Stuck,
+}
+
+/// What the state machine looks at each step (object frame, tangential parts only).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StateInputs {
+    /// f_N: normal force pressing the surfaces together, N (≥ 0).
+    pub normal_force_n: f32,
+    /// Gap between the surfaces, m (> 0: apart; ≤ 0: touching or overlapping).
+    pub gap_m: f32,
+    /// a_N: relative normal acceleration, m/s² (> 0: separating).
+    pub normal_accel: f32,
+    /// f_T: tangential force the user applies to the fingertip, N.
+    pub tangential_force_n: Vec3,
+    /// a_T: relative tangential acceleration, m/s².
+    pub tangential_accel: Vec3,
+    /// v_T: relative tangential velocity, m/s: in rolling, of the probe against the fingertip centre
+    /// implied by rolling (slip); in sliding, of the probe against the object.
+    pub tangential_velocity: Vec3,
+    /// d_roll: the contact point's rolling displacement this step, m.
+    pub roll_disp_m: Vec3,
+    /// Δθ²: the square of the tilt rate δξ/T, rad²/s² (squared so no square root is needed).
+    pub tilt_rate_sq: f32,
+    /// Time spent in the current state, s.
+    pub time_in_state_s: f32,
+    /// τn: the spin torque the contact would carry this step (trial, before any slip), N·m.
+    pub spin_torque_nm: f32,
+    /// τ_max: the static torsional limit (3π/16)·μ_s·f_N·a, N·m. Zero: no twist in the budget.
+    pub torsion_limit_nm: f32,
+}
+
+/// Thresholds and friction (validated by [`crate::contact::params`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StateParams {
+    /// μ_s: static friction coefficient.
+    pub mu_s: f32,
+    /// μ_k: kinetic (sliding) friction coefficient, 0 < μ_k ≤ μ_s.
+    pub mu_k: f32,
+    /// k_τ: twist stiffness for the rolling→sliding threshold, N·m·s/rad.
+    pub k_tau: f32,
+    /// r: fingertip radius, m.
+    pub radius_m: f32,
+    /// ε_f: a normal force at or below this is "zero", N.
+    pub force_eps_n: f32,
+    /// ε_a: an acceleration above this is "non-zero", m/s².
+    pub accel_eps: f32,
+    /// tol_a: |a_N| at or below this counts as "a_N = 0", m/s².
+    pub normal_accel_tol: f32,
+    /// ε_gap: a gap above this means the surfaces are apart, m.
+    pub gap_eps_m: f32,
+    /// v_stick: a tangential speed at or below this is "v_T = 0", m/s.
+    pub stick_speed: f32,
+    /// h: hysteresis margin on the static cone (fraction, e.g. 0.05).
+    pub hysteresis: f32,
+    /// A rolling displacement shorter than this is "no rolling" for the haptic rule, m.
+    pub roll_eps_m: f32,
+    /// f_make: the normal force that makes contact from broken, N (≥ ε_f).
+    pub make_force_n: f32,
+    /// t_slide: least time in sliding before sticking again, s.
+    pub min_slide_s: f32,
+    /// t_broken: least time in broken before contact can be made again, s.
+    pub min_broken_s: f32,
+}
+
+/// The state after one step, and why. Pure function: no state of its own.
+///
+/// Inlined into the contact step so the inputs only its rare branches read (accelerations, slip
+/// velocity, rolling displacement) are computed only when those branches run.
+#[inline(always)]
+pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (ContactState, Reason) {
+    let f_n = i.normal_force_n;
+    let separated = f_n <= p.force_eps_n && (i.normal_accel > p.accel_eps || i.gap_m > p.gap_eps_m);
+    let normal_steady = i.normal_accel.abs() <= p.normal_accel_tol;
+    let ft2 = i.tangential_force_n.norm_squared();
+    match state {
+        ContactState::Broken => {
+            if f_n > p.make_force_n && i.time_in_state_s >= p.min_broken_s {
+                (ContactState::Rolling, Reason::MadeContact)
+            } else {
+                (ContactState::Broken, Reason::Kept)
+            }
+        }
+        ContactState::Rolling => {
+            if separated {
+                return (ContactState::Broken, Reason::Separated);
+            }
+            if f_n <= p.force_eps_n {
+                return (ContactState::Rolling, Reason::Kept);
+            }
+            // Predicates are evaluated lazily, cheapest and most often false first: on the
+            // common path (inside the cone) only |f_T|² is computed.
+            // One friction budget for slide and twist (see `crate::contact::limit_surface`): outside the
+            // static ellipse (|f_T|/(μ_s·f_N))² + (τn/τ_max)² ≤ (1 + h)². With no torque this is
+            // the friction cone.
+            let cone = p.mu_s * f_n;
+            let has_torsion = i.torsion_limit_nm > 0.0;
+            let outside = if i.spin_torque_nm == 0.0 || !has_torsion {
+                let c = cone * (1.0 + p.hysteresis);
+                ft2 > c * c
+            } else {
+                crate::contact::limit_surface::outside(
+                    ft2,
+                    i.spin_torque_nm,
+                    cone,
+                    i.torsion_limit_nm,
+                    1.0 + p.hysteresis,
+                )
+            };
+            if normal_steady && outside {
+                let moving = i.tangential_accel.norm_squared() > p.accel_eps * p.accel_eps
+                    || i.tangential_velocity.norm_squared() > p.stick_speed * p.stick_speed;
+                let agrees = i.roll_disp_m.norm_squared() <= p.roll_eps_m * p.roll_eps_m
+                    || i.tangential_force_n.dot(i.roll_disp_m) >= 0.0;
+                if moving && agrees {
+                    return (ContactState::Sliding, Reason::ConeExceeded);
+                }
+            }
+            // Δθ > f_N·μ_s/(k_τ·r)  ⇔  Δθ²·(k_τ·r)² > (f_N·μ_s)² (both sides ≥ 0; no division or
+            // square root).
+            let kr = p.k_tau * p.radius_m;
+            let fm = f_n * p.mu_s;
+            if i.tilt_rate_sq * kr * kr > fm * fm {
+                return (ContactState::Sliding, Reason::TwistExceeded);
+            }
+            (ContactState::Rolling, Reason::Kept)
+        }
+        ContactState::Sliding => {
+            if separated {
+                return (ContactState::Broken, Reason::Separated);
+            }
+            let kinetic = p.mu_k * f_n;
+            let stopped = i.tangential_velocity.norm_squared() <= p.stick_speed * p.stick_speed;
+            let dwelt = i.time_in_state_s >= p.min_slide_s;
+            if f_n > p.force_eps_n && normal_steady && ft2 <= kinetic * kinetic && stopped && dwelt
+            {
+                return (ContactState::Rolling, Reason::Stuck);
+            }
+            (ContactState::Sliding, Reason::Kept)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

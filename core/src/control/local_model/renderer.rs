@@ -1,0 +1,353 @@
+//! [`LocalModelRenderer`]: renders the local model in force and switches to a new one at a tick
+//! boundary without a force step.
+//!
+//! - **Accepting** ([`LocalModelRenderer::accept`], from the link task): a model newer than the
+//!   last accepted one and valid is queued (the latest wins); anything else is refused with a
+//!   [`ModelError`] and [`Flags::MODEL_REJECTED`] on the next tick. Nothing changes mid-tick.
+//! - **Switching** (at the start of [`LocalModelRenderer::step`]):
+//!   - same surface and material, new pose (a moving object, the usual 100 Hz–1 kHz stream): the
+//!     surface *slews* from where it is now to the new pose over `blend_s` (positions linear,
+//!     orientations by normalised lerp). The contact model, its contact state and contact points
+//!     carry on: the state is consistent by construction.
+//!   - another kind, size or material: a second contact model starts on the new surface and the
+//!     force *cross-fades* from the old to the new over `blend_s`. The reported contact state and
+//!     point are the old model's until the new one's weight reaches ½. Further different models
+//!     wait (the latest wins) until the cross-fade ends; pose updates of the incoming model slew.
+//!
+//!   Either way the force changes by at most `|ΔF|·dt/blend_s` per tick from the switch itself.
+//! - **Staleness**: a model declaring a maximum age (`max_age_s > 0`) is stale that long after it
+//!   was received unless a newer one arrived: [`Flags::MODEL_STALE`] is raised and the force and
+//!   torque fade to zero over `stale_fade_s`; a fresh model brings them back over the same time.
+//!
+//! The object may move, but the damping acts on the probe's velocity (relative to the base, not to
+//! the moving surface): a 1 kHz stream gives no surface velocity to difference.
+
+use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::state::ContactState;
+use crate::contact::{ContactInput, ContactModel, ContactOutput};
+use crate::control::local_model::pose::{ModelPose, ProbeSample};
+use crate::control::local_model::ramp::Ramp;
+use crate::control::local_model::spec::{is_newer, LocalModelSpec, ModelError};
+use crate::control::local_model::surface::ModelSurface;
+use crate::flags::Flags;
+use crate::math::quat::Quat;
+use crate::math::vec3::Vec3;
+use crate::math::Math;
+
+/// Timing of the renderer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RendererConfig {
+    /// Control rate, Hz (1 kHz to 40 kHz).
+    pub rate_hz: f32,
+    /// Time over which a new model replaces the old one (slew or cross-fade), s, in [0, 1].
+    /// 0 switches in one tick.
+    pub blend_s: f32,
+    /// Time a stale model's force takes to fade to zero, and to come back, s, in [0, 1].
+    pub stale_fade_s: f32,
+}
+
+impl RendererConfig {
+    /// 10 kHz, 2 ms blend (two updates of a 1 kHz stream), 20 ms stale fade.
+    pub const DEFAULT: RendererConfig = RendererConfig {
+        rate_hz: 10_000.0,
+        blend_s: 0.002,
+        stale_fade_s: 0.020,
+    };
+
+    /// Check every field.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        crate::contact::params::positive("rate_hz", self.rate_hz)?;
+        if !(1_000.0..=40_000.0).contains(&self.rate_hz) {
+            return Err(ParamError::OutOfRange("rate_hz"));
+        }
+        crate::contact::params::non_negative("blend_s", self.blend_s)?;
+        crate::contact::params::at_most("blend_s", self.blend_s, 1.0)?;
+        crate::contact::params::non_negative("stale_fade_s", self.stale_fade_s)?;
+        crate::contact::params::at_most("stale_fade_s", self.stale_fade_s, 1.0)
+    }
+}
+
+/// What one tick rendered. Vectors in the base frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RenderOutput {
+    /// Force on the probe, N (blended, faded).
+    pub force_n: Vec3,
+    /// Spin torque about the contact normal, N·m.
+    pub tau_n_nm: f32,
+    /// Contact state (see the module doc for a cross-fade).
+    pub state: ContactState,
+    /// Contact point on the object, m.
+    pub contact_point_m: Vec3,
+    /// Sequence number of the model in force (the incoming one once its weight reaches ½).
+    pub model_seq: u32,
+    /// The contact steps' flags, plus MODEL_STALE / MODEL_REJECTED.
+    pub flags: Flags,
+}
+
+/// One model being rendered: its spec, its surface's current pose and its contact model.
+#[derive(Clone, Copy, Debug)]
+struct Slot<M: Math> {
+    spec: LocalModelSpec,
+    pose: ModelPose,
+    slew_from: ModelPose,
+    slew: Ramp,
+    contact: ContactModel<M, ModelSurface>,
+}
+
+/// A contact step's result moved to the base frame.
+#[derive(Clone, Copy, Debug)]
+struct SlotOutput {
+    force_n: Vec3,
+    point_m: Vec3,
+    out: ContactOutput,
+}
+
+impl<M: Math> Slot<M> {
+    fn new(
+        spec: LocalModelSpec,
+        base: &ContactParams,
+        cfg: &RendererConfig,
+    ) -> Result<Self, ModelError> {
+        let contact = ContactModel::new(
+            spec.contact_params(base),
+            ModelSurface::of(spec.kind),
+            Quat::IDENTITY,
+            1.0 / cfg.rate_hz,
+        )
+        .map_err(ModelError::Params)?;
+        Ok(Slot {
+            spec,
+            pose: spec.pose,
+            slew_from: spec.pose,
+            slew: Ramp::new(1.0, cfg.blend_s, cfg.rate_hz),
+            contact,
+        })
+    }
+
+    /// Same surface, new pose: slew from where the surface is now.
+    fn retarget(&mut self, spec: LocalModelSpec) {
+        self.slew_from = self.pose;
+        self.spec = spec;
+        self.slew.set(0.0);
+    }
+
+    fn step(&mut self, s: &ProbeSample) -> SlotOutput {
+        if self.slew.value() < 1.0 {
+            let k = self.slew.advance(1.0);
+            self.pose = self.slew_from.interpolate::<M>(&self.spec.pose, k);
+        } else {
+            self.pose = self.spec.pose;
+        }
+        let pose = self.pose;
+        let out = self.contact.contact_step(&ContactInput {
+            q: pose.orientation.conjugate() * s.q,
+            probe_m: pose.point_to_object(s.probe_m),
+            probe_vel: pose.vector_to_object(s.probe_vel),
+        });
+        SlotOutput {
+            force_n: pose.vector_to_base(out.force_n),
+            point_m: pose.point_to_base(out.object_point_m),
+            out,
+        }
+    }
+}
+
+/// Renders the local model in force; see the module doc.
+#[derive(Clone, Copy, Debug)]
+pub struct LocalModelRenderer<M: Math> {
+    config: RendererConfig,
+    base: ContactParams,
+    active: Slot<M>,
+    incoming: Option<Slot<M>>,
+    weight: Ramp,
+    pending: Option<LocalModelSpec>,
+    latest_seq: u32,
+    age_ticks: u32,
+    max_age_ticks: u32,
+    stale_gain: Ramp,
+    pending_flags: Flags,
+}
+
+/// Ticks in `s` seconds at `rate_hz`, rounded up; 0 for 0.
+fn ticks_of(s: f32, rate_hz: f32) -> u32 {
+    let t = libm::ceilf(s * rate_hz);
+    if t.is_finite() && t > 0.0 {
+        if t >= u32::MAX as f32 {
+            u32::MAX
+        } else {
+            t as u32
+        }
+    } else {
+        0
+    }
+}
+
+impl<M: Math> LocalModelRenderer<M> {
+    /// A renderer of `initial`; `base` supplies what a model does not carry (fingertip radius,
+    /// tangential coupling, force limit, state tolerances).
+    pub fn new(
+        config: RendererConfig,
+        base: ContactParams,
+        initial: LocalModelSpec,
+    ) -> Result<Self, ModelError> {
+        config.validate().map_err(ModelError::Params)?;
+        initial.validate(&base)?;
+        Ok(LocalModelRenderer {
+            config,
+            base,
+            active: Slot::new(initial, &base, &config)?,
+            incoming: None,
+            weight: Ramp::new(0.0, config.blend_s, config.rate_hz),
+            pending: None,
+            latest_seq: initial.seq,
+            age_ticks: 0,
+            max_age_ticks: ticks_of(initial.max_age_s, config.rate_hz),
+            stale_gain: Ramp::new(1.0, config.stale_fade_s, config.rate_hz),
+            pending_flags: Flags::NONE,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &RendererConfig {
+        &self.config
+    }
+
+    /// The contact parameters models are completed with.
+    pub fn base_params(&self) -> &ContactParams {
+        &self.base
+    }
+
+    /// Replace the parameters models are completed with; the model in force takes their material
+    /// (stiffness, damping, friction, spin stiffness) too and restarts (its contact state too), so
+    /// callers do this only while no force is rendered.
+    pub fn set_base_params(&mut self, base: ContactParams) -> Result<(), ModelError> {
+        let spec = LocalModelSpec {
+            stiffness_n_per_m: base.normal_stiffness,
+            damping_n_s_per_m: base.normal_damping,
+            mu_s: base.mu_s,
+            mu_k: base.mu_k,
+            spin_stiffness_nm_per_rad: base.spin_stiffness,
+            ..self.active.spec
+        };
+        spec.validate(&base)?;
+        let slot = Slot::new(spec, &base, &self.config)?;
+        self.base = base;
+        self.active = slot;
+        self.incoming = None;
+        Ok(())
+    }
+
+    /// Break the contact: the model in force starts again untouched (a queued model stays queued,
+    /// a cross-fade in progress is completed at once, the age and staleness carry on).
+    pub fn restart(&mut self) {
+        let spec = *self.model();
+        if let Ok(slot) = Slot::new(spec, &self.base, &self.config) {
+            self.active = slot;
+            self.incoming = None;
+        }
+    }
+
+    /// The highest sequence number accepted so far.
+    pub fn latest_seq(&self) -> u32 {
+        self.latest_seq
+    }
+
+    /// The model in force (the one rendered with weight ≥ ½).
+    pub fn model(&self) -> &LocalModelSpec {
+        match &self.incoming {
+            Some(inc) if self.weight.value() >= 0.5 => &inc.spec,
+            _ => &self.active.spec,
+        }
+    }
+
+    /// Queue a model for the next tick boundary (see the module doc).
+    pub fn accept(&mut self, spec: LocalModelSpec) -> Result<(), ModelError> {
+        let checked = if is_newer(spec.seq, self.latest_seq) {
+            spec.validate(&self.base)
+        } else {
+            Err(ModelError::StaleSequence)
+        };
+        if let Err(e) = checked {
+            self.pending_flags |= Flags::MODEL_REJECTED;
+            return Err(e);
+        }
+        self.pending = Some(spec);
+        self.latest_seq = spec.seq;
+        self.age_ticks = 0;
+        self.max_age_ticks = ticks_of(spec.max_age_s, self.config.rate_hz);
+        Ok(())
+    }
+
+    /// Start rendering the queued model, if it can start now.
+    fn apply_pending(&mut self) {
+        let Some(spec) = self.pending else { return };
+        match &mut self.incoming {
+            Some(inc) if spec.same_surface_as(&inc.spec) => inc.retarget(spec),
+            Some(_) => return, // a cross-fade is running: wait for its end
+            None if spec.same_surface_as(&self.active.spec) => self.active.retarget(spec),
+            None => match Slot::new(spec, &self.base, &self.config) {
+                Ok(slot) => {
+                    self.incoming = Some(slot);
+                    self.weight.set(0.0);
+                }
+                // Validated on acceptance; kept for safety: the model in force stays.
+                Err(_) => self.pending_flags |= Flags::MODEL_REJECTED,
+            },
+        }
+        self.pending = None;
+    }
+
+    /// One control tick with the probe sample in the base frame.
+    pub fn step(&mut self, sample: &ProbeSample) -> RenderOutput {
+        let mut flags = self.pending_flags;
+        self.pending_flags = Flags::NONE;
+        self.apply_pending();
+
+        let a = self.active.step(sample);
+        flags |= a.out.flags;
+        let mut out = RenderOutput {
+            force_n: a.force_n,
+            tau_n_nm: a.out.tau_n_nm,
+            state: a.out.state,
+            contact_point_m: a.point_m,
+            model_seq: self.active.spec.seq,
+            flags,
+        };
+        if let Some(mut inc) = self.incoming.take() {
+            let b = inc.step(sample);
+            let w = self.weight.advance(1.0);
+            out.force_n = a.force_n * (1.0 - w) + b.force_n * w;
+            out.tau_n_nm = a.out.tau_n_nm * (1.0 - w) + b.out.tau_n_nm * w;
+            out.flags |= b.out.flags;
+            if w >= 0.5 {
+                out.state = b.out.state;
+                out.contact_point_m = b.point_m;
+                out.model_seq = inc.spec.seq;
+            }
+            if w >= 1.0 {
+                self.active = inc;
+            } else {
+                self.incoming = Some(inc);
+            }
+        }
+        self.fade_if_stale(&mut out);
+        out
+    }
+
+    /// Age the model; fade force and torque while it is stale.
+    fn fade_if_stale(&mut self, out: &mut RenderOutput) {
+        self.age_ticks = self.age_ticks.saturating_add(1);
+        let stale = self.max_age_ticks != 0 && self.age_ticks > self.max_age_ticks;
+        let g = self.stale_gain.advance(if stale { 0.0 } else { 1.0 });
+        if stale {
+            out.flags |= Flags::MODEL_STALE;
+        }
+        out.force_n = out.force_n * g;
+        out.tau_n_nm *= g;
+    }
+}
+
+#[cfg(test)]
+mod tests;

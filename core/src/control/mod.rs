@@ -1,0 +1,15 @@
+//! The haptic control tick, from encoder counts to PWM duties.
+//!
+//! | module | what it holds |
+//! | --- | --- |
+//! | [`controller`] | the controller tick: velocities, contact force, joint torques, duties |
+//! | [`output_guard`] | the last check on every output: limits, faults, zero torque |
+//! | [`pipeline`] | the one control pipeline the firmware and the simulator run |
+//! | [`local_model`] | local models an application streams to the device |
+//! | [`telemetry`] | the per-tick records the firmware logs and the host reads |
+
+pub mod controller;
+pub mod local_model;
+pub mod output_guard;
+pub mod pipeline;
+pub mod telemetry;
