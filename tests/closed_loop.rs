@@ -160,7 +160,7 @@ fn slide_twist_scene_reaches_the_limit_surface_and_stays_within_it() {
     assert!(s.max_force_n <= 12.0 + 1e-3, "max force {}", s.max_force_n);
     let params = host_sim::closed_loop::contact_params(&res.scene).unwrap();
     let l = load_summary(&load_path(&res.rows, &params));
-    let h = params.state_params().hysteresis as f64;
+    let h = params.state_params().tol.hysteresis as f64;
     let kinetic = (params.mu_k / params.mu_s) as f64;
     // It slips (measured 2803 ticks, 0.28 s)...
     assert!(l.sliding_ticks > 1000, "{l:?}");

@@ -52,7 +52,7 @@ pub fn load_path(rows: &[Row], p: &ContactParams) -> Vec<LoadPoint> {
             let n = r.normal.map(f64::from);
             let f_n = f[0] * n[0] + f[1] * n[1] + f[2] * n[2];
             // Also drops a NaN f_N (every comparison with NaN is false).
-            if f_n.is_nan() || f_n <= p.force_eps_n as f64 {
+            if f_n.is_nan() || f_n <= p.tolerances.force_eps_n as f64 {
                 return None;
             }
             let f_t = [0, 1, 2].map(|k| f[k] - f_n * n[k]);
@@ -186,7 +186,7 @@ where
     CT: CoordTranslate<From = (f64, f64)>,
 {
     let hertz: Vec<(f64, f64)> = curve(40, 100, 200).iter().map(|c| (c.x, c.y)).collect();
-    let h = 1.0 + p.state_params().hysteresis as f64;
+    let h = 1.0 + p.state_params().tol.hysteresis as f64;
     let kinetic = (p.mu_k / p.mu_s) as f64;
     draw_line(
         ch,

@@ -310,26 +310,6 @@ fn contact_step<M: Math, S: Surface>(b: &mut Bencher, name: &str, method: Method
     }
 }
 
-/// Encoder counts `[motor0, motor1, motor2, wrist0, wrist1, wrist2]` that put the probe (fingertip
-/// centre) at `p` (device base frame, m), from the delta's inverse kinematics; `None` if unreachable.
-fn counts_at(dev: &DeviceParams, p: Vec3, wrist: [i32; 3]) -> Option<[i32; 6]> {
-    let (angles, flags) = dev.delta.inverse::<Libm>(p);
-    if !flags.is_empty() {
-        return None;
-    }
-    let c = |a: f32| {
-        libm::roundf((a - dev.arm_angle_at_zero_count_rad) / dev.arm_rad_per_motor_count()) as i32
-    };
-    Some([
-        c(angles[0]),
-        c(angles[1]),
-        c(angles[2]),
-        wrist[0],
-        wrist[1],
-        wrist[2],
-    ])
-}
-
 /// The full controller tick (`Controller::tick`): six encoder counts in, three duties out, through
 /// forward kinematics, the wrist orientation, the contact step and Jᵀ·F torques, at 10 kHz on the
 /// default plane scene. The probe presses 1 mm into the plane (f_N ≈ 2 N) and the wrist's middle
@@ -349,8 +329,8 @@ fn control_tick<M: Math>(b: &mut Bencher) {
     let touching =
         config.object_origin_m + Vec3::new(0.0, 0.0, config.contact.fingertip_radius_m - 0.001);
     let (Some(a), Some(b1)) = (
-        counts_at(&config.device, touching, [0, 0, 0]),
-        counts_at(&config.device, touching, [0, 1, 0]),
+        config.device.counts_at::<Libm>(touching, [0, 0, 0]),
+        config.device.counts_at::<Libm>(touching, [0, 1, 0]),
     ) else {
         hprintln!("ERROR control_tick: the pressing position is out of reach");
         b.fail();

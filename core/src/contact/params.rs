@@ -2,7 +2,7 @@
 //! names the field; nothing is clamped silently.
 
 use crate::contact::decompose::Method;
-use crate::contact::state::StateParams;
+use crate::contact::state::{StateParams, Tolerances};
 
 /// Why a parameter set was rejected. Each variant names the offending field.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -105,25 +105,8 @@ pub struct ContactParams {
     pub k_tau: f32,
     /// Largest force the model may ask for, N (the device's limit; also enforced after it).
     pub max_force_n: f32,
-    /// Tolerances of the state machine (see [`StateParams`]); `mu_s`, `mu_k`, `k_tau` and the
-    /// radius there are overwritten from the fields above.
-    pub force_eps_n: f32,
-    /// See [`StateParams::accel_eps`].
-    pub accel_eps: f32,
-    /// See [`StateParams::normal_accel_tol`].
-    pub normal_accel_tol: f32,
-    /// See [`StateParams::gap_eps_m`].
-    pub gap_eps_m: f32,
-    /// See [`StateParams::stick_speed`].
-    pub stick_speed: f32,
-    /// See [`StateParams::hysteresis`], fraction in [0, 1).
-    pub hysteresis: f32,
-    /// See [`StateParams::make_force_n`] (≥ `force_eps_n`).
-    pub make_force_n: f32,
-    /// See [`StateParams::min_slide_s`].
-    pub min_slide_s: f32,
-    /// See [`StateParams::min_broken_s`].
-    pub min_broken_s: f32,
+    /// The state machine's tolerances.
+    pub tolerances: Tolerances,
 }
 
 impl ContactParams {
@@ -147,17 +130,7 @@ impl ContactParams {
         patch_exponent: 1.0 / 3.0,
         k_tau: 4.0,
         max_force_n: 12.0,
-        force_eps_n: 0.01,
-        accel_eps: 0.05,
-        normal_accel_tol: 50.0,
-        gap_eps_m: 1e-4,
-        stick_speed: 0.002,
-        hysteresis: 0.05,
-        // 0.05 N is 25 µm of penetration at 2 N/mm: about two counts of the default encoders'
-        // quantisation at the effector (~13 µm), the noise a grazing probe sees.
-        make_force_n: 0.05,
-        min_slide_s: 0.02,
-        min_broken_s: 0.002,
+        tolerances: Tolerances::DEFAULT,
     };
 
     /// Largest accepted value of each field (see [`Self::validate`]): far beyond any device or
@@ -178,15 +151,7 @@ impl ContactParams {
         patch_exponent: 1.0,
         k_tau: 1.0e6,
         max_force_n: 1.0e4,
-        force_eps_n: 1.0e4,
-        accel_eps: 1.0e6,
-        normal_accel_tol: 1.0e6,
-        gap_eps_m: 1.0,
-        stick_speed: 100.0,
-        hysteresis: 1.0,
-        make_force_n: 1.0e4,
-        min_slide_s: 1.0e3,
-        min_broken_s: 1.0e3,
+        tolerances: Tolerances::MAX,
     };
 
     /// Smallest accepted fingertip radius, m (0.1 mm): 1/ρ stays finite and meaningful.
@@ -254,34 +219,7 @@ impl ContactParams {
             return Err(ParamError::OutOfRange("max_force_n"));
         }
         at_most("max_force_n", self.max_force_n, m.max_force_n)?;
-        non_negative("force_eps_n", self.force_eps_n)?;
-        at_most("force_eps_n", self.force_eps_n, m.force_eps_n)?;
-        non_negative("accel_eps", self.accel_eps)?;
-        at_most("accel_eps", self.accel_eps, m.accel_eps)?;
-        non_negative("normal_accel_tol", self.normal_accel_tol)?;
-        at_most(
-            "normal_accel_tol",
-            self.normal_accel_tol,
-            m.normal_accel_tol,
-        )?;
-        non_negative("gap_eps_m", self.gap_eps_m)?;
-        at_most("gap_eps_m", self.gap_eps_m, m.gap_eps_m)?;
-        non_negative("stick_speed", self.stick_speed)?;
-        at_most("stick_speed", self.stick_speed, m.stick_speed)?;
-        non_negative("hysteresis", self.hysteresis)?;
-        if self.hysteresis >= 1.0 {
-            return Err(ParamError::OutOfRange("hysteresis"));
-        }
-        non_negative("make_force_n", self.make_force_n)?;
-        at_most("make_force_n", self.make_force_n, m.make_force_n)?;
-        if self.make_force_n < self.force_eps_n {
-            return Err(ParamError::OutOfRange("make_force_n"));
-        }
-        non_negative("min_slide_s", self.min_slide_s)?;
-        at_most("min_slide_s", self.min_slide_s, m.min_slide_s)?;
-        non_negative("min_broken_s", self.min_broken_s)?;
-        at_most("min_broken_s", self.min_broken_s, m.min_broken_s)?;
-        Ok(())
+        self.tolerances.validate()
     }
 
     /// The state machine's view of these parameters.
@@ -291,16 +229,8 @@ impl ContactParams {
             mu_k: self.mu_k,
             k_tau: self.k_tau,
             radius_m: self.fingertip_radius_m,
-            force_eps_n: self.force_eps_n,
-            accel_eps: self.accel_eps,
-            normal_accel_tol: self.normal_accel_tol,
-            gap_eps_m: self.gap_eps_m,
-            stick_speed: self.stick_speed,
-            hysteresis: self.hysteresis,
             roll_eps_m: 1e-9,
-            make_force_n: self.make_force_n,
-            min_slide_s: self.min_slide_s,
-            min_broken_s: self.min_broken_s,
+            tol: self.tolerances,
         }
     }
 }
@@ -366,7 +296,10 @@ mod tests {
             ),
             (
                 ContactParams {
-                    hysteresis: 1.0,
+                    tolerances: Tolerances {
+                        hysteresis: 1.0,
+                        ..d.tolerances
+                    },
                     ..d
                 },
                 ParamError::OutOfRange("hysteresis"),

@@ -2,7 +2,7 @@
 //! Hosoe, 2005), written as robust f32 predicates.
 //!
 //! The paper's five conditions use exact equalities (f_N = 0, a_N = 0, μ²f_N² − f_T² = 0, v_T = 0).
-//! Here each equality is a tolerance band (`*_tol`/`*_eps` in [`StateParams`]) and the friction cone
+//! Here each equality is a tolerance band (`*_tol`/`*_eps` in [`Tolerances`]) and the friction cone
 //! has a hysteresis margin, so a force sitting on the cone boundary does not chatter:
 //!
 //! | from | to | condition (all must hold) |
@@ -27,6 +27,7 @@
 //! tilt rate Δθ = δξ/T (rad/s) and k_τ in N·m·s/rad: the threshold then means the same at 1 kHz and
 //! at 20 kHz.
 
+use crate::contact::params::{at_most, non_negative, ParamError};
 use crate::math::vec3::Vec3;
 
 /// The contact state.
@@ -101,7 +102,98 @@ pub struct StateInputs {
     pub torsion_limit_nm: f32,
 }
 
-/// Thresholds and friction (validated by [`crate::contact::params`]).
+/// The state machine's tolerances: what counts as zero, apart, still, and how long a state is kept.
+/// One struct, held by [`crate::contact::ContactParams`] (validated there) and read by
+/// [`next_state`] through [`StateParams`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Tolerances {
+    /// ε_f: a normal force at or below this is "zero", N.
+    pub force_eps_n: f32,
+    /// ε_a: an acceleration above this is "non-zero", m/s².
+    pub accel_eps: f32,
+    /// tol_a: |a_N| at or below this counts as "a_N = 0", m/s².
+    pub normal_accel_tol: f32,
+    /// ε_gap: a gap above this means the surfaces are apart, m.
+    pub gap_eps_m: f32,
+    /// v_stick: a tangential speed at or below this is "v_T = 0", m/s.
+    pub stick_speed: f32,
+    /// h: hysteresis margin on the static cone, fraction in [0, 1).
+    pub hysteresis: f32,
+    /// f_make: the normal force that makes contact from broken, N (≥ ε_f).
+    pub make_force_n: f32,
+    /// t_slide: least time in sliding before sticking again, s.
+    pub min_slide_s: f32,
+    /// t_broken: least time in broken before contact can be made again, s.
+    pub min_broken_s: f32,
+}
+
+impl Tolerances {
+    /// The defaults of [`crate::contact::ContactParams::DEFAULT`].
+    pub const DEFAULT: Tolerances = Tolerances {
+        force_eps_n: 0.01,
+        accel_eps: 0.05,
+        normal_accel_tol: 50.0,
+        gap_eps_m: 1e-4,
+        stick_speed: 0.002,
+        hysteresis: 0.05,
+        // 0.05 N is 25 µm of penetration at 2 N/mm: about two counts of the default encoders'
+        // quantisation at the effector (~13 µm), the noise a grazing probe sees.
+        make_force_n: 0.05,
+        min_slide_s: 0.02,
+        min_broken_s: 0.002,
+    };
+
+    /// Check every field: finite, non-negative, at most its value in [`Self::MAX`], the hysteresis
+    /// below 1 and f_make ≥ ε_f. The first bad field is reported by name.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let m = &Self::MAX;
+        non_negative("force_eps_n", self.force_eps_n)?;
+        at_most("force_eps_n", self.force_eps_n, m.force_eps_n)?;
+        non_negative("accel_eps", self.accel_eps)?;
+        at_most("accel_eps", self.accel_eps, m.accel_eps)?;
+        non_negative("normal_accel_tol", self.normal_accel_tol)?;
+        at_most(
+            "normal_accel_tol",
+            self.normal_accel_tol,
+            m.normal_accel_tol,
+        )?;
+        non_negative("gap_eps_m", self.gap_eps_m)?;
+        at_most("gap_eps_m", self.gap_eps_m, m.gap_eps_m)?;
+        non_negative("stick_speed", self.stick_speed)?;
+        at_most("stick_speed", self.stick_speed, m.stick_speed)?;
+        non_negative("hysteresis", self.hysteresis)?;
+        if self.hysteresis >= 1.0 {
+            return Err(ParamError::OutOfRange("hysteresis"));
+        }
+        non_negative("make_force_n", self.make_force_n)?;
+        at_most("make_force_n", self.make_force_n, m.make_force_n)?;
+        if self.make_force_n < self.force_eps_n {
+            return Err(ParamError::OutOfRange("make_force_n"));
+        }
+        non_negative("min_slide_s", self.min_slide_s)?;
+        at_most("min_slide_s", self.min_slide_s, m.min_slide_s)?;
+        non_negative("min_broken_s", self.min_broken_s)?;
+        at_most("min_broken_s", self.min_broken_s, m.min_broken_s)?;
+        Ok(())
+    }
+
+    /// The largest accepted values (see [`crate::contact::ContactParams::MAX`]).
+    pub const MAX: Tolerances = Tolerances {
+        force_eps_n: 1.0e4,
+        accel_eps: 1.0e6,
+        normal_accel_tol: 1.0e6,
+        gap_eps_m: 1.0,
+        stick_speed: 100.0,
+        hysteresis: 1.0,
+        make_force_n: 1.0e4,
+        min_slide_s: 1.0e3,
+        min_broken_s: 1.0e3,
+    };
+}
+
+/// Friction, geometry and tolerances of one state-machine step (built by
+/// [`crate::contact::ContactParams::state_params`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct StateParams {
@@ -113,26 +205,10 @@ pub struct StateParams {
     pub k_tau: f32,
     /// r: fingertip radius, m.
     pub radius_m: f32,
-    /// ε_f: a normal force at or below this is "zero", N.
-    pub force_eps_n: f32,
-    /// ε_a: an acceleration above this is "non-zero", m/s².
-    pub accel_eps: f32,
-    /// tol_a: |a_N| at or below this counts as "a_N = 0", m/s².
-    pub normal_accel_tol: f32,
-    /// ε_gap: a gap above this means the surfaces are apart, m.
-    pub gap_eps_m: f32,
-    /// v_stick: a tangential speed at or below this is "v_T = 0", m/s.
-    pub stick_speed: f32,
-    /// h: hysteresis margin on the static cone (fraction, e.g. 0.05).
-    pub hysteresis: f32,
     /// A rolling displacement shorter than this is "no rolling" for the haptic rule, m.
     pub roll_eps_m: f32,
-    /// f_make: the normal force that makes contact from broken, N (≥ ε_f).
-    pub make_force_n: f32,
-    /// t_slide: least time in sliding before sticking again, s.
-    pub min_slide_s: f32,
-    /// t_broken: least time in broken before contact can be made again, s.
-    pub min_broken_s: f32,
+    /// What counts as zero, apart and still.
+    pub tol: Tolerances,
 }
 
 /// The state after one step, and why. Pure function: no state of its own.
@@ -142,12 +218,13 @@ pub struct StateParams {
 #[inline(always)]
 pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (ContactState, Reason) {
     let f_n = i.normal_force_n;
-    let separated = f_n <= p.force_eps_n && (i.normal_accel > p.accel_eps || i.gap_m > p.gap_eps_m);
-    let normal_steady = i.normal_accel.abs() <= p.normal_accel_tol;
+    let separated =
+        f_n <= p.tol.force_eps_n && (i.normal_accel > p.tol.accel_eps || i.gap_m > p.tol.gap_eps_m);
+    let normal_steady = i.normal_accel.abs() <= p.tol.normal_accel_tol;
     let ft2 = i.tangential_force_n.norm_squared();
     match state {
         ContactState::Broken => {
-            if f_n > p.make_force_n && i.time_in_state_s >= p.min_broken_s {
+            if f_n > p.tol.make_force_n && i.time_in_state_s >= p.tol.min_broken_s {
                 (ContactState::Rolling, Reason::MadeContact)
             } else {
                 (ContactState::Broken, Reason::Kept)
@@ -157,7 +234,7 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             if separated {
                 return (ContactState::Broken, Reason::Separated);
             }
-            if f_n <= p.force_eps_n {
+            if f_n <= p.tol.force_eps_n {
                 return (ContactState::Rolling, Reason::Kept);
             }
             // Predicates are evaluated lazily, cheapest and most often false first: on the
@@ -168,7 +245,7 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             let cone = p.mu_s * f_n;
             let has_torsion = i.torsion_limit_nm > 0.0;
             let outside = if i.spin_torque_nm == 0.0 || !has_torsion {
-                let c = cone * (1.0 + p.hysteresis);
+                let c = cone * (1.0 + p.tol.hysteresis);
                 ft2 > c * c
             } else {
                 crate::contact::limit_surface::outside(
@@ -176,12 +253,12 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
                     i.spin_torque_nm,
                     cone,
                     i.torsion_limit_nm,
-                    1.0 + p.hysteresis,
+                    1.0 + p.tol.hysteresis,
                 )
             };
             if normal_steady && outside {
-                let moving = i.tangential_accel.norm_squared() > p.accel_eps * p.accel_eps
-                    || i.tangential_velocity.norm_squared() > p.stick_speed * p.stick_speed;
+                let moving = i.tangential_accel.norm_squared() > p.tol.accel_eps * p.tol.accel_eps
+                    || i.tangential_velocity.norm_squared() > p.tol.stick_speed * p.tol.stick_speed;
                 let agrees = i.roll_disp_m.norm_squared() <= p.roll_eps_m * p.roll_eps_m
                     || i.tangential_force_n.dot(i.roll_disp_m) >= 0.0;
                 if moving && agrees {
@@ -202,9 +279,14 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
                 return (ContactState::Broken, Reason::Separated);
             }
             let kinetic = p.mu_k * f_n;
-            let stopped = i.tangential_velocity.norm_squared() <= p.stick_speed * p.stick_speed;
-            let dwelt = i.time_in_state_s >= p.min_slide_s;
-            if f_n > p.force_eps_n && normal_steady && ft2 <= kinetic * kinetic && stopped && dwelt
+            let stopped =
+                i.tangential_velocity.norm_squared() <= p.tol.stick_speed * p.tol.stick_speed;
+            let dwelt = i.time_in_state_s >= p.tol.min_slide_s;
+            if f_n > p.tol.force_eps_n
+                && normal_steady
+                && ft2 <= kinetic * kinetic
+                && stopped
+                && dwelt
             {
                 return (ContactState::Rolling, Reason::Stuck);
             }

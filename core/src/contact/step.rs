@@ -282,7 +282,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             }
             ContactState::Sliding => self.slide(probe, q_now, dphi, s.f_n, s.patch),
         };
-        if saturated && sensed.f_n > p.force_eps_n {
+        if saturated && sensed.f_n > p.tolerances.force_eps_n {
             flags |= Flags::SPIN_SATURATED;
         }
 

@@ -28,6 +28,7 @@
 use crate::device::delta::DeltaGeometry;
 use crate::flags::{all_finite, Flags};
 use crate::math::quat::Quat;
+use crate::math::vec3::Vec3;
 use crate::math::{Fast, Math};
 use core::f32::consts::TAU;
 
@@ -235,6 +236,38 @@ impl DeviceParams {
     #[inline]
     pub fn motor_counts_to_arm_angle_rad(&self, counts: i32) -> f32 {
         self.arm_angle_at_zero_count_rad + counts as f32 * self.arm_rad_per_motor_count()
+    }
+
+    /// The extended motor count nearest to arm angle θ (rad): the inverse of
+    /// [`Self::motor_counts_to_arm_angle_rad`], rounded to nearest. Saturates at the `i32` range;
+    /// a NaN angle gives 0.
+    #[inline]
+    #[must_use]
+    pub fn arm_angle_to_motor_counts(&self, angle_rad: f32) -> i32 {
+        libm::roundf(
+            (angle_rad - self.arm_angle_at_zero_count_rad) / self.arm_rad_per_motor_count(),
+        ) as i32
+    }
+
+    /// Encoder counts `[motor0, motor1, motor2, wrist0, wrist1, wrist2]` that put the probe
+    /// (fingertip centre) at `p` (base frame `B`, m), with the wrist at `wrist` counts: the delta's
+    /// inverse kinematics, each arm angle rounded to its nearest count. `None` where `p` is out of
+    /// reach. For the tests, benches and simulators that drive the controller from a probe position.
+    #[must_use]
+    pub fn counts_at<M: Math>(&self, p: Vec3, wrist: [i32; 3]) -> Option<[i32; 6]> {
+        let (angles, flags) = self.delta.inverse::<M>(p);
+        if !flags.is_empty() {
+            return None;
+        }
+        let c = |a: f32| self.arm_angle_to_motor_counts(a);
+        Some([
+            c(angles[0]),
+            c(angles[1]),
+            c(angles[2]),
+            wrist[0],
+            wrist[1],
+            wrist[2],
+        ])
     }
 
     /// Wrist joint angle (rad) from an extended wrist encoder count.

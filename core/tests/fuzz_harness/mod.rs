@@ -25,7 +25,7 @@
 
 use softfinger_core::contact::decompose::Method;
 use softfinger_core::contact::params::ContactParams;
-use softfinger_core::contact::state::ContactState;
+use softfinger_core::contact::state::{ContactState, Tolerances};
 use softfinger_core::contact::surface::{Plane, Sphere, Surface};
 use softfinger_core::contact::{
     ContactInput, ContactModel, MAX_DT_S, MAX_PROBE_M, MAX_PROBE_SPEED_M_S, MIN_DT_S,
@@ -195,15 +195,17 @@ pub fn contact_params(b: &mut Bytes) -> ContactParams {
         patch_exponent: b.param(d.patch_exponent),
         k_tau: b.param(d.k_tau),
         max_force_n: b.param(d.max_force_n),
-        force_eps_n: b.param(d.force_eps_n),
-        accel_eps: b.param(d.accel_eps),
-        normal_accel_tol: b.param(d.normal_accel_tol),
-        gap_eps_m: b.param(d.gap_eps_m),
-        stick_speed: b.param(d.stick_speed),
-        hysteresis: b.param(d.hysteresis),
-        make_force_n: b.param(d.make_force_n),
-        min_slide_s: b.param(d.min_slide_s),
-        min_broken_s: b.param(d.min_broken_s),
+        tolerances: Tolerances {
+            force_eps_n: b.param(d.tolerances.force_eps_n),
+            accel_eps: b.param(d.tolerances.accel_eps),
+            normal_accel_tol: b.param(d.tolerances.normal_accel_tol),
+            gap_eps_m: b.param(d.tolerances.gap_eps_m),
+            stick_speed: b.param(d.tolerances.stick_speed),
+            hysteresis: b.param(d.tolerances.hysteresis),
+            make_force_n: b.param(d.tolerances.make_force_n),
+            min_slide_s: b.param(d.tolerances.min_slide_s),
+            min_broken_s: b.param(d.tolerances.min_broken_s),
+        },
     }
 }
 
@@ -270,23 +272,23 @@ pub fn contact_params_valid(p: &ContactParams) -> bool {
         && within(p.patch_radius_m, m.patch_radius_m)
         && positive_within(p.patch_ref_force_n, m.patch_ref_force_n)
         && within(p.patch_exponent, m.patch_exponent)
-        && within(p.force_eps_n, m.force_eps_n)
-        && within(p.accel_eps, m.accel_eps)
-        && within(p.normal_accel_tol, m.normal_accel_tol)
-        && within(p.gap_eps_m, m.gap_eps_m)
-        && within(p.stick_speed, m.stick_speed)
+        && within(p.tolerances.force_eps_n, m.tolerances.force_eps_n)
+        && within(p.tolerances.accel_eps, m.tolerances.accel_eps)
+        && within(p.tolerances.normal_accel_tol, m.tolerances.normal_accel_tol)
+        && within(p.tolerances.gap_eps_m, m.tolerances.gap_eps_m)
+        && within(p.tolerances.stick_speed, m.tolerances.stick_speed)
         && positive_within(p.mu_s, m.mu_s)
         && pos(p.mu_k)
         && p.mu_k <= p.mu_s
         && positive_within(p.k_tau, m.k_tau)
-        && within(p.make_force_n, m.make_force_n)
-        && p.make_force_n >= p.force_eps_n
-        && within(p.min_slide_s, m.min_slide_s)
-        && within(p.min_broken_s, m.min_broken_s)
+        && within(p.tolerances.make_force_n, m.tolerances.make_force_n)
+        && p.tolerances.make_force_n >= p.tolerances.force_eps_n
+        && within(p.tolerances.min_slide_s, m.tolerances.min_slide_s)
+        && within(p.tolerances.min_broken_s, m.tolerances.min_broken_s)
         && positive_within(p.max_force_n, m.max_force_n)
         && p.max_force_n >= ContactParams::MIN_MAX_FORCE_N
-        && nonneg(p.hysteresis)
-        && p.hysteresis < 1.0
+        && nonneg(p.tolerances.hysteresis)
+        && p.tolerances.hysteresis < 1.0
 }
 
 /// The documented ranges of [`Limits`].
@@ -519,17 +521,6 @@ pub fn control_tick(data: &[u8]) -> Result<Summary, String> {
     }
 }
 
-/// Motor counts that put the probe at `p` (base frame); None if unreachable.
-fn counts_at(dev: &DeviceParams, p: Vec3) -> Option<[i32; 3]> {
-    let (angles, f) = dev.delta.inverse::<Libm>(p);
-    if !f.is_empty() {
-        return None;
-    }
-    let step = dev.arm_rad_per_motor_count();
-    let c = |a: f32| libm::roundf((a - dev.arm_angle_at_zero_count_rad) / step) as i32;
-    Some([c(angles[0]), c(angles[1]), c(angles[2])])
-}
-
 fn run_tick<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary, String> {
     let contact = contact_params(b);
     let r_touch = if pos(contact.fingertip_radius_m) {
@@ -570,7 +561,7 @@ fn run_tick<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary, S
     let per_tick = lim.per_tick(config.rate_hz);
     let depth = b.i8() as f32 * 1.0e-4; // ±12.7 mm around touching
     let start = centre - Vec3::new(0.0, 0.0, depth);
-    let m = counts_at(&dev, start).unwrap_or([0; 3]);
+    let m = dev.counts_at::<Libm>(start, [0; 3]).unwrap_or([0; 6]);
     let mut counts = [m[0], m[1], m[2], 0, 0, 0];
 
     // Independent model of what must be latched.

@@ -362,7 +362,7 @@ fn break_script(t: &TouchScript) -> HandScript {
 
 fn break_judge(t: &Trace, _: &ClosedLoop, c: &Ctx) -> Judged {
     let mut f = no_latch(t);
-    let gap_eps = f64::from(c.base.contact.gap_eps_m);
+    let gap_eps = f64::from(c.base.contact.tolerances.gap_eps_m);
     let (r_tip, surface) = (c.touch.fingertip_radius_m, c.touch.surface_z_m);
     let apart = t.records.iter().find(|r| {
         r.k > K_INJECT && (f64::from(r.out.control.probe_m.z) - surface - r_tip) > 2.0 * gap_eps

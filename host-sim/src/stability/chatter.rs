@@ -50,10 +50,8 @@ pub struct ChatterRun {
 
 /// Run one configuration for `steps` steps (seeded: the same seed gives the same count).
 pub fn run(single_mu: bool, hysteresis: f32, noise: f64, steps: u64, seed: u64) -> ChatterRun {
-    let mut params = ContactParams {
-        hysteresis,
-        ..ContactParams::DEFAULT
-    };
+    let mut params = ContactParams::DEFAULT;
+    params.tolerances.hysteresis = hysteresis;
     if single_mu {
         params.mu_k = params.mu_s;
     }

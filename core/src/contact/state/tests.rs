@@ -10,16 +10,11 @@ const P: StateParams = StateParams {
     mu_k: 0.6,
     k_tau: 4.0,
     radius_m: 0.01,
-    force_eps_n: 0.01,
-    accel_eps: 0.05,
-    normal_accel_tol: 20.0,
-    gap_eps_m: 1e-4,
-    stick_speed: 0.002,
-    hysteresis: 0.05,
     roll_eps_m: 1e-9,
-    make_force_n: 0.05,
-    min_slide_s: 0.02,
-    min_broken_s: 0.002,
+    tol: Tolerances {
+        normal_accel_tol: 20.0,
+        ..Tolerances::DEFAULT
+    },
 };
 
 /// Pressing with 2 N, at rest, nothing else.
@@ -358,7 +353,7 @@ fn twisting_while_pushing_sideways_slips_sooner() {
     assert_eq!(state(with(0.8 * cone, 0.0)), Rolling);
     assert_eq!(state(with(0.0, 0.8 * tau_max)), Rolling);
     assert_eq!(state(with(0.8 * cone, 0.8 * tau_max)), Sliding);
-    let d = core::f32::consts::FRAC_1_SQRT_2 * (1.0 + p.hysteresis);
+    let d = core::f32::consts::FRAC_1_SQRT_2 * (1.0 + p.tol.hysteresis);
     assert_eq!(state(with(0.999 * d * cone, 0.999 * d * tau_max)), Rolling);
     assert_eq!(state(with(1.001 * d * cone, 1.001 * d * tau_max)), Sliding);
     // No torsional budget (τ_max = 0): the friction cone alone, as before.

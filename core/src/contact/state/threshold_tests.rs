@@ -9,24 +9,6 @@
 use super::*;
 use crate::contact::spin::{torsion_limit, SpinSpring};
 
-/// The table's parameters (`tests.rs`), restated so a change there cannot loosen these cases.
-const P: StateParams = StateParams {
-    mu_s: 0.8,
-    mu_k: 0.6,
-    k_tau: 4.0,
-    radius_m: 0.01,
-    force_eps_n: 0.01,
-    accel_eps: 0.05,
-    normal_accel_tol: 20.0,
-    gap_eps_m: 1e-4,
-    stick_speed: 0.002,
-    hysteresis: 0.05,
-    roll_eps_m: 1e-9,
-    make_force_n: 0.05,
-    min_slide_s: 0.02,
-    min_broken_s: 0.002,
-};
-
 /// Just below and just above a threshold value.
 const BELOW: f32 = 1.0 - 1e-4;
 const ABOVE: f32 = 1.0 + 1e-4;
@@ -474,7 +456,10 @@ const EXACT: StateParams = StateParams {
     mu_k: 0.25,
     k_tau: 2.0,
     radius_m: 0.5,
-    hysteresis: 0.25,
+    tol: Tolerances {
+        hysteresis: 0.25,
+        ..P.tol
+    },
     ..P
 };
 

@@ -208,12 +208,11 @@ fn spin_saturation_is_flagged_only_above_the_force_threshold() {
         m.contact_step(&sample(twist(1.0), pressed(0.0, 4e-6), Vec3::ZERO))
     };
     let f_n = shallow(P).force_n.z;
-    assert!(f_n > 0.0 && f_n < P.force_eps_n, "{f_n}");
+    assert!(f_n > 0.0 && f_n < P.tolerances.force_eps_n, "{f_n}");
     for (eps, flagged) in [(f_n, false), (f_n.next_down(), true)] {
-        let o = shallow(ContactParams {
-            force_eps_n: eps,
-            ..P
-        });
+        let mut p = P;
+        p.tolerances.force_eps_n = eps;
+        let o = shallow(p);
         assert_eq!(o.state, ContactState::Rolling, "{:?}", o.reason);
         assert_eq!(o.force_n.z, f_n);
         assert_eq!(

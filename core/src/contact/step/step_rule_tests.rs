@@ -143,7 +143,7 @@ fn tangential_damping_opposes_the_probe_velocity_over_the_anchor() {
 /// acceleration a_N > ε_a: (v − v_prev)/T along +n.
 #[test]
 fn separation_within_the_gap_tolerance_is_told_by_the_acceleration_sign() {
-    let gap = 0.5 * P.gap_eps_m;
+    let gap = 0.5 * P.tolerances.gap_eps_m;
     for (v_n, separated) in [(0.01f32, true), (-0.01, false)] {
         let mut m = touching(Vec3::ZERO);
         let o = m.contact_step(&sample(
@@ -166,7 +166,7 @@ fn separation_within_the_gap_tolerance_is_told_by_the_acceleration_sign() {
 /// rolls at the probe's speed, v = ρ·ω) does not slip; a probe moving alone does.
 #[test]
 fn slip_velocity_in_rolling_is_the_probe_over_the_rolling_anchor() {
-    let stick = P.stick_speed;
+    let stick = P.tolerances.stick_speed;
     let v = 3.0 * stick;
     let omega = v / P.fingertip_radius_m; // 0.6 rad/s: tilt rate far below the twist threshold.
                                           // Offset so |f_T| = 1.5·μ_s·f_N (outside the cone with its 5 % hysteresis).

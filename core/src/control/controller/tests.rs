@@ -13,20 +13,8 @@ fn controller() -> Controller<Libm, Plane> {
 
 /// Encoder counts that put the probe at `p` (base frame), with the wrist at `wrist` counts.
 fn counts_at(p: Vec3, wrist: [i32; 3]) -> [i32; 6] {
-    let dev = DeviceParams::OMEGA_LIKE;
-    let (angles, f) = dev.delta.inverse::<Libm>(p);
-    assert!(f.is_empty(), "{p:?} reachable");
-    let c = |a: f32| {
-        libm::roundf((a - dev.arm_angle_at_zero_count_rad) / dev.arm_rad_per_motor_count()) as i32
-    };
-    [
-        c(angles[0]),
-        c(angles[1]),
-        c(angles[2]),
-        wrist[0],
-        wrist[1],
-        wrist[2],
-    ]
+    let c = DeviceParams::OMEGA_LIKE.counts_at::<Libm>(p, wrist);
+    c.unwrap_or_else(|| panic!("{p:?} out of reach"))
 }
 
 /// The probe height (base frame) at which the fingertip touches the default plane, minus `depth`.
