@@ -107,16 +107,11 @@ impl DeltaPose {
 pub type Jacobian = [[f32; 3]; 3];
 
 impl DeltaGeometry {
-    /// Our geometry for an Omega.6-like device. Force Dimension does not publish the linkage
-    /// dimensions; these values are ours, chosen so that the Omega.6's translational workspace
-    /// (datasheet: ∅160 × 110 mm) fits inside the well-conditioned part of the reachable volume:
-    /// over the cylinder ∅160 × 110 mm centred at [`Self::OMEGA_LIKE_WORKSPACE_CENTRE_M`], the arm
-    /// angles stay within about −31° … 94°, the forearm volume (see [`MIN_FOREARM_VOLUME`]) stays
-    /// above 0.6, and no arm needs more than 0.115 N·m of torque per newton of effector force in
-    /// any direction (so the 1.12 N·m arm torque of [`crate::device::DeviceParams::OMEGA_LIKE`]
-    /// renders at least 9.8 N in every direction). A cylinder 15 % larger in both dimensions is
-    /// still reachable. The test
-    /// `omega_like_workspace_covers_the_datasheet_cylinder` checks these figures on a grid.
+    /// Our geometry for an Omega.6-like device (m): the Omega.6's translational workspace
+    /// (∅160 × 110 mm) centred at [`Self::OMEGA_LIKE_WORKSPACE_CENTRE_M`] lies in the
+    /// well-conditioned part of the reachable volume, checked on a grid by
+    /// `omega_like_workspace_covers_the_datasheet_cylinder`. Derivation:
+    /// docs/design.md#delta-geometry.
     pub const OMEGA_LIKE: DeltaGeometry = DeltaGeometry {
         base_radius_m: 0.090,
         effector_radius_m: 0.025,

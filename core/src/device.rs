@@ -162,21 +162,15 @@ impl DeviceParams {
     /// An Omega.6-like device, our choice of values (Force Dimension does not publish them):
     ///
     /// - linkage: [`DeltaGeometry::OMEGA_LIKE`];
-    /// - motors: a maxon RE 25-class brushed DC motor (Ø25 mm, 20 W, graphite brushes, 24 V
-    ///   winding), figures as in maxon's catalogue for that class, rounded: k_t = 23.4 mN·m/A,
-    ///   speed constant 408 rpm/V (k_e = 60/(2π·408) = 0.0234 V·s/rad), terminal resistance
-    ///   2.18 Ω (also: inductance 0.24 mH, rotor inertia 10.8 g·cm², which the plant uses). They
-    ///   are self-consistent: R·J/k² = 4.3 ms, the catalogue's mechanical time constant. Check a
-    ///   current datasheet before using them on hardware;
-    /// - capstan reduction 12:1 (ours: a 5 mm drive pulley on a 60 mm arm sector);
-    /// - amplifier limit 4 A: a short-term peak (the RE 25's continuous current is about 1.5 A),
-    ///   giving 12 × 0.0234 × 4 = 1.12 N·m per arm;
+    /// - motors: maxon RE 25-class, k_t = 23.4 mN·m/A, k_e = 0.0234 V·s/rad, 2.18 Ω;
+    /// - capstan reduction 12:1; amplifier limit 4 A (1.12 N·m per arm);
     /// - 24 V supply; PWM 40 kHz from a 170 MHz timer clock, 4250 counts per period (from
     ///   [`crate::pipeline::BoardTiming::STM32G474_10KHZ`]);
-    /// - motor encoders 1024 lines (4096 quadrature counts per motor turn): 2π/(4096·12) =
-    ///   0.128 mrad per count at the arm, ~13 µm at the effector;
-    /// - wrist encoders 4096 counts per joint turn (0.088° per count);
+    /// - motor encoders 4096 counts per motor turn (0.128 mrad per count at the arm); wrist
+    ///   encoders 4096 counts per joint turn;
     /// - counts referenced to the arms-horizontal pose (θ = 0).
+    ///
+    /// Where the values come from: docs/design.md#motors-reduction-encoders.
     pub const OMEGA_LIKE: DeviceParams = DeviceParams {
         delta: DeltaGeometry::OMEGA_LIKE,
         motor: MotorParams {

@@ -41,19 +41,9 @@ impl DeviceDefinition {
 
 /// The Omega.6-like device (see [`DeviceParams::OMEGA_LIKE`] and [`Limits::OMEGA_LIKE`]).
 ///
-/// Homing drives the arms up (θ decreasing) to their upper stops at −40° (the mechanical stop of
-/// the linkage, as in host-sim's plant) at 1 rad/s, with at most 0.15 N·m: twice the largest
-/// holding torque the arm needs against gravity and friction (0.15 kg effector shared by three
-/// arms at ~0.1 m, 1.5e-3 kg·m arm mass moment, 0.01 N·m Coulomb friction: about 0.075 N·m),
-/// and 13 % of the amplifier's 1.12 N·m. Stall: no more than 2 counts of motion for 0.1 s, after
-/// at least 0.05 rad of travel. Then the arms park at 0 rad (arms horizontal, 0.7 rad from the
-/// stops, inside the linkage's dead centres) within 0.03 rad: the park loop commands 10 rad/s
-/// per rad of error, and the 0.06 N·m gravity share leaves about 0.012 rad of error. Timeout 5 s
-/// (the full 145° range takes 2.5 s at 1 rad/s, the park 0.7 s).
-///
-/// Driver wake 1 ms: the order of a DRV887x's wake-up time (check the fitted part's datasheet).
-/// Arming ramp 0.5 s: slow enough that the largest force (12 N) rises at 24 N/s, i.e. 2.4 mN per
-/// 10 kHz tick.
+/// Homing: up (θ decreasing) at 1 rad/s and at most 0.15 N·m to the upper stops at −40°, stall
+/// 2 counts for 0.1 s after 0.05 rad of travel, park at 0 rad within 0.03 rad, timeout 5 s.
+/// Driver wake 1 ms; arming ramp 0.5 s. Derivation: docs/design.md#homing-limits.
 pub const OMEGA_LIKE: DeviceDefinition = DeviceDefinition {
     name: "omega-like",
     params: DeviceParams::OMEGA_LIKE,

@@ -27,7 +27,7 @@ pub struct Limits {
     /// Cut-off of the first-order low-pass on the finite-difference velocities, Hz.
     pub velocity_cutoff_hz: f32,
     /// Arm angles outside [min, max] (rad) cannot be reached by the mechanism: the encoders or
-    /// their calibration are wrong, so no force is rendered ([`Flags::OUT_OF_RANGE`]).
+    /// their calibration are wrong, so no force is rendered ([`Flags::OUT_OF_RANGE`](crate::Flags::OUT_OF_RANGE)).
     pub arm_angle_range_rad: [f32; 2],
 }
 
@@ -47,17 +47,8 @@ pub struct TickLimits {
 impl Limits {
     /// The Omega-like device's limits (named by [`crate::devices::OMEGA_LIKE`]).
     ///
-    /// - duty ≤ 0.9: leaves bootstrap and current-sense margin on the bridge;
-    /// - glitch: 2 M counts/s, three times the motor's no-load speed at 24 V (24 V / k_e =
-    ///   1026 rad/s = 669 k counts/s with 4096 counts per turn): 200 counts per tick at 10 kHz,
-    ///   100 at 20 kHz;
-    /// - overrun streak: 1 ms (10 ticks at 10 kHz, 20 at 20 kHz);
-    /// - stuck: 20 % duty for 0.2 s without a single count: a hand holding the handle still
-    ///   against that drive still moves it by more than a count (physiological tremor). The duty
-    ///   threshold must lie below the largest duty at stall, R·i_max/V = 2.18·4/24 = 0.363: a
-    ///   frozen encoder reads zero velocity, so its motor gets no back-EMF feed-forward and its
-    ///   duty never exceeds that. At the 12 N force limit the duties of the touch scene reach
-    ///   about 0.24.
+    /// Duty ≤ 0.9; glitch 2 M counts/s; overrun streak 1 ms; stuck: 20 % duty for 0.2 s without a
+    /// count. Derivation: docs/design.md#limits-and-fault-thresholds.
     pub const OMEGA_LIKE: Limits = Limits {
         max_duty: 0.9,
         max_arm_torque_nm: 2.0,
