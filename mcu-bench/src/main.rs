@@ -23,6 +23,7 @@ use softfinger_core::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Rot3, Vec3};
 use softfinger_mcu_bench::bench::Bencher;
 use softfinger_mcu_bench::counter::Counter;
+use softfinger_mcu_bench::rig::counts_at;
 use softfinger_mcu_bench::{bb, bench, exit::exit, install_fault_handler};
 
 mod link_bench;
@@ -308,26 +309,6 @@ fn contact_step<M: Math, S: Surface>(b: &mut Bencher, name: &str, method: Method
         );
         b.fail();
     }
-}
-
-/// Encoder counts `[motor0, motor1, motor2, wrist0, wrist1, wrist2]` that put the probe (fingertip
-/// centre) at `p` (device base frame, m), from the delta's inverse kinematics; `None` if unreachable.
-fn counts_at(dev: &DeviceParams, p: Vec3, wrist: [i32; 3]) -> Option<[i32; 6]> {
-    let (angles, flags) = dev.delta.inverse::<Libm>(p);
-    if !flags.is_empty() {
-        return None;
-    }
-    let c = |a: f32| {
-        libm::roundf((a - dev.arm_angle_at_zero_count_rad) / dev.arm_rad_per_motor_count()) as i32
-    };
-    Some([
-        c(angles[0]),
-        c(angles[1]),
-        c(angles[2]),
-        wrist[0],
-        wrist[1],
-        wrist[2],
-    ])
 }
 
 /// The full controller tick (`Controller::tick`): six encoder counts in, three duties out, through

@@ -26,10 +26,19 @@ pub fn config() -> PipelineConfig<Plane> {
 /// at `wrist`; `None` if unreachable.
 pub fn pressing_counts(depth_m: f32, wrist: [i32; 3]) -> Option<[i32; 6]> {
     let c = config();
-    let dev: DeviceParams = c.device.params;
     let p = c.object_origin_m + Vec3::new(0.0, 0.0, c.contact.fingertip_radius_m - depth_m);
-    let (a, f) = dev.delta.inverse::<Libm>(p);
-    if !f.is_empty() {
+    counts_at(&c.device.params, p, wrist)
+}
+
+/// Encoder counts `[motor0, motor1, motor2, wrist0, wrist1, wrist2]` of a homed device that put
+/// the probe (fingertip centre) at `p` (device base frame, m), from the delta's inverse kinematics,
+/// with the wrist at `wrist` counts; `None` if unreachable. Inlined at each call site: a shared
+/// out-of-line copy moved four benchmark figures by one instruction (LLVM's inlining elsewhere in
+/// the binary), so the binary keeps the code it had when each caller had its own.
+#[inline(always)]
+pub fn counts_at(dev: &DeviceParams, p: Vec3, wrist: [i32; 3]) -> Option<[i32; 6]> {
+    let (a, flags) = dev.delta.inverse::<Libm>(p);
+    if !flags.is_empty() {
         return None;
     }
     let k = |x: f32| {

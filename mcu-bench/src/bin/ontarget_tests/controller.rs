@@ -5,22 +5,10 @@ use crate::accuracy::Accuracy;
 use core::hint::black_box as bb;
 use softfinger_core::contact_state::ContactState;
 use softfinger_core::controller::{Controller, ControllerConfig, TickInput, TickOutput};
-use softfinger_core::device::DeviceParams;
 use softfinger_core::surface::Plane;
-use softfinger_core::{Flags, Libm, Vec3};
+use softfinger_core::{Flags, Vec3};
 use softfinger_mcu_bench::check::Checker;
-
-/// Encoder counts that put the probe at `p` (base frame), wrist at zero; `None` if unreachable.
-fn counts_at(dev: &DeviceParams, p: Vec3) -> Option<[i32; 6]> {
-    let (angles, flags) = dev.delta.inverse::<Libm>(p);
-    if !flags.is_empty() {
-        return None;
-    }
-    let c = |a: f32| {
-        libm::roundf((a - dev.arm_angle_at_zero_count_rad) / dev.arm_rad_per_motor_count()) as i32
-    };
-    Some([c(angles[0]), c(angles[1]), c(angles[2]), 0, 0, 0])
-}
+use softfinger_mcu_bench::rig::counts_at;
 
 /// `accurate`: whether the backend's kinematics are accurate enough for the force check (libm and
 /// fast; micromath's 6 % sqrt moves the forward kinematics by ~0.7 mm, i.e. ~1.4 N on this wall,
@@ -33,7 +21,7 @@ pub fn checks<M: Accuracy>(c: &mut Checker, accurate: bool) {
     };
     let touching =
         config.object_origin_m + Vec3::new(0.0, 0.0, config.contact.fingertip_radius_m - 0.001);
-    let Some(counts) = counts_at(&config.device, touching) else {
+    let Some(counts) = counts_at(&config.device, touching, [0; 3]) else {
         c.ok("the pressing pose is reachable", false);
         return;
     };
