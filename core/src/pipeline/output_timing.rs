@@ -36,12 +36,11 @@ pub const CCM_CYCLES_PER_INSTRUCTION: f32 = 1.25;
 /// stacking) and six timer-register reads, rounded up.
 pub const SAMPLE_INSTRUCTIONS: u32 = 40;
 
-/// Instructions of the pipeline tick, an upper bound of those between the sample and the compare
-/// write: `scripts/mcu-bench`'s `pipeline_tick` row (fast backend, passivity stage included:
-/// 2 580 measured). At 1.25 cycles per instruction that is 19.0 µs at 170 MHz. Only whole PWM
-/// periods matter: with 40 kHz PWM any figure up to 3 350 gives the same delay. Measured on the
-/// firmware: `scripts/pil` finds the sample 40 and the compare write at most 3 040 instructions
-/// after the tick event on the emulated board (its link code included), the same PWM period.
+/// Instructions of the pipeline tick planned for, between the sample and the compare write: set
+/// from `scripts/mcu-bench`'s `pipeline_tick` row (fast backend, passivity stage included; its
+/// current figure is in `mcu-bench/budget.json`). Only whole PWM periods matter: with 40 kHz PWM
+/// any figure up to 3 350 gives the same delay. On the firmware `scripts/pil` measures the sample
+/// and the latest compare write of every tick (`firmware/pil/README.md`, "Measured").
 pub const PIPELINE_TICK_INSTRUCTIONS: u32 = 2_580;
 
 /// The cycles per instruction at which a compare write `write_instructions` after the tick's
