@@ -1,15 +1,10 @@
 //! The `critical-section` implementation: BASEPRI masks every interrupt from priority 1 down, and
 //! never priority 0, where only the control tick runs.
 //!
-//! A PRIMASK-based critical section (`cortex-m/critical-section-single-core`) would delay the tick
-//! by however long a task holds one: embassy's timer queue, the executor, the button's EXTI
-//! driver. With this one the tick is never delayed by software. The price is that the tick is not
-//! excluded by a critical section, so it must not share data with other contexts through one: it
-//! shares only atomics and lock-free SPSC queues (`tick`, `isr_cell`), and calls nothing that
-//! takes a critical section over shared state (register accesses, atomics and SPSC queues only).
-//! Every device interrupt other than the tick is set to a lower priority before the HAL starts
-//! (`board::stm32g474::prepare_core`). Taken inside the tick (P0), the section masks nothing that
-//! could preempt it anyway, so it stays correct there.
+//! Contract: the tick (priority 0) is not excluded by a critical section, so it shares data with
+//! other contexts only through atomics and lock-free SPSC queues (`tick`, `isr_cell`); every other
+//! device interrupt is set below it before the HAL starts (`board::stm32g474::prepare_core`).
+//! Why BASEPRI rather than PRIMASK: docs/design.md#critical-sections-that-never-mask-the-tick.
 
 use cortex_m::register::{basepri, basepri_max};
 

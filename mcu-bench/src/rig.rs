@@ -8,7 +8,6 @@ use softfinger_core::control::pipeline::{
     BoardTiming, Command, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
 };
 use softfinger_core::device::delta::DeltaGeometry;
-use softfinger_core::device::DeviceParams;
 use softfinger_core::device::OMEGA_LIKE;
 use softfinger_core::{Libm, Math, Vec3};
 
@@ -26,16 +25,8 @@ pub fn config() -> PipelineConfig<Plane> {
 /// at `wrist`; `None` if unreachable.
 pub fn pressing_counts(depth_m: f32, wrist: [i32; 3]) -> Option<[i32; 6]> {
     let c = config();
-    let dev: DeviceParams = c.device.params;
     let p = c.object_origin_m + Vec3::new(0.0, 0.0, c.contact.fingertip_radius_m - depth_m);
-    let (a, f) = dev.delta.inverse::<Libm>(p);
-    if !f.is_empty() {
-        return None;
-    }
-    let k = |x: f32| {
-        libm::roundf((x - dev.arm_angle_at_zero_count_rad) / dev.arm_rad_per_motor_count()) as i32
-    };
-    Some([k(a[0]), k(a[1]), k(a[2]), wrist[0], wrist[1], wrist[2]])
+    c.device.params.counts_at::<Libm>(p, wrist)
 }
 
 /// A pipeline and the map from homed motor counts to raw counter values.

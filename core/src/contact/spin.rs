@@ -92,15 +92,8 @@ impl SpinSpring {
     /// `M::sqrt` (tested), without the division and the square root while the load is clearly
     /// inside the ellipse, which is the common path.
     ///
-    /// Why the fast test is safe: it passes when x² + u < 1 − m, x = τ/τ_max and u = ft2/fmax2
-    /// computed in f32 (a few ulps, ≤ 5e-7 relative, on terms ≤ 1), m = [`INSIDE_MARGIN`]. Then
-    /// |τ| < τ_max·√(1 − u − m/2) ≤ τ_max·(√(1 − u) − m/4): at least m/4 = 2.4e-4 relative below
-    /// the slow path's limit τ_max·√(1 − u)/k_z (same `u`, bit for bit), whose roundings (a
-    /// subtraction, a square root, a product and a division) and that of τ = k_z·φ_el are below
-    /// 1e-6 as long as no product is subnormal: hence 0 < k_z ≤ 1e3 N·m/rad (the parameters'
-    /// range) and τ_max ≥ 1e-30 N·m are required (then the limit, at least τ_max·√m/k_z, is
-    /// normal, and a subnormal τ is far below it). Non-finite values fail the test and take the
-    /// slow path.
+    /// Requires 0 < k_z ≤ 1e3 N·m/rad (the parameters' range) and τ_max ≥ 1e-30 N·m; the fast test
+    /// keeps a margin of [`INSIDE_MARGIN`]. Why it is safe: docs/design.md#spin-limit-the-fast-inside-test.
     #[inline(always)]
     pub fn update_within<M: crate::math::Math>(
         &mut self,

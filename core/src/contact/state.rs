@@ -14,18 +14,10 @@
 //! | sliding | rolling | |a_N| ≤ tol_a, \|f_T\| ≤ μ_k·f_N, \|v_T\| ≤ v_stick, and at least t_slide in sliding (a dwell: at the onset of a slide the probe has not picked up speed yet) |
 //! | otherwise | unchanged | rolling kept inside the cone; sliding kept while moving or pushed |
 //!
-//! The paper asks for a_T ≠ 0 to leave rolling; a probe dragged at constant speed has a_T = 0 yet
-//! is plainly slipping, so we accept either a non-zero a_T or a slip velocity v_T above v_stick.
-//!
 //! All vectors are in the object frame with their normal component removed (tangential). f_T is
-//! the tangential force the **user applies to the fingertip** (minus the force rendered), so the
-//! rendering spring that drags the probe along during rolling (force opposite to d_roll on the
-//! fingertip side) never triggers sliding — the reason for the paper's haptic rule.
-//!
-//! Twist threshold: the paper compares the angular displacement Δθ measured by the device with
-//! Δθ_max = f_N·μ_s/(k_τ·r). A per-step displacement shrinks with the control rate, so we use the
-//! tilt rate Δθ = δξ/T (rad/s) and k_τ in N·m·s/rad: the threshold then means the same at 1 kHz and
-//! at 20 kHz.
+//! the tangential force the **user applies to the fingertip** (minus the force rendered). Δθ is a
+//! tilt rate (rad/s) and k_τ is in N·m·s/rad. Why a slip speed also leaves rolling, the haptic rule
+//! and the threshold as a rate: docs/design.md#state-machine.
 
 use crate::contact::params::{at_most, non_negative, ParamError};
 use crate::math::vec3::Vec3;

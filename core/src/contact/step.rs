@@ -8,12 +8,7 @@
 //! slips: the anchor is dragged by the probe and kept within μ_k·f_N/K_t of it, so the rendered
 //! tangential force sits on the kinetic friction cone, opposing the slide (a god-object friction
 //! proxy). Normally the surface pushes back with a unilateral spring-damper on the penetration.
-//!
-//! Why not release the spring and render Coulomb friction −μ_k·f_N·v/|v| from the measured velocity,
-//! as section 3.2 reads? We did, and measured it in closed loop with the plant: the friction's
-//! direction follows a velocity differentiated from 13 µm encoder steps, its smoothing ramp acts as
-//! a virtual damper of μ_k·f_N/v_s ≈ 480 N·s/m, and the slide became a ±1.7 N limit cycle across the
-//! slide direction at 10 kHz. The position-based proxy renders the same kinetic force without it.
+//! Why a proxy rather than velocity-based Coulomb friction: docs/design.md#friction-proxy.
 //!
 //! All vectors are in the object frame (`O`): for the plane scene z is the normal.
 

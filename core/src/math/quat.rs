@@ -161,11 +161,8 @@ impl Quat {
     /// Well conditioned over the whole range: angle = 2·atan2(|v|, |w|) never loses precision near
     /// 0 or π, and q and -q give the same answer. Input is assumed finite.
     ///
-    /// Fast path, for angles up to 2·atan(0.2) = 0.39 rad (every per-step increment of a control
-    /// loop at 100 Hz or faster short of 39 rad/s): 2·atan2(s, w)/s = (2/w)·P(u) with
-    /// u = s²/w² ≤ 0.04 and P(u) = atan(√u)/√u = 1 − u/3 + u²/5 − u³/7 + u⁴/9 − u⁵/11, whose
-    /// truncation error is below u⁶/13 = 3.2e-10 relative: no square root and no arctangent, and
-    /// the result does not depend on the quaternion's scale (v/w is scale-free).
+    /// Fast path for angles up to 2·atan(0.2) = 0.39 rad: a degree-5 series in u = |v|²/w², no
+    /// square root and no arctangent. Derivation: docs/design.md#rotation-vector-fast-path.
     #[inline(always)]
     pub fn to_rotation_vector<M: Math>(self) -> Vec3 {
         // The series needs no hemisphere: (−v)·(2/(−w))·P = v·(2/w)·P bit for bit (negation is

@@ -6,17 +6,11 @@
 //! The hot path (encoder reads, bridge writes) uses single register accesses through the
 //! stm32-metapac register API: one volatile access each, no bounds checks, no lock.
 //!
-//! **Output timing** (`softfinger_core::control::pipeline::output_timing`): TIM1 runs the shared board
-//! timing's 40 kHz PWM with its compares preloaded and an update event at *every* PWM period
-//! (repetition counter 0), so a compare written during a PWM period acts from the next one. The
-//! control tick is TIM6's update, on the same 170 MHz clock and started with TIM1 from 0
-//! ([`start_tick`]), so every tick event is a PWM period boundary (four PWM periods per 10 kHz
-//! tick). The interrupt reads the encoders first and writes the compares right after the
-//! pipeline; the tick's write lands in its first PWM period, so the force acts 25 µs after the
-//! event. TIM1's own update interrupt with a repetition counter of 3 cannot be the tick: the
-//! repetition counter also gates the preload transfer (RM0440, "Repetition counter": the preload
-//! registers, CCRx included, are transferred only at the update event, every RCR + 1 periods), so
-//! the compare would act from the next tick, a full tick late.
+//! **Output timing** (`softfinger_core::control::pipeline::output_timing`): TIM1 runs the 40 kHz PWM with
+//! preloaded compares and an update event at every PWM period (repetition counter 0); the control
+//! tick is TIM6's update, started with TIM1 from 0 ([`start_tick`]), so every tick event is a PWM
+//! period boundary and a compare the tick writes acts 25 µs after the event. Why TIM6 and not
+//! TIM1's own update: docs/design.md#tick-timer-and-output-timing-on-the-stm32g474.
 
 use embassy_stm32::exti::{self, ExtiInput};
 use embassy_stm32::gpio::{AnyPin, Level, Output, OutputType, Pull, Speed};

@@ -27,7 +27,7 @@ pub struct Limits {
     /// Cut-off of the first-order low-pass on the finite-difference velocities, Hz.
     pub velocity_cutoff_hz: f32,
     /// Arm angles outside [min, max] (rad) cannot be reached by the mechanism: the encoders or
-    /// their calibration are wrong, so no force is rendered ([`Flags::OUT_OF_RANGE`]).
+    /// their calibration are wrong, so no force is rendered ([`Flags::OUT_OF_RANGE`](crate::Flags::OUT_OF_RANGE)).
     pub arm_angle_range_rad: [f32; 2],
 }
 

@@ -1,26 +1,14 @@
 //! Homing: find the encoder zero of the three arms by driving each, with a bounded torque, to its
 //! mechanical stop.
 //!
-//! Why this procedure: incremental encoders on the motor shafts lose their zero at power-off, and
-//! a delta device has hard stops that bound every arm. At a bounded torque the arm's angle at the
-//! stop is a property of the mechanism (`stop_angle_rad`, measured once per design), so the count
-//! read there fixes the offset. The drive is a velocity loop toward the stop (slow, so the arm
-//! meets the stop gently) whose torque is limited to `max_torque_nm` (enough to lift the arm
-//! against gravity and friction, too little to hurt a finger). An arm is at its stop when its count
-//! has stayed within `stall_window_counts` for `stall_s` while driven. A stall before the arm has
-//! travelled `min_travel_rad` fails homing: the arm was already blocked (held against the stop,
-//! jammed) or its encoder is dead, and either way the count read there cannot be trusted. Arms
-//! that reach their stop keep pushing until all three have; then the offsets are set together.
-//!
-//! Then the arms **park**: with the same torque limit they are driven to `park_angle_rad` and
-//! homing ends when all three have stayed within `park_tolerance_rad` of it for the stall time.
-//! With all three arms at a common stop a delta linkage can sit beyond its dead centre (for the
-//! Omega-like geometry, all arms above −0.5 rad: a downward pull on the handle then pushes the
-//! arms further into their stops), so the device is never handed over there.
-//!
-//! The wrist has no motors, so it cannot be driven to a stop: its zero is the calibration pose in
-//! which the operator holds the handle when giving `Home` (the command is the confirmation). The
-//! arms' motion does not turn the wrist joints, whose angles are relative to the platform.
+//! Each arm is driven by a velocity loop toward its stop with the torque limited to
+//! `max_torque_nm`; it is at its stop when its count has stayed within `stall_window_counts` for
+//! `stall_s`, which sets its offset from `stop_angle_rad` once all three are there. A stall before
+//! `min_travel_rad` of travel fails homing. Then the arms **park**: with the same torque limit
+//! they are driven to `park_angle_rad` and homing ends when all three have stayed within
+//! `park_tolerance_rad` of it for the stall time. The wrist's zero is the pose in which the
+//! operator holds the handle when giving `Home`. Why this procedure, and why the park:
+//! docs/design.md#homing.
 
 use crate::contact::params::{positive, ParamError};
 use crate::device::DeviceParams;

@@ -26,27 +26,21 @@
 
 use super::board::BoardTiming;
 
-/// Cycles per instruction assumed for the tick's code executing from CCM SRAM. CCM SRAM has zero
-/// wait states, so no instruction fetch stalls and the Cortex-M4's own timings (ARM DDI 0439,
-/// tables 3-1 and 7-1) set the CPI: ALU, FPU add/multiply and most moves 1 cycle; loads and
-/// `VLDR`/`VSTR` 2 (1 when pipelined back to back); taken branches 2-4; `VFMA`-style
-/// multiply-accumulates 3; `VDIV`/`VSQRT` 14. The FP-heavy pipeline mix lands in the 1.1-1.5
-/// range of `mcu-bench/README.md`; 1.25 is its middle. The delay only changes when the write
-/// crosses a PWM period boundary, so the figure that matters is the margin: the 10 kHz tick's
-/// write stays in its first 40 kHz PWM period up to 4 250 / (sample + pipeline instructions)
-/// cycles per instruction (1.62 for the planned tick), above the range's top.
+/// Cycles per instruction assumed for the tick's code executing from CCM SRAM (zero wait
+/// states): the middle of mcu-bench's 1.1-1.5 range. The 10 kHz tick's write stays in its first
+/// 40 kHz PWM period up to 4 250 / (sample + pipeline instructions) cycles per instruction (1.62
+/// for the planned tick). Derivation: docs/design.md#tick-timer-and-output-timing-on-the-stm32g474.
 pub const CCM_CYCLES_PER_INSTRUCTION: f32 = 1.25;
 
 /// Instructions from the tick's timer event to the encoder sample: interrupt entry (12 cycles of
 /// stacking) and six timer-register reads, rounded up.
 pub const SAMPLE_INSTRUCTIONS: u32 = 40;
 
-/// Instructions of the pipeline tick, an upper bound of those between the sample and the compare
-/// write: `scripts/mcu-bench`'s `pipeline_tick` row (fast backend, passivity stage included:
-/// 2 580 measured). At 1.25 cycles per instruction that is 19.0 µs at 170 MHz. Only whole PWM
-/// periods matter: with 40 kHz PWM any figure up to 3 350 gives the same delay. Measured on the
-/// firmware: `scripts/pil` finds the sample 40 and the compare write at most 3 040 instructions
-/// after the tick event on the emulated board (its link code included), the same PWM period.
+/// Instructions of the pipeline tick planned for, between the sample and the compare write: set
+/// from `scripts/mcu-bench`'s `pipeline_tick` row (fast backend, passivity stage included; its
+/// current figure is in `mcu-bench/budget.json`). Only whole PWM periods matter: with 40 kHz PWM
+/// any figure up to 3 350 gives the same delay. On the firmware `scripts/pil` measures the sample
+/// and the latest compare write of every tick (`firmware/pil/README.md`, "Measured").
 pub const PIPELINE_TICK_INSTRUCTIONS: u32 = 2_580;
 
 /// The cycles per instruction at which a compare write `write_instructions` after the tick's

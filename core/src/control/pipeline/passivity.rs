@@ -23,15 +23,9 @@
 //! When W ≤ 0 the force passes through unchanged (bit for bit), so a passive setting renders
 //! exactly as without the controller.
 //!
-//! Encoder quantisation: a probe held still dithers between counts, and each flip is a
-//! displacement the rendered force did not cause, so W wanders above zero even though nothing is
-//! generated; a damper on the filtered velocity then fires on every flip (measured in a 60 s hold
-//! at 10 kHz: 1.3 N sideways spikes, against 5e-5 N without the controller). Two terms keep the
-//! observer to what it can tell apart, both scaled by the work of the rendered force over one count
-//! of probe displacement, E_q = |F|₁·`position_quantum_m` (|F|₁ = |Fx| + |Fy| + |Fz|, within √3
-//! of |F|, no square root): positive W drains by E_q per [`LEAK_S`] (one count's dither forgiven per
-//! [`LEAK_S`]; a real instability, whose energy grows with its amplitude, outruns it), and the damper
-//! acts only when W > E_q. With a quantum of 0 (an ideal sensor) the stage is the textbook one.
+//! Encoder quantisation: with E_q = |F|₁·`position_quantum_m` (J; |F|₁ = |Fx| + |Fy| + |Fz|), a
+//! positive W drains by E_q per [`LEAK_S`] and the damper acts only when W > E_q; a quantum of 0
+//! gives the textbook stage. Why: docs/design.md#passivity-under-encoder-quantisation.
 
 use crate::contact::params::{non_negative, positive, ParamError};
 use crate::math::vec3::Vec3;
