@@ -130,7 +130,7 @@ fn core_error<M: Math, S: Surface>(
             let s = r.step::<M>(to_q(&qs[k]));
             assert!(s.flags.is_empty(), "step {k}: {:?}", s.flags);
         }
-        let (p, f) = (r.surface.contact_point(), r.finger_point());
+        let (p, f) = (r.surface().contact_point(), r.finger_point());
         for (got, want) in [(p, object[k]), (f, finger[k])] {
             for (a, b) in [got.x, got.y, got.z].iter().zip(want) {
                 worst = worst.max((*a as f64 - b).abs());

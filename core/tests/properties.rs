@@ -152,8 +152,8 @@ fn rolling_contract<M: Math>(q_seq: &[Quat]) -> Result<(), TestCaseError> {
             let a = plane.step::<M>(q);
             let b = sphere.step::<M>(q);
             for (s, fp, cp) in [
-                (a, plane.finger_point(), plane.surface.contact_point()),
-                (b, sphere.finger_point(), sphere.surface.contact_point()),
+                (a, plane.finger_point(), plane.surface().contact_point()),
+                (b, sphere.finger_point(), sphere.surface().contact_point()),
             ] {
                 let finite = s.angles.phi.is_finite()
                     && s.angles.theta.is_finite()
@@ -166,7 +166,7 @@ fn rolling_contract<M: Math>(q_seq: &[Quat]) -> Result<(), TestCaseError> {
                     prop_assert!(s.flags.contains(Flags::NON_FINITE_INPUT));
                 }
             }
-            prop_assert!(quat_finite(plane.q_prev) && quat_finite(sphere.q_prev));
+            prop_assert!(quat_finite(plane.q_prev()) && quat_finite(sphere.q_prev()));
         }
     }
     Ok(())
@@ -242,7 +242,7 @@ proptest! {
             let before = m.state();
             let out = m.contact_step(&input);
             prop_assert!(out.force_n.is_finite() && out.tau_n_nm.is_finite(), "{out:?}");
-            prop_assert!(out.object_point_m.is_finite() && m.rolling.finger_point().is_finite());
+            prop_assert!(out.object_point_m.is_finite() && m.rolling().finger_point().is_finite());
             let f = out.force_n;
             let n = ((f.x as f64).powi(2) + (f.y as f64).powi(2) + (f.z as f64).powi(2)).sqrt();
             // The limit is applied by a rescale: a few ulps of rounding (see the harness).

@@ -26,7 +26,7 @@ fn pass<M: Math>(start: Rolling<Plane>, samples: &[Quat]) -> Rolling<Plane> {
     let mut r = start;
     for &q in &samples[1..] {
         black_box(r.step::<M>(black_box(q)));
-        black_box((r.surface.point, r.finger_point()));
+        black_box((r.surface().point, r.finger_point()));
     }
     r
 }

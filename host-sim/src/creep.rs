@@ -68,7 +68,7 @@ pub struct Drift {
 }
 
 fn drift(r: &Rolling<Plane>, spin: &SpinSpring, p0: Vec3, s0: f32) -> Drift {
-    let d = r.surface.contact_point() - p0;
+    let d = r.surface().contact_point() - p0;
     Drift {
         point_m: ((d.x as f64).powi(2) + (d.y as f64).powi(2)).sqrt(),
         spin_rad: (spin.accumulated_rad as f64 - s0 as f64).abs(),
@@ -81,7 +81,7 @@ pub fn replay_cycle<M: Math>(method: Method, samples: &[Quat], n: u64) -> Drift 
     let params = ContactParams::DEFAULT;
     let mut r = Rolling::new(Plane::default(), 0.01, samples[0], method);
     let mut spin = SpinSpring::default();
-    let (p0, s0) = (r.surface.contact_point(), spin.accumulated_rad);
+    let (p0, s0) = (r.surface().contact_point(), spin.accumulated_rad);
     let mut worst = Drift::default();
     for k in 1..=n {
         let q = samples[(k % samples.len() as u64) as usize];
@@ -114,13 +114,13 @@ pub fn held_contact<M: Math>(method: Method, ticks: u64) -> (f64, f64) {
     for _ in 0..10 {
         let _ = model.contact_step(&input);
     }
-    let p0 = model.rolling.surface.contact_point();
+    let p0 = model.rolling().surface().contact_point();
     let mut f_t = 0.0f64;
     for _ in 0..ticks {
         let out = model.contact_step(&input);
         f_t = ((out.force_n.x as f64).powi(2) + (out.force_n.y as f64).powi(2)).sqrt();
     }
-    let d = model.rolling.surface.contact_point() - p0;
+    let d = model.rolling().surface().contact_point() - p0;
     (((d.x as f64).powi(2) + (d.y as f64).powi(2)).sqrt(), f_t)
 }
 
@@ -204,7 +204,12 @@ fn hold_run<M: Math>(
             }
         },
         |k, _, out, ctrl, _| {
-            let a = ctrl.controller().contact().rolling.surface.contact_point();
+            let a = ctrl
+                .controller()
+                .contact()
+                .rolling()
+                .surface()
+                .contact_point();
             if k >= settle {
                 let a0 = *anchor0.get_or_insert(a);
                 walk = walk.max((a - a0).norm::<Libm>() as f64);

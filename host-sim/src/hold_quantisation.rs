@@ -120,7 +120,12 @@ pub fn measure<M: Math>(setup: HoldSetup) -> Result<HoldProfile, String> {
                 count_changes += 1;
             }
             prev_counts = counts;
-            let a = ctrl.controller().contact().rolling.surface.contact_point();
+            let a = ctrl
+                .controller()
+                .contact()
+                .rolling()
+                .surface()
+                .contact_point();
             let a0 = *anchor0.get_or_insert(a);
             walk = walk.max((a - a0).norm::<Libm>() as f64);
         },

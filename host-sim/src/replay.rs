@@ -209,7 +209,7 @@ pub fn replay_on<S: Surface>(
     let mut spin = SpinSpring::default();
     let mut rows = Vec::with_capacity(samples.len());
     let mut push = |t_s: f64, r: &Rolling<S>, spin: &SpinSpring, tau: f32, state| {
-        let p = r.surface.contact_point();
+        let p = r.surface().contact_point();
         let f = r.finger_point();
         rows.push(Row {
             t_s,

@@ -76,13 +76,13 @@ pub fn relative_curvature(r: f32, surface_curvature: f32) -> f32 {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Rolling<S: Surface> {
     /// The object surface and its contact point.
-    pub surface: S,
+    pub(crate) surface: S,
     /// Fingertip sphere radius ρ, m.
-    pub radius_m: f32,
+    pub(crate) radius_m: f32,
     /// The previous orientation sample (fingertip → object), unit.
-    pub q_prev: Quat,
+    pub(crate) q_prev: Quat,
     /// Decomposition method.
-    pub method: Method,
+    pub(crate) method: Method,
 }
 
 /// What one rolling step produced.
@@ -107,6 +107,30 @@ impl<S: Surface> Rolling<S> {
             q_prev: q0,
             method,
         }
+    }
+
+    /// The object surface, with the contact point on it.
+    #[must_use]
+    pub fn surface(&self) -> &S {
+        &self.surface
+    }
+
+    /// Fingertip sphere radius ρ, m.
+    #[must_use]
+    pub fn radius_m(&self) -> f32 {
+        self.radius_m
+    }
+
+    /// The previous orientation sample (fingertip → object), unit.
+    #[must_use]
+    pub fn q_prev(&self) -> Quat {
+        self.q_prev
+    }
+
+    /// The decomposition method.
+    #[must_use]
+    pub fn method(&self) -> Method {
+        self.method
     }
 
     /// The contact point on the fingertip, fingertip frame, m (|p| = ρ): q*·(−ρ·n), computed here

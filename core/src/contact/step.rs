@@ -77,9 +77,9 @@ pub struct ContactModel<M: Math, S: Surface> {
     params: ContactParams,
     state_params: StateParams,
     /// Rolling kinematics (contact points, previous orientation).
-    pub rolling: Rolling<S>,
+    pub(crate) rolling: Rolling<S>,
     /// Torsion spring of the soft finger.
-    pub spin: SpinSpring,
+    pub(crate) spin: SpinSpring,
     state: ContactState,
     time_in_state_s: f32,
     dt_s: f32,
@@ -136,6 +136,19 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
     /// The step period, s.
     pub fn dt_s(&self) -> f32 {
         self.dt_s
+    }
+
+    /// The rolling kinematics: the surface with its contact point, the fingertip's contact point,
+    /// the previous orientation sample.
+    #[must_use]
+    pub fn rolling(&self) -> &Rolling<S> {
+        &self.rolling
+    }
+
+    /// The torsion spring: elastic twist and accumulated spin, rad.
+    #[must_use]
+    pub fn spin(&self) -> &SpinSpring {
+        &self.spin
     }
 
     /// (patch radius a in m, static torsion limit τ_max in N·m) at the normal force `f_n` (N): a

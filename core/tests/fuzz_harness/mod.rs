@@ -439,7 +439,7 @@ fn run_contact<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary
             && out.tau_n_nm.is_finite()
             && out.spin_rad.is_finite()
             && finite3(out.object_point_m)
-            && finite3(model.rolling.finger_point())
+            && finite3(model.rolling().finger_point())
             && [out.angles.phi, out.angles.theta, out.angles.psi]
                 .iter()
                 .all(|a| a.is_finite());

@@ -136,8 +136,8 @@ pub fn soak(ticks: u64) -> Result<SoakReport, String> {
                 .pipe
                 .controller()
                 .contact()
-                .rolling
-                .surface
+                .rolling()
+                .surface()
                 .contact_point();
             rep.roll_end_point = Some([p.x as f64, p.y as f64, p.z as f64]);
         }

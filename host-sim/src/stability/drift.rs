@@ -94,7 +94,7 @@ pub fn run<M: Math>(
         q_prev = q;
 
         rolling.step::<M>(to32(&q));
-        let p = rolling.surface.point;
+        let p = rolling.surface().point;
         let f = rolling.finger_point();
         let e_plane = ((p.x as f64 - plane.x).powi(2) + (p.y as f64 - plane.y).powi(2)).sqrt();
         let e_finger = (Vector3::new(f.x as f64, f.y as f64, f.z as f64) - finger).norm();

@@ -91,12 +91,12 @@ fn paths_with<M: Math>(samples: &[Quat], radius_m: f32, method: Method) -> Paths
     let mut r = start(samples, radius_m, method);
     let row = |v: softfinger_core::Vec3| [v.x as f64, v.y as f64, v.z as f64];
     let mut out = Paths {
-        plane: vec![row(r.surface.point)],
+        plane: vec![row(r.surface().point)],
         sphere: vec![row(r.finger_point())],
     };
     for &q in samples.iter().skip(1) {
         r.step::<M>(q);
-        out.plane.push(row(r.surface.point));
+        out.plane.push(row(r.surface().point));
         out.sphere.push(row(r.finger_point()));
     }
     out
@@ -109,7 +109,7 @@ fn pass<M: Math>(start: Rolling<Plane>, samples: &[Quat]) -> Rolling<Plane> {
     let mut r = start;
     for &q in samples.iter().skip(1) {
         black_box(r.step::<M>(black_box(q)));
-        black_box((r.surface.point, r.finger_point()));
+        black_box((r.surface().point, r.finger_point()));
     }
     r
 }

@@ -78,7 +78,7 @@ fn ours<M: Math, S: Surface>(
     let mut obj = Vec::with_capacity(s.len());
     let mut fin = Vec::with_capacity(s.len());
     let mut push = |r: &Rolling<S>| {
-        let p = r.surface.contact_point();
+        let p = r.surface().contact_point();
         let f = r.finger_point();
         obj.push([p.x as f64, p.y as f64, p.z as f64]);
         fin.push([f.x as f64, f.y as f64, f.z as f64]);

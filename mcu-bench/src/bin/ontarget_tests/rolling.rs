@@ -44,7 +44,7 @@ pub fn checks<M: Accuracy>(c: &mut Checker) {
     c.ok("plane, exact: no flag", flags.is_empty());
     c.close_all(
         "plane, exact: contact point after 10 steps = 10 rho (w_y, -w_x, 0)",
-        &r.surface.contact_point().to_array(),
+        &r.surface().contact_point().to_array(),
         &[n * RHO * W.y, -n * RHO * W.x, 0.0],
         t,
     );
@@ -75,7 +75,7 @@ pub fn checks<M: Accuracy>(c: &mut Checker) {
     c.ok("sphere, exact: no flag", flags.is_empty());
     c.close_all(
         "sphere, exact: normal after 10 steps = Rot(n kappa w) z",
-        &r.surface.normal().to_array(),
+        &r.surface().normal().to_array(),
         &expected.to_array(),
         t,
     );
@@ -83,7 +83,7 @@ pub fn checks<M: Accuracy>(c: &mut Checker) {
     // A bad sample leaves the state unchanged, returns a zero step and is flagged.
     let mut r = Rolling::new(Plane::default(), RHO, Quat::IDENTITY, Method::Exact);
     r.step::<M>(sample(1));
-    let before = r.surface.contact_point();
+    let before = r.surface().contact_point();
     for (q, flag, name) in [
         (
             Quat::new(f32::NAN, 0.0, 0.0, 0.0),
@@ -105,7 +105,7 @@ pub fn checks<M: Accuracy>(c: &mut Checker) {
         c.ok(
             name,
             s.flags.contains(flag)
-                && r.surface.contact_point() == before
+                && r.surface().contact_point() == before
                 && s.object_disp_m == Vec3::ZERO
                 && r.finger_point().is_finite(),
         );
