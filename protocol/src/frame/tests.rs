@@ -35,6 +35,21 @@ fn model(seq: u32) -> LocalModel {
     }
 }
 
+/// Contact parameters, each field a different value: a golden frame catches two fields swapped.
+fn contact_params() -> ContactParamsWire {
+    ContactParamsWire {
+        fingertip_radius_m: 0.012,
+        normal_stiffness: 2500.0,
+        normal_damping: 2.5,
+        tangential_stiffness: 1100.0,
+        tangential_damping: 1.25,
+        mu_s: 0.9,
+        mu_k: 0.7,
+        spin_stiffness: 0.02,
+        max_force_n: 11.0,
+    }
+}
+
 /// The largest message of each direction, every field at its widest encoding.
 fn largest_device_msgs() -> Vec<DeviceMsg> {
     let mut name = heapless::String::<24>::new();
@@ -130,20 +145,7 @@ fn host_msgs() -> Vec<HostMsg> {
         req(5, Request::Arm),
         req(6, Request::Disarm),
         req(7, Request::ClearFaults),
-        req(
-            8,
-            Request::SetContactParams(ContactParamsWire {
-                fingertip_radius_m: 0.01,
-                normal_stiffness: 2000.0,
-                normal_damping: 2.0,
-                tangential_stiffness: 1000.0,
-                tangential_damping: 1.0,
-                mu_s: 0.8,
-                mu_k: 0.6,
-                spin_stiffness: 0.01,
-                max_force_n: 12.0,
-            }),
-        ),
+        req(8, Request::SetContactParams(contact_params())),
         req(u16::MAX, Request::SetLocalModel(model(u32::MAX))),
         req(10, Request::SetStream { divisor: 10 }),
         req(11, Request::SetWatchdog { timeout_ms: 100 }),
@@ -352,3 +354,5 @@ proptest! {
         }
     }
 }
+
+mod golden;
