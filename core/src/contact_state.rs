@@ -32,6 +32,7 @@ use crate::vec3::Vec3;
 /// The contact state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ContactState {
     /// No contact: no force.
     #[default]

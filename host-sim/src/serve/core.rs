@@ -9,7 +9,6 @@
 //! output guard and fault latch are the pipeline's, the firmware's own.
 
 use crate::plant::Plant;
-use crate::serve::convert;
 use softfinger_core::contact_state::ContactState;
 use softfinger_core::controller::ContactStage;
 use softfinger_core::local_model::{LocalModelScene, LocalModelSpec, ModelKind, ModelPose};
@@ -124,17 +123,14 @@ impl DeviceCore for PipelineCore {
             contact: out.control.state,
             contact_point_m: c.contact_point_m(),
             flags: out.flags,
-            mode: convert::mode(out.mode),
+            mode: out.mode,
             model_seq: c.contact().model_seq(),
             enable: out.bridges.pwm_enable,
         }
     }
 
     fn request(&mut self, command: Command) -> AckResult {
-        match self.pipe.command(command) {
-            Ok(()) => AckResult::Ok,
-            Err(e) => AckResult::Err(convert::error_code(e)),
-        }
+        self.pipe.command(command).into()
     }
 
     fn message_received(&mut self) {

@@ -2,7 +2,7 @@ use super::*;
 use crate::info::{DeviceInfo, LinkCounters};
 use crate::messages::{AckResult, DeviceMsg, ErrorCode, HostMsg, Request};
 use crate::model::{ContactParamsWire, HandTarget, LocalModel, SurfaceKind, SurfaceShape};
-use crate::state::{ContactStateWire, Mode, StateSample, TickStatsWire};
+use crate::state::{ContactState, Mode, StateSample, TickStatsWire};
 use proptest::prelude::*;
 use std::vec;
 use std::vec::Vec;
@@ -20,7 +20,8 @@ fn decode_all<T: DeserializeOwned>(
     bytes.iter().filter_map(|b| dec.push::<T>(*b)).collect()
 }
 
-fn model(seq: u32) -> LocalModel {
+/// A sphere model, its material and position each a different value (other tests reuse it).
+pub(crate) fn model(seq: u32) -> LocalModel {
     LocalModel {
         seq,
         shape: SurfaceShape::Sphere { radius_m: 0.05 },
@@ -71,7 +72,7 @@ fn largest_device_msgs() -> Vec<DeviceMsg> {
         probe_vel_m_s: [f32::MIN; 3],
         force_n: [1.0; 3],
         spin_torque_nm: -1.0,
-        contact: ContactStateWire::Sliding,
+        contact: ContactState::Sliding,
         contact_point_m: [2.0; 3],
         flags: u32::MAX,
         mode: Mode::Faulted,

@@ -15,9 +15,9 @@ fn every_variant_msgs() -> Vec<DeviceMsg> {
         Mode::Faulted,
     ];
     let contacts = [
-        ContactStateWire::Broken,
-        ContactStateWire::Rolling,
-        ContactStateWire::Sliding,
+        ContactState::Broken,
+        ContactState::Rolling,
+        ContactState::Sliding,
     ];
     let mut msgs: Vec<DeviceMsg> = modes
         .iter()
