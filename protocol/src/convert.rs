@@ -5,7 +5,8 @@
 //! shape), the wire uses it as it is (see [`crate::state`] and [`crate::model`]). Where the wire
 //! has its own form, the conversion is here: a [`LocalModel`] carries arrays and milliseconds, a
 //! request is a pipeline command, a refused command is an [`ErrorCode`]. The contact parameters'
-//! subset converts where it is defined ([`ContactParamsWire::of`], [`ContactParamsWire::over`]).
+//! subset converts where it is defined ([`crate::ContactParamsWire::of`],
+//! [`crate::ContactParamsWire::over`]).
 
 use crate::messages::{AckResult, ErrorCode, Request};
 use crate::model::LocalModel;

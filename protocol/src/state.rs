@@ -2,8 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
-/// The device's operating mode: the pipeline's [`Mode`](softfinger_core::pipeline::Mode) itself,
-/// encoded as its variant index (the recorded frames of the protocol's tests pin it).
+/// The device's operating mode: the pipeline's own `Mode`, encoded as its variant index (the
+/// recorded frames of the protocol's tests pin it).
 pub use softfinger_core::pipeline::Mode;
 
 /// The contact state: the core's own type, encoded as its variant index.
