@@ -16,14 +16,14 @@ use link::session::{CommandSink, LinkConfig, LinkSession};
 use link::state::{StateBuilder, TickExtender};
 use link::tx::TxRing;
 use softfinger_core::contact::params::ContactParams;
-use softfinger_core::contact::state::ContactState;
-use softfinger_core::control::pipeline::{Command, CommandError, Mode as CoreMode};
+use softfinger_core::control::pipeline::{Command, CommandError};
 use softfinger_core::device::OMEGA_LIKE;
 use softfinger_core::Flags;
 use softfinger_protocol::frame::encode_frame_with_version;
 use softfinger_protocol::{
-    encode_frame, AckResult, ContactStateWire, DeviceMsg, ErrorCode, FrameDecoder, FrameErrorKind,
-    HostMsg, LocalModel, Mode, Request, SurfaceKind, SurfaceShape, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    encode_frame, AckResult, ContactParamsWire, ContactState, DeviceMsg, ErrorCode, FrameDecoder,
+    FrameErrorKind, HostMsg, LocalModel, Mode, Request, StateSample, SurfaceKind, SurfaceShape,
+    MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 use stream::MAX_STREAM_HZ;
 use stream_point::StreamPoint;
@@ -88,6 +88,21 @@ fn feed<const TX: usize>(s: &mut LinkSession<TX>, q: &mut Queue, bytes: &[u8]) {
     }
 }
 
+/// Ask for the state stream at `divisor` (0: stop it), as request `seq`.
+fn set_stream<const TX: usize>(s: &mut LinkSession<TX>, q: &mut Queue, seq: u16, divisor: u16) {
+    feed(s, q, &request(seq, Request::SetStream { divisor }));
+}
+
+/// The state samples among `msgs`, in order.
+fn states(msgs: &[DeviceMsg]) -> Vec<StateSample> {
+    msgs.iter()
+        .filter_map(|m| match m {
+            DeviceMsg::State(st) => Some(*st),
+            _ => None,
+        })
+        .collect()
+}
+
 /// Every frame the device queued for the host, decoded.
 fn sent<const TX: usize>(s: &mut LinkSession<TX>) -> Vec<DeviceMsg> {
     let mut dec = FrameDecoder::new();
@@ -105,7 +120,7 @@ fn sent<const TX: usize>(s: &mut LinkSession<TX>) -> Vec<DeviceMsg> {
 fn point(tick: u32) -> StreamPoint {
     StreamPoint {
         tick,
-        mode: CoreMode::Armed,
+        mode: Mode::Armed,
         state: ContactState::Rolling,
         flags: Flags::OUTPUT_LIMITED,
         probe_m: [0.01, -0.02, 0.13],
@@ -212,39 +227,6 @@ fn a_command_is_acknowledged_with_the_ticks_outcome_not_before() {
 }
 
 #[test]
-fn each_refusal_of_the_pipeline_has_its_error_code() {
-    use link::acks::error_code;
-    assert_eq!(error_code(CommandError::NotHomed), ErrorCode::WrongMode);
-    assert_eq!(error_code(CommandError::Armed), ErrorCode::WrongMode);
-    assert_eq!(error_code(CommandError::Homing), ErrorCode::WrongMode);
-    assert_eq!(error_code(CommandError::Faulted), ErrorCode::Faulted);
-    let bad = ContactParams {
-        normal_stiffness: f32::NAN,
-        ..ContactParams::DEFAULT
-    };
-    let Err(e) = bad.validate() else {
-        panic!("NaN stiffness validates")
-    };
-    assert_eq!(
-        error_code(CommandError::InvalidParams(e)),
-        ErrorCode::InvalidValue
-    );
-    use softfinger_core::control::local_model::ModelError;
-    assert_eq!(
-        error_code(CommandError::InvalidModel(ModelError::StaleSequence)),
-        ErrorCode::StaleSequence
-    );
-    assert_eq!(
-        error_code(CommandError::InvalidModel(ModelError::BadPose)),
-        ErrorCode::InvalidValue
-    );
-    assert_eq!(
-        error_code(CommandError::Unsupported),
-        ErrorCode::Unsupported
-    );
-}
-
-#[test]
 fn another_sources_outcome_answers_nothing() {
     let (mut s, mut q) = (session::<1024>(), queue());
     feed(&mut s, &mut q, &request(5, Request::Disarm));
@@ -318,8 +300,8 @@ fn local_model_and_watchdog_go_to_the_pipeline_the_simulated_hand_is_unsupported
         &request(2, Request::SetWatchdog { timeout_ms: 150 }),
     );
     feed(&mut s, &mut q, &request(3, Request::ReleaseHand));
-    // The model as host-sim's virtual device converts it (an independent copy of the mapping).
-    let want = host_sim::serve::convert::model_spec(&model);
+    // The protocol's conversion (`LocalModel::spec`, tested in the protocol crate).
+    let want = model.spec();
     assert_eq!(
         q.commands,
         vec![
@@ -389,26 +371,6 @@ fn a_refused_watchdog_leaves_the_reported_one() {
 }
 
 /// Every shape and field maps as host-sim's virtual device maps it.
-#[test]
-fn every_wire_shape_converts_as_the_virtual_device_converts_it() {
-    for shape in [
-        SurfaceShape::Plane,
-        SurfaceShape::Sphere { radius_m: 0.02 },
-        SurfaceShape::Bowl { radius_m: 0.05 },
-        SurfaceShape::Cylinder { radius_m: 0.015 },
-    ] {
-        let m = LocalModel {
-            shape,
-            max_age_ms: 65_535,
-            ..sphere_model(7)
-        };
-        assert_eq!(
-            link::requests::model_spec(&m),
-            host_sim::serve::convert::model_spec(&m)
-        );
-    }
-}
-
 /// The communication watchdog's food: true for every frame that decodes (link-level messages
 /// included), false for every byte that does not end one and for a rejected frame.
 #[test]
@@ -437,7 +399,7 @@ fn every_valid_frame_and_only_a_valid_frame_feeds_the_watchdog() {
 #[test]
 fn contact_parameters_change_only_when_the_tick_accepts_them() {
     let (mut s, mut q) = (session::<1024>(), queue());
-    let mut wire = link::requests::contact_params_wire(&ContactParams::DEFAULT);
+    let mut wire = ContactParamsWire::of(&ContactParams::DEFAULT);
     wire.normal_stiffness = 1234.0;
     feed(&mut s, &mut q, &request(1, Request::SetContactParams(wire)));
     let [Command::SetContactParams(p)] = q.commands.as_slice() else {
@@ -541,26 +503,8 @@ fn bad_frames_are_counted_by_kind_answered_and_the_link_stays_usable() {
 #[test]
 fn the_stream_follows_the_divisor_and_refuses_one_below_the_minimum() {
     let (mut s, mut q) = (session::<4096>(), queue());
-    feed(
-        &mut s,
-        &mut q,
-        &request(
-            1,
-            Request::SetStream {
-                divisor: MIN_DIVISOR - 1,
-            },
-        ),
-    );
-    feed(
-        &mut s,
-        &mut q,
-        &request(
-            2,
-            Request::SetStream {
-                divisor: 2 * MIN_DIVISOR,
-            },
-        ),
-    );
+    set_stream(&mut s, &mut q, 1, MIN_DIVISOR - 1);
+    set_stream(&mut s, &mut q, 2, 2 * MIN_DIVISOR);
     // The tick streams the multiples of the divisor: 0, 10, 20.
     for i in 0..3 {
         s.stream(&point(i * 2 * u32::from(MIN_DIVISOR)));
@@ -579,29 +523,19 @@ fn the_stream_follows_the_divisor_and_refuses_one_below_the_minimum() {
             },
         ]
     );
-    let ticks: Vec<u64> = msgs
-        .iter()
-        .filter_map(|m| match m {
-            DeviceMsg::State(st) => Some(st.tick),
-            _ => None,
-        })
-        .collect();
+    let ticks: Vec<u64> = states(&msgs).iter().map(|st| st.tick).collect();
     assert_eq!(ticks, vec![0, 10, 20]);
     assert_eq!(s.stream_divisor(), 2 * MIN_DIVISOR, "handed to the tick");
     let DeviceMsg::State(st) = &msgs[2] else {
         panic!()
     };
     assert_eq!(st.mode, Mode::Armed);
-    assert_eq!(st.contact, ContactStateWire::Rolling);
+    assert_eq!(st.contact, ContactState::Rolling);
     assert_eq!(st.flags, Flags::OUTPUT_LIMITED.0);
     assert_eq!(st.force_n, [0.1, -2.5, 12.0]);
     assert_eq!(st.dropped, 0);
     // Divisor 0 stops it.
-    feed(
-        &mut s,
-        &mut q,
-        &request(3, Request::SetStream { divisor: 0 }),
-    );
+    set_stream(&mut s, &mut q, 3, 0);
     s.stream(&point(30));
     assert_eq!(
         sent(&mut s),
@@ -623,7 +557,7 @@ fn a_sample_carries_every_field_of_the_point_timing_in_ns() {
     assert_eq!(st.probe_vel_m_s, p.probe_vel_m_s);
     assert_eq!(st.force_n, p.force_n);
     assert_eq!(st.spin_torque_nm, p.spin_torque_nm);
-    assert_eq!(st.contact, ContactStateWire::Rolling);
+    assert_eq!(st.contact, ContactState::Rolling);
     assert_eq!(st.contact_point_m, p.contact_point_m);
     assert_eq!(st.flags, Flags::OUTPUT_LIMITED.0);
     assert_eq!(st.mode, Mode::Armed);
@@ -683,28 +617,13 @@ fn the_tick_streams_the_multiples_of_the_divisor_with_the_timing_between() {
 #[test]
 fn points_the_tick_could_not_queue_are_counted_as_dropped() {
     let (mut s, mut q) = (session::<4096>(), queue());
-    feed(
-        &mut s,
-        &mut q,
-        &request(
-            1,
-            Request::SetStream {
-                divisor: MIN_DIVISOR,
-            },
-        ),
-    );
+    set_stream(&mut s, &mut q, 1, MIN_DIVISOR);
     let d = u32::from(MIN_DIVISOR);
     // Points 0, 5, then 20: the tick lost 10 and 15.
     for t in [0, d, 4 * d] {
         s.stream(&point(t));
     }
-    let dropped: Vec<u32> = sent(&mut s)
-        .iter()
-        .filter_map(|m| match m {
-            DeviceMsg::State(st) => Some(st.dropped),
-            _ => None,
-        })
-        .collect();
+    let dropped: Vec<u32> = states(&sent(&mut s)).iter().map(|st| st.dropped).collect();
     assert_eq!(dropped, vec![0, 0, 2]);
 }
 
@@ -712,30 +631,15 @@ fn points_the_tick_could_not_queue_are_counted_as_dropped() {
 fn a_host_that_stops_reading_loses_samples_counted_never_blocks() {
     // Room for about two state frames.
     let (mut s, mut q) = (session::<200>(), queue());
-    feed(
-        &mut s,
-        &mut q,
-        &request(
-            1,
-            Request::SetStream {
-                divisor: MIN_DIVISOR,
-            },
-        ),
-    );
+    set_stream(&mut s, &mut q, 1, MIN_DIVISOR);
     assert_eq!(sent(&mut s).len(), 1);
     let d = u32::from(MIN_DIVISOR);
     for i in 0..10 {
         s.stream(&point(i * d));
     }
-    let states: Vec<_> = sent(&mut s)
-        .into_iter()
-        .filter_map(|m| match m {
-            DeviceMsg::State(st) => Some(st),
-            _ => None,
-        })
-        .collect();
-    assert!(!states.is_empty() && states.len() < 10, "{}", states.len());
-    let lost = 10 - states.len() as u32;
+    let got = states(&sent(&mut s));
+    assert!(!got.is_empty() && got.len() < 10, "{}", got.len());
+    let lost = 10 - got.len() as u32;
     assert_eq!(s.counters().tx_dropped, lost);
     // The host reads again: the next sample reports the samples it lost.
     s.stream(&point(10 * d));

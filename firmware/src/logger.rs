@@ -21,12 +21,11 @@ fn ns(counts: u32) -> u32 {
     (u64::from(counts) * 1_000_000_000 / u64::from(config::TIMING.timer_clock_hz)) as u32
 }
 
-/// Drain the queues forever (the board binary spawns this as a task); each record is also handed
-/// to `forward` (the host link's state stream, when there is one).
-pub async fn run(
+/// Drain the queues forever: the logger task every board binary spawns.
+#[embassy_executor::task]
+pub async fn task(
     mut records: Consumer<'static, PipelineRecord>,
     mut summaries: Consumer<'static, TimingSummary>,
-    mut forward: impl FnMut(&PipelineRecord),
 ) {
     let mut ticker = Ticker::every(Duration::from_millis(config::LOGGER_POLL_MS));
     loop {
@@ -38,7 +37,6 @@ pub async fn run(
                 );
             }
             debug!("{}", r);
-            forward(&r);
         }
         while let Some(s) = summaries.dequeue() {
             let max_tick = STATUS.max_tick_counts.swap(0, Ordering::Relaxed);

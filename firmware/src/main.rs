@@ -27,6 +27,7 @@ mod isr_cell;
 mod link;
 mod logger;
 mod operator;
+mod queues;
 mod stream;
 mod stream_point;
 mod supervisor;
@@ -39,10 +40,12 @@ use board::stm32g474::{self as bsp, Board};
 use defmt::{error, info};
 use defmt_rtt as _;
 use embassy_executor::{Executor, Spawner};
-use heapless::spsc::{Consumer, Producer, Queue};
-use softfinger_core::control::pipeline::{Command, PipelineRecord, TimingSummary};
+#[cfg(feature = "usb")]
+use heapless::spsc::Queue;
+use heapless::spsc::{Consumer, Producer};
+use softfinger_core::control::pipeline::Command;
 use tap::Tap;
-use tick::{CommandOutcome, ControlLoop, TickQueues};
+use tick::{CommandOutcome, ControlLoop};
 
 /// The operator's end of the tick's command queue (shared with the USB link when there is one).
 #[cfg(not(feature = "usb"))]
@@ -56,14 +59,6 @@ pub type CommandTx = usb_link::SharedCommands;
 type OutcomeTap = tap::NoTap;
 #[cfg(feature = "usb")]
 type OutcomeTap = Producer<'static, CommandOutcome>;
-
-#[embassy_executor::task]
-async fn logger_task(
-    records: Consumer<'static, PipelineRecord>,
-    summaries: Consumer<'static, TimingSummary>,
-) {
-    logger::run(records, summaries, |_| {}).await
-}
 
 #[embassy_executor::task]
 async fn supervisor_task(
@@ -178,30 +173,9 @@ async fn start(spawner: Spawner) {
         }
     };
     info!("device {=str}; pipeline built", config::DEVICE.name);
-    let Some(commands) =
-        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())
-    else {
+    let Some((tick_ends, tasks)) = queues::take() else {
         return;
     };
-    let Some(outcomes) =
-        cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new())
-    else {
-        return;
-    };
-    let Some(records) =
-        cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new())
-    else {
-        return;
-    };
-    let Some(summaries) =
-        cortex_m::singleton!(: Queue<TimingSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new())
-    else {
-        return;
-    };
-    let (command_tx, command_rx) = commands.split();
-    let (outcome_tx, outcome_rx) = outcomes.split();
-    let (record_tx, record_rx) = records.split();
-    let (summary_tx, summary_rx) = summaries.split();
 
     let Board {
         control,
@@ -212,16 +186,16 @@ async fn start(spawner: Spawner) {
     } = Board::new(periph);
     #[cfg(not(feature = "usb"))]
     let (outcome_tap, stream_tx, command_tx): (OutcomeTap, bsp::StreamTx, CommandTx) =
-        (tap::NoTap, stream::NoStream, command_tx);
+        (tap::NoTap, stream::NoStream, tasks.commands);
     #[cfg(feature = "usb")]
-    let Some((outcome_tap, stream_tx, command_tx)) = start_usb_link(&spawner, usb, command_tx) else {
+    let Some((outcome_tap, stream_tx, command_tx)) = start_usb_link(&spawner, usb, tasks.commands) else {
         return;
     };
-    match logger_task(record_rx, summary_rx) {
+    match logger::task(tasks.records, tasks.summaries) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("logger task not spawned: {}", e),
     }
-    match supervisor_task(led, outcome_rx, outcome_tap) {
+    match supervisor_task(led, tasks.outcomes, outcome_tap) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("supervisor task not spawned: {}", e),
     }
@@ -230,13 +204,7 @@ async fn start(spawner: Spawner) {
         Err(e) => error!("operator task not spawned: {}", e),
     }
 
-    let queues = TickQueues {
-        commands: command_rx,
-        outcomes: outcome_tx,
-        records: record_tx,
-        summaries: summary_tx,
-        stream: stream_tx,
-    };
+    let queues = tick_ends.with_stream(stream_tx);
     match bsp::start_tick(ControlLoop::new(control, pipeline, queues)) {
         Ok(skew) => info!(
             "control loop running: tick period {=u32} counts, PWM period {=u16} counts, tick timer {=i32} counts after the PWM timer; watchdog {=u32} us; drivers asleep until homed (hold B1 1 s)",

@@ -2,23 +2,17 @@
 //! overrides become contact parameters.
 
 use host_sim::scene::Scene;
-use host_sim::serve::{convert, core::scene_model};
-use softfinger_core::control::local_model::{LocalModelSpec, ModelKind};
-use softfinger_protocol::{ContactParamsWire, LocalModel, SurfaceShape};
+use host_sim::serve::core::scene_model;
+use softfinger_core::control::local_model::LocalModelSpec;
+use softfinger_protocol::{ContactParamsWire, LocalModel};
 
-/// A core model spec as the wire message (kinds the wire cannot carry are an error).
-pub fn to_wire(s: &LocalModelSpec) -> Result<LocalModel, String> {
-    let shape = match s.kind {
-        ModelKind::Plane => SurfaceShape::Plane,
-        ModelKind::Sphere { radius_m } => SurfaceShape::Sphere { radius_m },
-        ModelKind::Bowl { radius_m } => SurfaceShape::Bowl { radius_m },
-        ModelKind::Cylinder { radius_m } => SurfaceShape::Cylinder { radius_m },
-        other => return Err(format!("surface {other:?} has no wire form yet")),
-    };
+/// A core model spec as the wire message, the inverse of [`LocalModel::spec`]: the maximum age
+/// rounded to whole ms, saturating at 0 and 65 535 ms.
+pub fn to_wire(s: &LocalModelSpec) -> LocalModel {
     let q = s.pose.orientation;
-    Ok(LocalModel {
+    LocalModel {
         seq: s.seq,
-        shape,
+        shape: s.kind,
         position_m: s.pose.position_m.to_array(),
         orientation: [q.w, q.x, q.y, q.z],
         stiffness_n_per_m: s.stiffness_n_per_m,
@@ -27,20 +21,21 @@ pub fn to_wire(s: &LocalModelSpec) -> Result<LocalModel, String> {
         mu_k: s.mu_k,
         spin_stiffness_nm_per_rad: s.spin_stiffness_nm_per_rad,
         max_age_ms: (s.max_age_s * 1000.0).round().clamp(0.0, u16::MAX as f32) as u16,
-    })
+    }
 }
 
 /// The contact parameters and local model (sequence `seq`) of a scene file or built-in name.
 pub fn load(name_or_path: &str, seq: u32) -> Result<(ContactParamsWire, LocalModel), String> {
     let scene = Scene::load(name_or_path)?;
     let (contact, spec) = scene_model(&scene)?;
-    let model = to_wire(&LocalModelSpec { seq, ..spec })?;
-    Ok((convert::contact_params_wire(&contact), model))
+    let model = to_wire(&LocalModelSpec { seq, ..spec });
+    Ok((ContactParamsWire::of(&contact), model))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use softfinger_protocol::SurfaceShape;
 
     /// Wire → core → wire keeps every field.
     #[test]
@@ -48,7 +43,7 @@ mod tests {
         for name in ["finger-on-plane", "finger-on-sphere"] {
             let (_, m) = load(name, 7).unwrap();
             assert_eq!(m.seq, 7);
-            assert_eq!(to_wire(&convert::model_spec(&m)).unwrap(), m);
+            assert_eq!(to_wire(&m.spec()), m);
         }
         let (_, s) = load("finger-on-sphere", 1).unwrap();
         assert_eq!(s.shape, SurfaceShape::Sphere { radius_m: 0.05 });

@@ -7,7 +7,7 @@ use softfinger_protocol::{
     encode_frame, HostMsg, LocalModel, Mode, Request, StateSample, SurfaceShape, TickStatsWire,
     MAX_FRAME_LEN,
 };
-use softfinger_protocol::{ContactStateWire, FrameDecoder, FrameError};
+use softfinger_protocol::{ContactState, FrameDecoder, FrameError};
 
 /// A frame on the wire: the bytes and how many of them are used (delimiter included).
 #[derive(Clone, Copy, Debug)]
@@ -85,7 +85,7 @@ pub fn state_sample() -> StateSample {
         probe_vel_m_s: [0.021, -0.004, 0.0003],
         force_n: [0.17, -0.05, 2.01],
         spin_torque_nm: 4.7e-4,
-        contact: ContactStateWire::Rolling,
+        contact: ContactState::Rolling,
         contact_point_m: [0.0012, -0.0034, 0.139],
         flags: 0,
         mode: Mode::Armed,

@@ -99,12 +99,7 @@ impl DeviceEndpoint {
                 min_version,
                 max_version,
             } => {
-                let ok = (min_version..=max_version).contains(&PROTOCOL_VERSION);
-                let answer = DeviceMsg::HelloReply {
-                    version: if ok { Some(PROTOCOL_VERSION) } else { None },
-                    device_version: PROTOCOL_VERSION,
-                };
-                self.send(&answer, send);
+                self.send(&DeviceMsg::hello_reply(min_version, max_version), send);
                 return None;
             }
             HostMsg::Request { seq, req } => (seq, req),

@@ -219,4 +219,4 @@ impl FrameDecoder {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -55,3 +55,22 @@ pub struct LinkCounters {
     /// Connections open now.
     pub connections: u16,
 }
+
+impl LinkCounters {
+    /// What was counted since `earlier`: each count's wrapping difference; `connections`, a
+    /// level rather than a count, is the one open now.
+    pub fn since(&self, earlier: &LinkCounters) -> LinkCounters {
+        LinkCounters {
+            rx_frames: self.rx_frames.wrapping_sub(earlier.rx_frames),
+            rx_errors: self.rx_errors.wrapping_sub(earlier.rx_errors),
+            rx_cobs: self.rx_cobs.wrapping_sub(earlier.rx_cobs),
+            rx_crc: self.rx_crc.wrapping_sub(earlier.rx_crc),
+            rx_version: self.rx_version.wrapping_sub(earlier.rx_version),
+            rx_decode: self.rx_decode.wrapping_sub(earlier.rx_decode),
+            rx_oversized: self.rx_oversized.wrapping_sub(earlier.rx_oversized),
+            tx_frames: self.tx_frames.wrapping_sub(earlier.tx_frames),
+            tx_dropped: self.tx_dropped.wrapping_sub(earlier.tx_dropped),
+            connections: self.connections,
+        }
+    }
+}

@@ -36,6 +36,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod convert;
 pub mod endpoint;
 pub mod frame;
 pub mod info;
@@ -48,7 +49,7 @@ pub use frame::{encode_frame, FrameDecoder, FrameError, FrameErrorCounts, FrameE
 pub use info::{DeviceInfo, LinkCounters};
 pub use messages::{AckResult, DeviceMsg, ErrorCode, HostMsg, Request};
 pub use model::{ContactParamsWire, HandTarget, LocalModel, SurfaceKind, SurfaceShape};
-pub use state::{ContactStateWire, Mode, StateSample, TickStatsWire};
+pub use state::{ContactState, Mode, StateSample, TickStatsWire};
 
 /// The protocol version this crate speaks. A change of any message layout increments it.
 ///

@@ -4,6 +4,7 @@ use crate::frame::FrameErrorKind;
 use crate::info::{DeviceInfo, LinkCounters};
 use crate::model::{ContactParamsWire, HandTarget, LocalModel};
 use crate::state::StateSample;
+use crate::PROTOCOL_VERSION;
 use serde::{Deserialize, Serialize};
 
 /// A message from the host (application) to the device.
@@ -150,4 +151,17 @@ pub enum DeviceMsg {
         /// The device's protocol version.
         device_version: u8,
     },
+}
+
+impl DeviceMsg {
+    /// The device's answer to a [`HostMsg::Hello`] offering `min_version ..= max_version`: the
+    /// agreed version is [`PROTOCOL_VERSION`] if the range holds it, none otherwise; either way
+    /// the device says which version it speaks.
+    pub const fn hello_reply(min_version: u8, max_version: u8) -> DeviceMsg {
+        let ok = min_version <= PROTOCOL_VERSION && PROTOCOL_VERSION <= max_version;
+        DeviceMsg::HelloReply {
+            version: if ok { Some(PROTOCOL_VERSION) } else { None },
+            device_version: PROTOCOL_VERSION,
+        }
+    }
 }

@@ -5,6 +5,7 @@
 //! [`crate::ErrorCode`]. Nothing here is clamped.
 
 use serde::{Deserialize, Serialize};
+use softfinger_core::contact::params::ContactParams;
 
 /// The kinds of surface a device can render, as listed in [`crate::DeviceInfo::surfaces`].
 ///
@@ -23,39 +24,24 @@ pub enum SurfaceKind {
     Cylinder,
 }
 
-/// A surface with its size, in its own object frame.
-///
-/// - `Plane`: the plane z = 0, outward normal +z.
-/// - `Sphere`: centred at the object frame's origin.
-/// - `Bowl`: the inside of a sphere centred at the object frame's origin (bottom at (0, 0, −R));
-///   its radius must exceed the fingertip's.
-/// - `Cylinder`: its axis along the object frame's x axis through the origin.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum SurfaceShape {
-    /// The plane z = 0 of the object frame.
-    Plane,
-    /// A sphere of radius `radius_m` (m) centred at the object frame's origin.
-    Sphere {
-        /// Radius, m.
-        radius_m: f32,
-    },
-    /// The inside of a sphere of radius `radius_m` (m) centred at the object frame's origin.
-    Bowl {
-        /// Radius, m.
-        radius_m: f32,
-    },
-    /// A cylinder of radius `radius_m` (m) along the object frame's x axis.
-    Cylinder {
-        /// Radius, m.
-        radius_m: f32,
-    },
-}
+/// A surface with its size, in its own object frame: the core's
+/// [`ModelKind`](softfinger_core::control::local_model::ModelKind) itself, encoded as its variant index
+/// then its radius (postcard), so its variants are only ever appended (the recorded frames of
+/// the protocol's tests pin the encoding).
+pub use softfinger_core::control::local_model::ModelKind as SurfaceShape;
 
-impl SurfaceShape {
-    /// The kind of this shape.
-    pub const fn kind(&self) -> SurfaceKind {
-        match self {
+impl SurfaceKind {
+    /// Every kind, in wire order.
+    pub const ALL: [SurfaceKind; 4] = [
+        SurfaceKind::Plane,
+        SurfaceKind::Sphere,
+        SurfaceKind::Bowl,
+        SurfaceKind::Cylinder,
+    ];
+
+    /// The kind of `shape`.
+    pub const fn of(shape: &SurfaceShape) -> SurfaceKind {
+        match shape {
             SurfaceShape::Plane => SurfaceKind::Plane,
             SurfaceShape::Sphere { .. } => SurfaceKind::Sphere,
             SurfaceShape::Bowl { .. } => SurfaceKind::Bowl,
@@ -93,28 +79,49 @@ pub struct LocalModel {
     pub max_age_ms: u16,
 }
 
-/// The contact parameters an application may change (the rest keep the device's values).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ContactParamsWire {
-    /// Fingertip sphere radius, m.
-    pub fingertip_radius_m: f32,
-    /// Normal stiffness, N/m.
-    pub normal_stiffness: f32,
-    /// Normal damping, N·s/m.
-    pub normal_damping: f32,
-    /// Tangential coupling stiffness, N/m.
-    pub tangential_stiffness: f32,
-    /// Tangential coupling damping, N·s/m.
-    pub tangential_damping: f32,
-    /// Static friction coefficient.
-    pub mu_s: f32,
-    /// Kinetic friction coefficient.
-    pub mu_k: f32,
-    /// Spin stiffness, N·m/rad.
-    pub spin_stiffness: f32,
-    /// Largest force the model may ask for, N.
-    pub max_force_n: f32,
+/// Defines a wire struct carrying some fields of [`ContactParams`], each of the same name, unit
+/// and `f32` type, in the order listed (the wire order), with its two conversions: one list for
+/// the layout and both directions.
+macro_rules! contact_params_subset {
+    ($(#[$attr:meta])* pub struct $name:ident { $($field:ident,)+ }) => {
+        $(#[$attr])*
+        #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        pub struct $name {
+            $(
+                #[doc = concat!("[`ContactParams::", stringify!($field), "`], in its unit.")]
+                pub $field: f32,
+            )+
+        }
+
+        impl $name {
+            /// The wire view of `p`.
+            pub fn of(p: &ContactParams) -> $name {
+                $name { $($field: p.$field,)+ }
+            }
+
+            /// These values over `base` (the fields the wire does not carry keep `base`'s). Not
+            /// checked here: the pipeline refuses invalid parameters (`Pipeline::command`).
+            pub fn over(&self, base: &ContactParams) -> ContactParams {
+                ContactParams { $($field: self.$field,)+ ..*base }
+            }
+        }
+    };
+}
+
+contact_params_subset! {
+    /// The contact parameters an application may change (the rest keep the device's values).
+    pub struct ContactParamsWire {
+        fingertip_radius_m,
+        normal_stiffness,
+        normal_damping,
+        tangential_stiffness,
+        tangential_damping,
+        mu_s,
+        mu_k,
+        spin_stiffness,
+        max_force_n,
+    }
 }
 
 /// Where the virtual device's simulated hand should hold the handle (base frame). Real devices

@@ -2,59 +2,12 @@
 
 use serde::{Deserialize, Serialize};
 
-/// The device's operating mode (the pipeline's mode machine).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Mode {
-    /// Not homed: no force.
-    #[default]
-    Unhomed,
-    /// Homing in progress: no force.
-    Homing,
-    /// Homed, drives off: no force.
-    Disarmed,
-    /// Rendering force.
-    Armed,
-    /// A fault latched: zero torque until cleared.
-    Faulted,
-}
+/// The device's operating mode: the pipeline's own `Mode`, encoded as its variant index (the
+/// recorded frames of the protocol's tests pin it).
+pub use softfinger_core::control::pipeline::Mode;
 
-impl Mode {
-    /// Lower-case name for logs and files.
-    pub const fn name(self) -> &'static str {
-        match self {
-            Mode::Unhomed => "unhomed",
-            Mode::Homing => "homing",
-            Mode::Disarmed => "disarmed",
-            Mode::Armed => "armed",
-            Mode::Faulted => "faulted",
-        }
-    }
-}
-
-/// The contact state (see `softfinger_core::contact::state::ContactState`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum ContactStateWire {
-    /// No contact.
-    #[default]
-    Broken,
-    /// Rolling without slip.
-    Rolling,
-    /// Sliding.
-    Sliding,
-}
-
-impl ContactStateWire {
-    /// Lower-case name for logs and files.
-    pub const fn name(self) -> &'static str {
-        match self {
-            ContactStateWire::Broken => "broken",
-            ContactStateWire::Rolling => "rolling",
-            ContactStateWire::Sliding => "sliding",
-        }
-    }
-}
+/// The contact state: the core's own type, encoded as its variant index.
+pub use softfinger_core::contact::state::ContactState;
 
 /// Control-tick timing since the previous sample.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -83,7 +36,7 @@ pub struct StateSample {
     /// Spin torque about the contact normal, N·m.
     pub spin_torque_nm: f32,
     /// Contact state.
-    pub contact: ContactStateWire,
+    pub contact: ContactState,
     /// Contact point on the object, base frame, m.
     pub contact_point_m: [f32; 3],
     /// `softfinger_core::Flags` bits raised this tick (latched ones included).

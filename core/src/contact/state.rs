@@ -25,6 +25,7 @@ use crate::math::vec3::Vec3;
 /// The contact state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ContactState {
     /// No contact: no force.
     #[default]

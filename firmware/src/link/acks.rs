@@ -8,32 +8,11 @@
 //! request only when it is the same command; other outcomes answer nothing.
 
 use heapless::Deque;
-use softfinger_core::control::local_model::ModelError;
 use softfinger_core::control::pipeline::{Command, CommandError};
-use softfinger_protocol::{AckResult, ErrorCode};
+use softfinger_protocol::AckResult;
 
 /// Commands the link may have in flight (the tick's command queue holds as many).
 pub const MAX_PENDING: usize = 4;
-
-/// The typed error code of a command the pipeline refused.
-pub fn error_code(e: CommandError) -> ErrorCode {
-    match e {
-        CommandError::NotHomed | CommandError::Armed | CommandError::Homing => ErrorCode::WrongMode,
-        CommandError::Faulted => ErrorCode::Faulted,
-        CommandError::InvalidParams(_) => ErrorCode::InvalidValue,
-        CommandError::InvalidModel(ModelError::StaleSequence) => ErrorCode::StaleSequence,
-        CommandError::InvalidModel(_) => ErrorCode::InvalidValue,
-        CommandError::Unsupported => ErrorCode::Unsupported,
-    }
-}
-
-/// The acknowledgement of a pipeline outcome.
-pub fn ack_result(result: Result<(), CommandError>) -> AckResult {
-    match result {
-        Ok(()) => AckResult::Ok,
-        Err(e) => AckResult::Err(error_code(e)),
-    }
-}
 
 /// Sequence numbers of queued commands, oldest first.
 #[derive(Debug, Default)]
@@ -69,7 +48,7 @@ impl PendingAcks {
         match self.waiting.front() {
             Some((_, c)) if c == command => {
                 let (seq, _) = self.waiting.pop_front()?;
-                Some((seq, ack_result(result)))
+                Some((seq, AckResult::from(result)))
             }
             _ => None,
         }

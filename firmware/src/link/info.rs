@@ -20,14 +20,6 @@ pub struct InfoSource {
     pub watchdog_ms: u16,
 }
 
-/// The surfaces the firmware's local-model renderer draws (`softfinger_core::control::local_model::ModelKind`).
-pub const SURFACES: [SurfaceKind; 4] = [
-    SurfaceKind::Plane,
-    SurfaceKind::Sphere,
-    SurfaceKind::Bowl,
-    SurfaceKind::Cylinder,
-];
-
 pub use crate::stream::min_stream_divisor;
 
 /// `s` cut at a character boundary to fit `N` bytes.
@@ -51,8 +43,8 @@ pub fn device_info(src: &InfoSource) -> DeviceInfo {
         control_rate_hz: src.control_rate_hz,
         max_force_n: src.max_force_n,
         min_stream_divisor: src.min_stream_divisor,
-        // Cannot fail: 4 kinds, capacity 8.
-        surfaces: heapless::Vec::from_slice(&SURFACES).unwrap_or_default(),
+        // Every kind the local-model renderer draws. Cannot fail: 4 kinds, capacity 8.
+        surfaces: heapless::Vec::from_slice(&SurfaceKind::ALL).unwrap_or_default(),
         watchdog_ms: src.watchdog_ms,
     }
 }

@@ -7,12 +7,13 @@ use heapless::spsc::Producer;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::pipeline::{Command, CommandError};
 use softfinger_protocol::{
-    AckResult, DeviceEndpoint, DeviceMsg, ErrorCode, LinkCounters, Request, StateSample,
+    AckResult, ContactParamsWire, DeviceEndpoint, DeviceMsg, ErrorCode, LinkCounters, Request,
+    StateSample,
 };
 
 use super::acks::PendingAcks;
 use super::info::{device_info, InfoSource};
-use super::requests::{contact_params_wire, route, Route};
+use super::requests::{route, Route};
 use super::state::StateBuilder;
 use super::tx::TxRing;
 use crate::stream_point::StreamPoint;
@@ -119,7 +120,7 @@ impl<const TX: usize> LinkSession<TX> {
                     .send(&DeviceMsg::Info { seq, info }, &mut send);
             }
             Route::ContactParams => {
-                let params = contact_params_wire(&self.contact);
+                let params = ContactParamsWire::of(&self.contact);
                 self.endpoint
                     .send(&DeviceMsg::ContactParams { seq, params }, &mut send);
             }

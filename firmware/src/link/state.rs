@@ -5,31 +5,9 @@
 //! torque, contact state and point, flags, mode, the local model's sequence number) and the
 //! tick timing since the previous point in timer counts, which the sample reports in ns.
 
-use softfinger_core::contact::state::ContactState;
-use softfinger_core::control::pipeline::Mode as CoreMode;
-use softfinger_protocol::{ContactStateWire, Mode, StateSample, TickStatsWire};
+use softfinger_protocol::{StateSample, TickStatsWire};
 
 use crate::stream_point::StreamPoint;
-
-/// The wire mode.
-pub fn mode(m: CoreMode) -> Mode {
-    match m {
-        CoreMode::Unhomed => Mode::Unhomed,
-        CoreMode::Homing => Mode::Homing,
-        CoreMode::Disarmed => Mode::Disarmed,
-        CoreMode::Armed => Mode::Armed,
-        CoreMode::Faulted => Mode::Faulted,
-    }
-}
-
-/// The wire contact state.
-pub fn contact_state(s: ContactState) -> ContactStateWire {
-    match s {
-        ContactState::Broken => ContactStateWire::Broken,
-        ContactState::Rolling => ContactStateWire::Rolling,
-        ContactState::Sliding => ContactStateWire::Sliding,
-    }
-}
 
 /// A wrapping 32-bit tick index extended to 64 bits (points arrive in order, far less than 2³²
 /// ticks apart).
@@ -81,10 +59,10 @@ impl StateBuilder {
             probe_vel_m_s: p.probe_vel_m_s,
             force_n: p.force_n,
             spin_torque_nm: p.spin_torque_nm,
-            contact: contact_state(p.state),
+            contact: p.state,
             contact_point_m: p.contact_point_m,
             flags: p.flags.0,
-            mode: mode(p.mode),
+            mode: p.mode,
             model_seq: p.model_seq,
             tick_stats: TickStatsWire {
                 max_duration_ns: ns(p.max_tick_counts as f32),

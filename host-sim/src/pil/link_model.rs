@@ -19,7 +19,7 @@ use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::local_model::RendererConfig;
 use softfinger_core::Flags;
 use softfinger_protocol::{
-    AckResult, ContactStateWire, LocalModel, Mode, Request, StateSample, SurfaceShape,
+    AckResult, ContactState, LocalModel, Mode, Request, StateSample, SurfaceShape,
 };
 
 /// The default contact material and fingertip (the firmware's, `config::pipeline_config`).
@@ -167,7 +167,7 @@ fn sphere_out_of_reach(c: &mut Client, settle: u64, r: &mut LinkReport) -> Resul
             && nearest > 0.0
             && after
                 .iter()
-                .all(|s| s.force_n == [0.0; 3] && s.contact == ContactStateWire::Broken),
+                .all(|s| s.force_n == [0.0; 3] && s.contact == ContactState::Broken),
         format!(
             "{ack:?}; {} samples, nearest gap {:.4} m, largest force {} N",
             after.len(),
@@ -197,7 +197,7 @@ fn raised_plane(c: &mut Client, settle: u64, r: &mut LinkReport) -> Result<(), S
     let worst = errors.iter().fold(0.0f32, |m, e| m.max(e.abs()));
     let pressing = after
         .iter()
-        .all(|s| top + radius - s.probe_m[2] > 0.0 && s.contact != ContactStateWire::Broken);
+        .all(|s| top + radius - s.probe_m[2] > 0.0 && s.contact != ContactState::Broken);
     // The model in force is the plane (sequence 2), and the contact point is on its top under
     // the probe.
     let on_plane = after.iter().all(|s| {

@@ -9,7 +9,6 @@
 //! output guard and fault latch are the pipeline's, the firmware's own.
 
 use crate::plant::Plant;
-use crate::serve::convert;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::control::controller::ContactStage;
@@ -126,17 +125,14 @@ impl DeviceCore for PipelineCore {
             contact: out.control.state,
             contact_point_m: c.contact_point_m(),
             flags: out.flags,
-            mode: convert::mode(out.mode),
+            mode: out.mode,
             model_seq: c.contact().model_seq(),
             enable: out.bridges.pwm_enable,
         }
     }
 
     fn request(&mut self, command: Command) -> AckResult {
-        match self.pipe.command(command) {
-            Ok(()) => AckResult::Ok,
-            Err(e) => AckResult::Err(convert::error_code(e)),
-        }
+        self.pipe.command(command).into()
     }
 
     fn message_received(&mut self) {

@@ -7,15 +7,14 @@
 //! overruns.
 
 use crate::plant::{HandScript, Plant, Waypoint};
-use crate::serve::convert;
 use crate::serve::core::{CoreOutput, DeviceCore};
 use crate::serve::hand::{self, HandMode};
 use crate::serve::link::{Event, LinkStats, Outbox};
 use softfinger_core::control::pipeline::Command;
 use softfinger_core::device::DeviceParams;
 use softfinger_protocol::{
-    AckResult, DeviceInfo, DeviceMsg, ErrorCode, HostMsg, Mode, Request, StateSample,
-    TickStatsWire, PROTOCOL_VERSION,
+    AckResult, ContactParamsWire, DeviceInfo, DeviceMsg, ErrorCode, HostMsg, Mode, Request,
+    StateSample, SurfaceKind, TickStatsWire, PROTOCOL_VERSION,
 };
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -105,7 +104,7 @@ impl DeviceLoop {
             control_rate_hz: rate as u32,
             max_force_n: core.contact_params().max_force_n,
             min_stream_divisor: 1,
-            surfaces: heapless::Vec::from_slice(&convert::SURFACES).unwrap_or_default(),
+            surfaces: heapless::Vec::from_slice(&SurfaceKind::ALL).unwrap_or_default(),
             watchdog_ms: 0,
         };
         let _ = info.name.push_str("virtual omega-like");
@@ -219,7 +218,7 @@ impl DeviceLoop {
             probe_vel_m_s: o.probe_vel_m_s.to_array(),
             force_n: o.force_n.to_array(),
             spin_torque_nm: o.spin_torque_nm,
-            contact: convert::contact_state(o.contact),
+            contact: o.contact,
             contact_point_m: o.contact_point_m.to_array(),
             flags: o.flags.0,
             mode: o.mode,
@@ -251,12 +250,7 @@ impl DeviceLoop {
                 min_version,
                 max_version,
             } => {
-                let ok = (min_version..=max_version).contains(&PROTOCOL_VERSION);
-                let reply = DeviceMsg::HelloReply {
-                    version: ok.then_some(PROTOCOL_VERSION),
-                    device_version: PROTOCOL_VERSION,
-                };
-                return self.reply(id, reply);
+                return self.reply(id, DeviceMsg::hello_reply(min_version, max_version));
             }
             HostMsg::Request { seq, req } => (seq, req),
         };
@@ -272,7 +266,7 @@ impl DeviceLoop {
                 return self.reply(id, DeviceMsg::Counters { seq, counters });
             }
             Request::GetContactParams => {
-                let params = convert::contact_params_wire(&self.core.contact_params());
+                let params = ContactParamsWire::of(&self.core.contact_params());
                 return self.reply(id, DeviceMsg::ContactParams { seq, params });
             }
             Request::Ping => AckResult::Ok,
@@ -295,7 +289,7 @@ impl DeviceLoop {
                 self.hand_target = None;
                 self.take_handle()
             }
-            other => match convert::core_request(other, &self.core.contact_params()) {
+            other => match other.command(&self.core.contact_params()) {
                 Some(r) => {
                     let result = self.core.request(r);
                     if r == Command::Home && result == AckResult::Ok {

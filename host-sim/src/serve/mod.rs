@@ -8,7 +8,6 @@
 //! bad frames counted and answered; a client that stops reading loses state samples (counted);
 //! neither affects the other clients or the tick.
 
-pub mod convert;
 pub mod core;
 pub mod device;
 pub mod hand;

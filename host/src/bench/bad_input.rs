@@ -14,13 +14,9 @@ pub struct BadInputReport {
     pub garbage_bytes: usize,
     /// Frames of each crafted kind sent (truncated, oversized, wrong version, wrong CRC).
     pub crafted_each: u32,
-    /// Device counters after minus before.
-    pub rx_errors: u32,
-    pub rx_cobs: u32,
-    pub rx_crc: u32,
-    pub rx_version: u32,
-    pub rx_decode: u32,
-    pub rx_oversized: u32,
+    /// What the device counted meanwhile: its counters after minus before
+    /// ([`LinkCounters::since`]).
+    pub counted: LinkCounters,
     /// `FrameError` answers the bad client received.
     pub answered: u32,
     /// The bad client's own requests still worked afterwards.
@@ -48,10 +44,6 @@ fn garbage(n: usize) -> Vec<u8> {
             }
         })
         .collect()
-}
-
-fn delta(a: &LinkCounters, b: &LinkCounters, f: fn(&LinkCounters) -> u32) -> u32 {
-    f(b).wrapping_sub(f(a))
 }
 
 /// After `delay_s`, send the bad input, then check the connection.
@@ -100,12 +92,7 @@ pub fn run(target: &Target, delay_s: f64) -> Result<BadInputReport, LinkError> {
     Ok(BadInputReport {
         garbage_bytes: g.len(),
         crafted_each,
-        rx_errors: delta(&before, &after, |c| c.rx_errors),
-        rx_cobs: delta(&before, &after, |c| c.rx_cobs),
-        rx_crc: delta(&before, &after, |c| c.rx_crc),
-        rx_version: delta(&before, &after, |c| c.rx_version),
-        rx_decode: delta(&before, &after, |c| c.rx_decode),
-        rx_oversized: delta(&before, &after, |c| c.rx_oversized),
+        counted: after.since(&before),
         answered: d.rejected_by_device(),
         still_usable,
     })

@@ -51,10 +51,10 @@ pub fn main(spec: &str, a: &Args) -> Result<(), String> {
         "round trip (ping -> ack, {} while streaming): median {:.0} us, p99 {:.0} us, max {:.0} us",
         t.n, t.median_us, t.p99_us, t.max_us
     );
-    let b = &r.bad_input;
+    let (b, c) = (&r.bad_input, &r.bad_input.counted);
     println!(
         "bad input ({} garbage bytes + {} each of truncated, oversized, wrong-version, wrong-CRC): counted {} (cobs {} crc {} version {} decode {} oversized {}), answered {}, bad client still usable: {}",
-        b.garbage_bytes, b.crafted_each, b.rx_errors, b.rx_cobs, b.rx_crc, b.rx_version, b.rx_decode, b.rx_oversized, b.answered, b.still_usable
+        b.garbage_bytes, b.crafted_each, c.rx_errors, c.rx_cobs, c.rx_crc, c.rx_version, c.rx_decode, c.rx_oversized, b.answered, b.still_usable
     );
     let m = &r.models;
     println!(

@@ -2,7 +2,7 @@ use super::*;
 use crate::info::{DeviceInfo, LinkCounters};
 use crate::messages::{AckResult, DeviceMsg, ErrorCode, HostMsg, Request};
 use crate::model::{ContactParamsWire, HandTarget, LocalModel, SurfaceKind, SurfaceShape};
-use crate::state::{ContactStateWire, Mode, StateSample, TickStatsWire};
+use crate::state::{ContactState, Mode, StateSample, TickStatsWire};
 use proptest::prelude::*;
 use std::vec;
 use std::vec::Vec;
@@ -20,7 +20,8 @@ fn decode_all<T: DeserializeOwned>(
     bytes.iter().filter_map(|b| dec.push::<T>(*b)).collect()
 }
 
-fn model(seq: u32) -> LocalModel {
+/// A sphere model, its material and position each a different value (other tests reuse it).
+pub(crate) fn model(seq: u32) -> LocalModel {
     LocalModel {
         seq,
         shape: SurfaceShape::Sphere { radius_m: 0.05 },
@@ -32,6 +33,21 @@ fn model(seq: u32) -> LocalModel {
         mu_k: 0.6,
         spin_stiffness_nm_per_rad: 0.01,
         max_age_ms: u16::MAX,
+    }
+}
+
+/// Contact parameters, each field a different value: a golden frame catches two fields swapped.
+fn contact_params() -> ContactParamsWire {
+    ContactParamsWire {
+        fingertip_radius_m: 0.012,
+        normal_stiffness: 2500.0,
+        normal_damping: 2.5,
+        tangential_stiffness: 1100.0,
+        tangential_damping: 1.25,
+        mu_s: 0.9,
+        mu_k: 0.7,
+        spin_stiffness: 0.02,
+        max_force_n: 11.0,
     }
 }
 
@@ -56,7 +72,7 @@ fn largest_device_msgs() -> Vec<DeviceMsg> {
         probe_vel_m_s: [f32::MIN; 3],
         force_n: [1.0; 3],
         spin_torque_nm: -1.0,
-        contact: ContactStateWire::Sliding,
+        contact: ContactState::Sliding,
         contact_point_m: [2.0; 3],
         flags: u32::MAX,
         mode: Mode::Faulted,
@@ -130,20 +146,7 @@ fn host_msgs() -> Vec<HostMsg> {
         req(5, Request::Arm),
         req(6, Request::Disarm),
         req(7, Request::ClearFaults),
-        req(
-            8,
-            Request::SetContactParams(ContactParamsWire {
-                fingertip_radius_m: 0.01,
-                normal_stiffness: 2000.0,
-                normal_damping: 2.0,
-                tangential_stiffness: 1000.0,
-                tangential_damping: 1.0,
-                mu_s: 0.8,
-                mu_k: 0.6,
-                spin_stiffness: 0.01,
-                max_force_n: 12.0,
-            }),
-        ),
+        req(8, Request::SetContactParams(contact_params())),
         req(u16::MAX, Request::SetLocalModel(model(u32::MAX))),
         req(10, Request::SetStream { divisor: 10 }),
         req(11, Request::SetWatchdog { timeout_ms: 100 }),
@@ -352,3 +355,5 @@ proptest! {
         }
     }
 }
+
+mod golden;

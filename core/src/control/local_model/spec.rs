@@ -7,10 +7,11 @@ use crate::math::quat::{Quat, UNIT_TOLERANCE};
 
 /// The kind of surface and its size, in the model's object frame.
 ///
-/// Non-exhaustive: more kinds are added as the core learns to render them.
+/// The host link carries it as it is (`softfinger_protocol::SurfaceShape`): a new kind is
+/// appended, never inserted.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[non_exhaustive]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ModelKind {
     /// The plane z = 0, outward normal +z.
     Plane,

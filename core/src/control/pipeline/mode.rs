@@ -15,8 +15,9 @@ use crate::contact::params::{ContactParams, ParamError};
 use crate::control::local_model::{LocalModelSpec, ModelError};
 
 /// Operating mode.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Mode {
     /// Power-up: encoder zero unknown, drivers asleep, no torque.
     #[default]

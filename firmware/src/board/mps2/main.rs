@@ -39,6 +39,8 @@ mod isr_cell;
 mod link;
 #[path = "../../logger.rs"]
 mod logger;
+#[path = "../../queues.rs"]
+mod queues;
 #[path = "../../stream.rs"]
 mod stream;
 #[path = "../../stream_point.rs"]
@@ -56,29 +58,19 @@ use defmt::{error, info, warn};
 use embassy_executor::Spawner;
 use embassy_time::Timer;
 use heapless::spsc::{Consumer, Producer, Queue};
-use softfinger_core::control::pipeline::{
-    BoardTiming, Command, PipelineConfig, PipelineRecord, TimingSummary,
-};
+use softfinger_core::control::pipeline::{BoardTiming, Command, PipelineConfig};
 
 use cmsdk::{FreeRunning, Irq, PCLK_HZ};
 use host_link::info::{min_stream_divisor, InfoSource};
 use host_link::session::{LinkConfig, LinkSession};
 use host_link::task::LinkQueues;
-use tick::{CommandOutcome, ControlLoop, TickQueues};
+use tick::{CommandOutcome, ControlLoop};
 
 /// Watchdog timeout in 25 MHz counts (the STM32 build's timeout).
 const WATCHDOG_COUNTS: u32 = config::WATCHDOG_TIMEOUT_US * (PCLK_HZ / 1_000_000);
 
 /// End-of-run figure keys (the host's `report::REPORT_KEYS`, in order from 1).
 const FIGURES: usize = 6;
-
-#[embassy_executor::task]
-async fn logger_task(
-    records: Consumer<'static, PipelineRecord>,
-    summaries: Consumer<'static, TimingSummary>,
-) {
-    logger::run(records, summaries, |_| {}).await
-}
 
 #[embassy_executor::task]
 async fn supervisor_task(outcomes: Consumer<'static, CommandOutcome>) {
@@ -284,48 +276,27 @@ async fn main(spawner: Spawner) {
         config.timing.pwm_hz,
         PCLK_HZ / rate_hz * hw::INSTRUCTIONS_PER_COUNT
     );
-    let Some(commands) =
-        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())
-    else {
+    let Some((tick_ends, tasks)) = queues::take() else {
         exit(false)
     };
-    let Some(outcomes) =
-        cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new())
-    else {
-        exit(false)
-    };
-    let Some(records) =
-        cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new())
-    else {
-        exit(false)
-    };
-    let Some(summaries) =
-        cortex_m::singleton!(: Queue<TimingSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new())
-    else {
-        exit(false)
-    };
-    let (command_tx, command_rx) = commands.split();
-    let (outcome_tx, outcome_rx) = outcomes.split();
-    let (record_tx, record_rx) = records.split();
-    let (summary_tx, summary_rx) = summaries.split();
-    match logger_task(record_rx, summary_rx) {
+    match logger::task(tasks.records, tasks.summaries) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("logger task not spawned: {}", e),
     }
-    let (command_tx, stream_tx) =
-        spawn_command_side(spawner, host_link, rate_hz, &config, command_tx, outcome_rx);
+    let (command_tx, stream_tx) = spawn_command_side(
+        spawner,
+        host_link,
+        rate_hz,
+        &config,
+        tasks.commands,
+        tasks.outcomes,
+    );
     let fault = hw::Injected::from_code(fault_code);
     if fault != hw::Injected::None {
         warn!("test hook armed: {}", fault);
     }
     let control = hw::Mps2Control::new(config.timing.tick_period_counts(), command_tx, fault);
-    let queues = TickQueues {
-        commands: command_rx,
-        outcomes: outcome_tx,
-        records: record_tx,
-        summaries: summary_tx,
-        stream: stream_tx,
-    };
+    let queues = tick_ends.with_stream(stream_tx);
     faults::set_watchdog_counts(WATCHDOG_COUNTS);
     if !hw::start_tick(
         ControlLoop::new(control, pipeline, queues),
