@@ -4,7 +4,7 @@
 use plotters::prelude::*;
 use plotters::style::full_palette::{BLUE_600, GREEN_700};
 
-use super::style::{draw_legend, draw_line, draw_markers, Shape};
+use super::style::{draw_legend, draw_line, draw_markers, linear_range, Shape};
 
 /// One run's paths, in metres, one row per sample.
 #[derive(Clone, Debug)]
@@ -51,20 +51,6 @@ const PANELS: [Panel; 3] = [
 
 const AXIS: [&str; 3] = ["x", "y", "z"];
 
-/// `(lo, hi)` covering `v` with 5 % margin, and `top` (a fraction of the span) more above.
-fn range(v: impl Iterator<Item = f64>, top: f64) -> (f64, f64) {
-    let (lo, hi) = v
-        .filter(|x| x.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-            (a.min(x), b.max(x))
-        });
-    if lo > hi {
-        return (-1.0, 1.0);
-    }
-    let pad = ((hi - lo) * 0.05).max(1e-3);
-    (lo - pad, hi + pad + (hi - lo) * top)
-}
-
 /// Renders the three panels as one SVG.
 pub fn svg(t: &Trajectories) -> Result<String, String> {
     let mut buf = String::new();
@@ -91,9 +77,9 @@ pub fn svg(t: &Trajectories) -> Result<String, String> {
                 path.iter().map(|p| (p[i] * 1e3, p[j] * 1e3)).collect()
             };
             let all: Vec<(f64, f64)> = t.runs.iter().flat_map(pick).collect();
-            let (x0, x1) = range(all.iter().map(|p| p.0), 0.0);
+            let (x0, x1) = linear_range(all.iter().map(|p| p.0), 1e-3, 0.0);
             // Room above the paths for the legend.
-            let (y0, y1) = range(all.iter().map(|p| p.1), 0.3);
+            let (y0, y1) = linear_range(all.iter().map(|p| p.1), 1e-3, 0.3);
             let mut chart = ChartBuilder::on(area)
                 .caption(panel.title, ("sans-serif", 15))
                 .margin(12)

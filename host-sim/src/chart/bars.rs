@@ -1,11 +1,12 @@
-//! Grouped bar charts on a log y axis (plotters, SVG backend), in the style of [`super::charts`].
+//! Grouped bar charts on a log y axis, in the style of [`super::style`].
 
-use super::charts::{err, fmt_num, FONT};
+use super::style::{draw_legend, drawing_err, fmt_num, render_svg, Area, FONT};
 use plotters::prelude::*;
 use std::path::Path;
 
 /// A grouped bar chart on a log y axis: `groups` (one colour and label each) × `categories`;
-/// `values[g][c]`. Zero values draw no bar but a "0" at the floor. Every bar is annotated.
+/// `values[g][c]`. Zero values draw no bar but a "0" at the floor. Every bar is annotated. Written
+/// atomically to `path`.
 #[allow(clippy::too_many_arguments)]
 pub fn bar_chart(
     path: &Path,
@@ -17,17 +18,31 @@ pub fn bar_chart(
     values: &[Vec<f64>],
     y_range: (f64, f64),
 ) -> Result<(), String> {
-    let root = SVGBackend::new(path, (1000, 560)).into_drawing_area();
-    root.fill(&WHITE).map_err(err(path))?;
-    let e = err(path);
+    render_svg(path, (1000, 560), |root| {
+        bars(root, title, x_label, y_label, categories, groups, values, y_range)
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn bars(
+    root: &Area,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    categories: &[String],
+    groups: &[(String, RGBColor)],
+    values: &[Vec<f64>],
+    y_range: (f64, f64),
+) -> Result<(), String> {
+    let e = drawing_err;
     let nc = categories.len() as f64;
-    let mut chart = ChartBuilder::on(&root)
+    let mut chart = ChartBuilder::on(root)
         .caption(title, (FONT, 20))
         .margin(14)
         .x_label_area_size(50)
         .y_label_area_size(78)
         .build_cartesian_2d(0.0..nc, (y_range.0..y_range.1).log_scale())
-        .map_err(&e)?;
+        .map_err(e)?;
     chart
         .configure_mesh()
         .disable_x_mesh()
@@ -38,7 +53,7 @@ pub fn bar_chart(
         .label_style((FONT, 13))
         .axis_desc_style((FONT, 15))
         .draw()
-        .map_err(&e)?;
+        .map_err(e)?;
     let ng = groups.len().max(1) as f64;
     let bw = 0.8 / ng;
     for (g, (label, color)) in groups.iter().enumerate() {
@@ -54,7 +69,7 @@ pub fn bar_chart(
             .collect();
         chart
             .draw_series(bars)
-            .map_err(&e)?
+            .map_err(e)?
             .label(label.as_str())
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], c.filled()));
         let texts: Vec<_> = values[g]
@@ -75,7 +90,7 @@ pub fn bar_chart(
                 Text::new(t, (x0, y), (FONT, 10).into_font())
             })
             .collect();
-        chart.draw_series(texts).map_err(&e)?;
+        chart.draw_series(texts).map_err(e)?;
     }
     // Category labels under the axis, centred on each group of bars.
     for (i, c) in categories.iter().enumerate() {
@@ -85,16 +100,7 @@ pub fn bar_chart(
             (px.0 - 4 * c.len() as i32, px.1 + 8),
             (FONT, 13).into_font(),
         ))
-        .map_err(&e)?;
+        .map_err(e)?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font((FONT, 12))
-        .position(SeriesLabelPosition::UpperLeft)
-        .draw()
-        .map_err(&e)?;
-    root.present().map_err(err(path))?;
-    Ok(())
+    draw_legend(&mut chart, SeriesLabelPosition::UpperLeft, 12)
 }
