@@ -19,7 +19,9 @@ pub fn bar_chart(
     y_range: (f64, f64),
 ) -> Result<(), String> {
     render_svg(path, (1000, 560), |root| {
-        bars(root, title, x_label, y_label, categories, groups, values, y_range)
+        bars(
+            root, title, x_label, y_label, categories, groups, values, y_range,
+        )
     })
 }
 

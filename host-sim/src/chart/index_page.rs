@@ -72,12 +72,18 @@ figcaption{color:#555;font-size:.9em}.bad{color:#b00;font-weight:bold}.ok{color:
 pub fn html(dir: &Path, title: &str, summary: &str, files: &[PathBuf]) -> String {
     let mut h = String::new();
     h.push_str("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
-    h.push_str(&format!("<title>{}</title>\n{STYLE}\n</head>\n<body>\n", escape(title)));
+    h.push_str(&format!(
+        "<title>{}</title>\n{STYLE}\n</head>\n<body>\n",
+        escape(title)
+    ));
     h.push_str(&format!("<h1>{}</h1>\n", escape(title)));
     h.push_str(&format!(
         "<p id=\"{CHECK_ID}\">Checking the charts (needs JavaScript).</p>\n"
     ));
-    h.push_str(&format!("<h2>Summary</h2>\n<pre>{}</pre>\n", escape(summary)));
+    h.push_str(&format!(
+        "<h2>Summary</h2>\n<pre>{}</pre>\n",
+        escape(summary)
+    ));
     let (charts, others): (Vec<&PathBuf>, Vec<&PathBuf>) = files
         .iter()
         .partition(|f| f.extension().is_some_and(|e| e == "svg"));
@@ -132,7 +138,11 @@ mod tests {
         assert!(h.contains("<a href=\"run.csv\">run.csv</a>"));
         assert!(h.contains("<img src=\"forces.svg\""));
         assert!(h.contains("<img src=\"x&lt;y&gt;.svg\""));
-        assert_eq!(h.matches("<img ").count(), 2, "the CSV is a link, not an image");
+        assert_eq!(
+            h.matches("<img ").count(),
+            2,
+            "the CSV is a link, not an image"
+        );
         assert!(!h.contains("/tmp/out"), "no absolute paths");
     }
 }

@@ -198,12 +198,7 @@ where
         .map_err(drawing_err)?;
     draw_bands(&mut chart, &axes.bands, xr, yr)?;
     let inside = |&(px, py): &(f64, f64)| {
-        px.is_finite()
-            && py.is_finite()
-            && px >= xr.0
-            && px <= xr.1
-            && py >= yr.0
-            && py <= yr.1
+        px.is_finite() && py.is_finite() && px >= xr.0 && px <= xr.1 && py >= yr.0 && py <= yr.1
     };
     for s in series {
         let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(inside).collect();
@@ -211,11 +206,12 @@ where
     }
     draw_legend(
         &mut chart,
-        axes.legend_at.clone().unwrap_or(SeriesLabelPosition::UpperLeft),
+        axes.legend_at
+            .clone()
+            .unwrap_or(SeriesLabelPosition::UpperLeft),
         12,
     )
 }
-
 
 /// The bands, pale, clipped to the x range, each label once in the legend.
 fn draw_bands<'a, 'b: 'a, X, Y>(
@@ -320,7 +316,10 @@ mod tests {
         // 10 mm × 2 mm of data on a 600 × 300 px plot: 10/600 mm/px wins, y widens to 5 mm.
         let (x, y) = equal_ranges((0.0, 10.0), (4.0, 6.0), (600, 300));
         assert_eq!(x, (0.0, 10.0));
-        assert!((y.0 - 2.5).abs() < 1e-12 && (y.1 - 7.5).abs() < 1e-12, "{y:?}");
+        assert!(
+            (y.0 - 2.5).abs() < 1e-12 && (y.1 - 7.5).abs() < 1e-12,
+            "{y:?}"
+        );
         // Tall data widens x instead.
         let (x, y) = equal_ranges((0.0, 1.0), (0.0, 3.0), (600, 300));
         assert_eq!(y, (0.0, 3.0));
@@ -331,10 +330,7 @@ mod tests {
     fn bands_follow_the_state_timeline() {
         use ContactState::{Broken, Rolling, Sliding};
         let states = [Broken, Broken, Rolling, Rolling, Sliding, Broken, Rolling];
-        let ticks = states
-            .iter()
-            .enumerate()
-            .map(|(k, &s)| ((k + 1) as f64, s));
+        let ticks = states.iter().enumerate().map(|(k, &s)| ((k + 1) as f64, s));
         let b = phase_bands(ticks, 1.0);
         let got: Vec<(f64, f64, &str)> =
             b.iter().map(|b| (b.x.0, b.x.1, b.label.as_str())).collect();

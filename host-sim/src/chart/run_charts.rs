@@ -35,7 +35,10 @@ fn thinned(rows: &[Row]) -> impl Iterator<Item = &Row> {
 /// Force and spin torque against time over the state bands.
 fn force_chart(file: &Path, res: &RunResult) -> Result<(), String> {
     let rows = &res.rows;
-    let bands = phase_bands(rows.iter().map(|r| (r.t_s, r.state)), 1.0 / res.scene.rate_hz);
+    let bands = phase_bands(
+        rows.iter().map(|r| (r.t_s, r.state)),
+        1.0 / res.scene.rate_hz,
+    );
     let series = |label: &str, color, get: &dyn Fn(&Row) -> f64| Series {
         label: label.into(),
         color,
@@ -49,7 +52,8 @@ fn force_chart(file: &Path, res: &RunResult) -> Result<(), String> {
     ];
     let torque = vec![series("τn", PALETTE[5], &|r| f64::from(r.tau_n_nm) * 1e3)];
     let t = (
-        rows.first().map_or(0.0, |r| r.t_s - 1.0 / res.scene.rate_hz),
+        rows.first()
+            .map_or(0.0, |r| r.t_s - 1.0 / res.scene.rate_hz),
         rows.last().map_or(1.0, |r| r.t_s),
     );
     let axes = |title: String, y_label: &str, s: &[Series]| Axes {
@@ -58,7 +62,11 @@ fn force_chart(file: &Path, res: &RunResult) -> Result<(), String> {
         y_label: y_label.into(),
         x: t,
         // Room above the lines for the legend.
-        y: linear_range(s.iter().flat_map(|s| s.points.iter().map(|p| p.1)), 0.1, 0.45),
+        y: linear_range(
+            s.iter().flat_map(|s| s.points.iter().map(|p| p.1)),
+            0.1,
+            0.45,
+        ),
         bands: bands.clone(),
         legend_at: Some(SeriesLabelPosition::UpperRight),
         ..Axes::default()
@@ -110,7 +118,12 @@ fn path_series(rows: &[Row], point: impl Fn(&Row) -> [f32; 3]) -> Vec<Series> {
             let color = state_color(r.state);
             let named = out.iter().any(|s| s.color == color);
             out.push(Series {
-                label: if named { "" } else { ContactPhase::of(r.state, true).label() }.to_string(),
+                label: if named {
+                    ""
+                } else {
+                    ContactPhase::of(r.state, true).label()
+                }
+                .to_string(),
                 color,
                 style: Style::Line,
                 points: joint.into_iter().collect(),

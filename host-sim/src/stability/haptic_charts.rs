@@ -1,11 +1,11 @@
 //! Charts of part 3 (haptic stability of the virtual wall): K_max against the control rate,
 //! the energy ratio over the stiffness sweep, K_max against the delay and the impact trace.
 
-use crate::chart::lines::{line_chart, Axes, Series, Style};
-use crate::chart::style::PALETTE;
 use super::haptic::TraceSample;
 use super::haptic::{self, Device, RateRow};
 use super::haptic_timing::{Impact, TimingRow, IMPACT_SECONDS, IMPACT_SPEED};
+use crate::chart::lines::{line_chart, Axes, Series, Style};
+use crate::chart::style::PALETTE;
 use plotters::style::RGBColor;
 use std::path::Path;
 

@@ -1,13 +1,13 @@
 //! Tables and charts of the four experiments.
 
-use crate::chart::bars::bar_chart;
-use crate::chart::heatmap::{heatmap, HeatPanel};
-use crate::chart::lines::{line_chart, Axes, Series, Style};
-use crate::chart::style::{method_color, PALETTE};
 use super::chatter::{self, ChatterRun};
 use super::decomp_map::{self, Grid, MethodMap};
 use super::drift::DriftRun;
 use super::table::{sci, Table};
+use crate::chart::bars::bar_chart;
+use crate::chart::heatmap::{heatmap, HeatPanel};
+use crate::chart::lines::{line_chart, Axes, Series, Style};
+use crate::chart::style::{method_color, PALETTE};
 use plotters::style::RGBColor;
 use softfinger_core::decompose::Method;
 use std::path::Path;
