@@ -12,7 +12,9 @@
 //! `host-sim run` charts the path for a scene that twists while sliding (`limit_surface_path.svg`)
 //! with the Hertzian reference curve of `host-sim limit-surface` for comparison.
 
-use crate::chart::style::{draw_legend, draw_line, draw_markers, write_svg, Shape};
+use crate::chart::style::{
+    draw_legend, draw_line, draw_markers, drawing_err, render_svg, state_color, Shape, FONT,
+};
 use crate::reference::limit_surface::curve;
 use crate::run::{Row, RunResult};
 use plotters::coord::CoordTranslate;
@@ -132,24 +134,20 @@ pub fn chart(
     let (f_lo, f_hi) = load.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), q| {
         (lo.min(q.f_n), hi.max(q.f_n))
     });
-    let e = |d: DrawingAreaErrorKind<_>| format!("{}: {d:?}", path.display());
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (960, 680)).into_drawing_area();
-        root.fill(&WHITE).map_err(e)?;
-        let mut ch = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 18))
+    render_svg(path, (960, 680), |root| {
+        let mut ch = ChartBuilder::on(root)
+            .caption(title, (FONT, 18))
             .margin(14)
             .x_label_area_size(60)
             .y_label_area_size(64)
             .build_cartesian_2d(0.0f64..1.6, 0.0f64..1.15)
-            .map_err(e)?;
+            .map_err(drawing_err)?;
         ch.configure_mesh()
             .x_desc("|f_t| / (μ_s·f_N)  [-]   (1 = static friction cone)")
             .y_desc("|τn| / τ_max,s(f_N)  [-]   (τ_max,s = 3π/16·μ_s·f_N·a(f_N))")
-            .axis_desc_style(("sans-serif", 15))
+            .axis_desc_style((FONT, 15))
             .draw()
-            .map_err(e)?;
+            .map_err(drawing_err)?;
         draw_surfaces(&mut ch, p)?;
         draw_path(&mut ch, load)?;
         draw_legend(&mut ch, SeriesLabelPosition::UpperRight, 13)?;
@@ -168,13 +166,12 @@ pub fn chart(
             root.draw(&Text::new(
                 note.as_str(),
                 (590, 180 + 20 * k as i32),
-                ("sans-serif", 13),
+                (FONT, 13),
             ))
-            .map_err(e)?;
+            .map_err(drawing_err)?;
         }
-        root.present().map_err(e)?;
-    }
-    write_svg(path, &svg)
+        Ok(())
+    })
 }
 
 /// The model's static, slip-threshold and kinetic limit surfaces and the Hertzian reference curve.
@@ -240,14 +237,14 @@ where
         ch,
         &pick(ContactState::Rolling),
         Shape::Circle,
-        GREEN.mix(0.8).filled(),
+        state_color(ContactState::Rolling).mix(0.8).filled(),
         Some("rendered, rolling"),
     )?;
     draw_markers(
         ch,
         &pick(ContactState::Sliding),
         Shape::Circle,
-        MAGENTA.mix(0.8).filled(),
+        state_color(ContactState::Sliding).mix(0.8).filled(),
         Some("rendered, sliding"),
     )?;
     Ok(())

@@ -7,8 +7,8 @@ use plotters::prelude::*;
 use super::pareto;
 use super::points::{Point, Series};
 use super::style::{
-    backend_shape, draw_legend, draw_line, draw_markers, log_label, log_range, variant_color,
-    Shape, ERROR_FLOOR_MM, FRONT_COLOR, RK45_COLORS,
+    backend_shape, draw_legend, draw_line, draw_markers, drawing_err, log_label, log_range,
+    svg_string, variant_color, Shape, ERROR_FLOOR_MM, FONT, FRONT_COLOR, RK45_COLORS,
 };
 use crate::validate::classical::Rk45Call;
 use crate::validate::ours::Variant;
@@ -35,25 +35,22 @@ pub fn rate_label(hz: f64) -> String {
 
 /// Renders the chart as SVG.
 pub fn svg(points: &[Point]) -> Result<String, String> {
-    let mut buf = String::new();
-    {
-        let root = SVGBackend::with_string(&mut buf, (1200, 860)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| format!("{e:?}"))?;
+    svg_string((1200, 860), |root| {
         let (x0, x1) = log_range(points.iter().map(|p| p.ns_per_step));
         let (y0, y1) = log_range(points.iter().map(|p| xy(p).1));
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(root)
             .caption(
                 format!(
                     "Rolling contact step: speed vs accuracy (paper §3.1 motion, sphere 10 mm on a plane, 1 s); \
                      errors < {ERROR_FLOOR_MM:.0e} mm drawn at {ERROR_FLOOR_MM:.0e} mm"
                 ),
-                ("sans-serif", 17),
+                (FONT, 17),
             )
             .margin(16)
             .x_label_area_size(50)
             .y_label_area_size(80)
             .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-            .map_err(|e| format!("{e:?}"))?;
+            .map_err(drawing_err)?;
         chart
             .configure_mesh()
             .x_desc("time per step (ns, log; host CPU, median of interleaved batches)")
@@ -61,15 +58,14 @@ pub fn svg(points: &[Point]) -> Result<String, String> {
             .x_label_formatter(&log_label)
             .y_label_formatter(&log_label)
             .draw()
-            .map_err(|e| format!("{e:?}"))?;
+            .map_err(drawing_err)?;
 
         draw_front(&mut chart, points, x1)?;
         draw_ours(&mut chart, points)?;
         draw_rk45(&mut chart, points)?;
         draw_legend(&mut chart, SeriesLabelPosition::UpperRight, 13)?;
-        root.present().map_err(|e| format!("{e:?}"))?;
-    }
-    Ok(buf)
+        Ok(())
+    })
 }
 
 /// The Pareto front, drawn first, wide and pale, so the points stay visible on it; `x1`: the
@@ -134,10 +130,10 @@ where
                     Text::new(
                         rate_label(p.rate_hz),
                         xy(p),
-                        ("sans-serif", 12).into_font().color(&color),
+                        (FONT, 12).into_font().color(&color),
                     )
                 }))
-                .map_err(|e| format!("{e:?}"))?;
+                .map_err(drawing_err)?;
         }
     }
     Ok(())
@@ -185,12 +181,12 @@ where
                 labels.push(Text::new(
                     format!("{r:.0e}"),
                     (x, y),
-                    ("sans-serif", 11).into_font().color(&color),
+                    (FONT, 11).into_font().color(&color),
                 ));
                 last = Some((x, y));
             }
         }
-        chart.draw_series(labels).map_err(|e| format!("{e:?}"))?;
+        chart.draw_series(labels).map_err(drawing_err)?;
     }
     Ok(())
 }

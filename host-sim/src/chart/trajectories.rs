@@ -4,7 +4,9 @@
 use plotters::prelude::*;
 use plotters::style::full_palette::{BLUE_600, GREEN_700};
 
-use super::style::{draw_legend, draw_line, draw_markers, linear_range, Shape};
+use super::style::{
+    draw_legend, draw_line, draw_markers, drawing_err, linear_range, svg_string, Shape, FONT,
+};
 
 /// One run's paths, in metres, one row per sample.
 #[derive(Clone, Debug)]
@@ -53,17 +55,14 @@ const AXIS: [&str; 3] = ["x", "y", "z"];
 
 /// Renders the three panels as one SVG.
 pub fn svg(t: &Trajectories) -> Result<String, String> {
-    let mut buf = String::new();
-    {
-        let root = SVGBackend::with_string(&mut buf, (1500, 560)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| format!("{e:?}"))?;
+    svg_string((1500, 560), |root| {
         let root = root
             .titled(
                 "Paper Fig. 3 reproduced: contact trajectories, sphere R = 10 mm rolling on a plane \
                  (δφ, δθ, δψ = 0.05, 0.02, 0.03 rad per 10 ms, 1 s)",
-                ("sans-serif", 18),
+                (FONT, 18),
             )
-            .map_err(|e| format!("{e:?}"))?;
+            .map_err(drawing_err)?;
         let areas = root.split_evenly((1, 3));
         let styles = [
             (BLACK.mix(0.35).stroke_width(6), None),
@@ -81,18 +80,18 @@ pub fn svg(t: &Trajectories) -> Result<String, String> {
             // Room above the paths for the legend.
             let (y0, y1) = linear_range(all.iter().map(|p| p.1), 1e-3, 0.3);
             let mut chart = ChartBuilder::on(area)
-                .caption(panel.title, ("sans-serif", 15))
+                .caption(panel.title, (FONT, 15))
                 .margin(12)
                 .x_label_area_size(40)
                 .y_label_area_size(55)
                 .build_cartesian_2d(x0..x1, y0..y1)
-                .map_err(|e| format!("{e:?}"))?;
+                .map_err(drawing_err)?;
             chart
                 .configure_mesh()
                 .x_desc(format!("{} (mm)", AXIS[i]))
                 .y_desc(format!("{} (mm)", AXIS[j]))
                 .draw()
-                .map_err(|e| format!("{e:?}"))?;
+                .map_err(drawing_err)?;
             for (k, run) in t.runs.iter().enumerate() {
                 let pts = pick(run);
                 let (style, shape) = styles[k.min(styles.len() - 1)];
@@ -118,7 +117,6 @@ pub fn svg(t: &Trajectories) -> Result<String, String> {
             }
             draw_legend(&mut chart, SeriesLabelPosition::UpperLeft, 12)?;
         }
-        root.present().map_err(|e| format!("{e:?}"))?;
-    }
-    Ok(buf)
+        Ok(())
+    })
 }

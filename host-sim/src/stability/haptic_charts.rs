@@ -166,32 +166,37 @@ pub fn timing_chart(out: &Path, d: &Device, rows: &[TimingRow]) -> Result<(), St
             .collect(),
     };
     let (blue, red, green) = (PALETTE[0], PALETTE[3], PALETTE[2]);
-    let series = vec![
-        pts(
+    type Get = fn(&TimingRow) -> Option<f64>;
+    let table: [(&str, RGBColor, Style, Get); 4] = [
+        (
             "one tick of delay (measured)",
             red,
             Style::LineMarkers,
-            &|r| r.measured_one_tick,
+            |r| r.measured_one_tick,
         ),
-        pts(
+        (
             "firmware timing, 40 kHz PWM (measured)",
             blue,
             Style::LineMarkers,
-            &|r| r.measured_firmware,
+            |r| r.measured_firmware,
         ),
-        pts(
+        (
             "firmware timing (eigenvalue limit)",
             blue,
             Style::Dashed,
-            &|r| r.eigen_firmware,
+            |r| r.eigen_firmware,
         ),
-        pts(
+        (
             "firmware timing + passivity controller (measured; none = stable to 1e6 N/m)",
             green,
             Style::LineMarkers,
-            &|r| r.measured_passivity,
+            |r| r.measured_passivity,
         ),
     ];
+    let series: Vec<Series> = table
+        .iter()
+        .map(|&(label, color, style, get)| pts(label, color, style, &get))
+        .collect();
     let title = format!(
         "Largest passive wall / (2b/T) vs control rate (m = {} kg, b = {} N s/m)",
         d.mass_kg, d.damping

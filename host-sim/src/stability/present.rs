@@ -4,7 +4,7 @@ use super::chatter::{self, ChatterRun};
 use super::decomp_map::{self, Grid, MethodMap};
 use super::drift::DriftRun;
 use super::table::{sci, Table};
-use crate::chart::bars::bar_chart;
+use crate::chart::bars::BarChart;
 use crate::chart::heatmap::{heatmap, HeatPanel};
 use crate::chart::lines::{line_chart, Axes, Series, Style};
 use crate::chart::style::{method_color, PALETTE};
@@ -312,16 +312,16 @@ pub fn chatter_chart(out: &Path, runs: &[ChatterRun]) -> Result<(), String> {
             i += 1;
         }
     }
-    bar_chart(
-        &out.join("chatter.svg"),
-        "State-machine transitions with f_T held on the static cone (10 kHz)",
-        "noise amplitude on f_T (uniform, fraction of mu_s f_N)",
-        "transitions per second",
-        &cats,
-        &groups,
-        &values,
-        (0.05, 1e6),
-    )
+    BarChart {
+        title: "State-machine transitions with f_T held on the static cone (10 kHz)",
+        x_label: "noise amplitude on f_T (uniform, fraction of mu_s f_N)",
+        y_label: "transitions per second",
+        categories: &cats,
+        groups: &groups,
+        values: &values,
+        y_range: (0.05, 1e6),
+    }
+    .write(&out.join("chatter.svg"))
 }
 
 pub fn chatter_table(runs: &[ChatterRun], steps: u64) -> Table {
