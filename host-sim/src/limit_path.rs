@@ -13,7 +13,8 @@
 //! with the Hertzian reference curve of `host-sim limit-surface` for comparison.
 
 use crate::chart::style::{
-    draw_legend, draw_line, draw_markers, drawing_err, render_svg, state_color, Shape, FONT,
+    draw_axes, draw_legend, draw_line, draw_markers, drawing_err, render_svg, state_color, Shape,
+    FONT,
 };
 use crate::reference::limit_surface::curve;
 use crate::run::{Row, RunResult};
@@ -142,12 +143,11 @@ pub fn chart(
             .y_label_area_size(64)
             .build_cartesian_2d(0.0f64..1.6, 0.0f64..1.15)
             .map_err(drawing_err)?;
-        ch.configure_mesh()
-            .x_desc("|f_t| / (μ_s·f_N)  [-]   (1 = static friction cone)")
-            .y_desc("|τn| / τ_max,s(f_N)  [-]   (τ_max,s = 3π/16·μ_s·f_N·a(f_N))")
-            .axis_desc_style((FONT, 15))
-            .draw()
-            .map_err(drawing_err)?;
+        draw_axes(
+            &mut ch,
+            "|f_t| / (μ_s·f_N)  [-]   (1 = static friction cone)",
+            "|τn| / τ_max,s(f_N)  [-]   (τ_max,s = 3π/16·μ_s·f_N·a(f_N))",
+        )?;
         draw_surfaces(&mut ch, p)?;
         draw_path(&mut ch, load)?;
         draw_legend(&mut ch, SeriesLabelPosition::UpperRight, 13)?;

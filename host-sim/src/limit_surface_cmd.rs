@@ -2,7 +2,7 @@
 //! Hertzian patch (numerical integration in f64, [`crate::reference::limit_surface`]): the curve,
 //! the ellipse's radial error at each point, and the worst error; `--svg` charts both curves.
 
-use crate::chart::style::{draw_legend, draw_line, drawing_err, render_svg, FONT};
+use crate::chart::style::{draw_axes, draw_legend, draw_line, drawing_err, render_svg, FONT};
 use crate::reference::limit_surface::{curve, ellipse_error_range, LimitPoint};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -36,11 +36,7 @@ pub fn chart(path: &Path, c: &[LimitPoint]) -> Result<(), String> {
             .y_label_area_size(50)
             .build_cartesian_2d(0.0f64..1.1, 0.0f64..1.1)
             .map_err(drawing_err)?;
-        ch.configure_mesh()
-            .x_desc("|f_t| / (mu f_N)")
-            .y_desc("tau_n / tau_max")
-            .draw()
-            .map_err(drawing_err)?;
+        draw_axes(&mut ch, "|f_t| / (mu f_N)", "tau_n / tau_max")?;
         let truth: Vec<(f64, f64)> = c.iter().map(|p| (p.x, p.y)).collect();
         let ellipse: Vec<(f64, f64)> = (0..=90)
             .map(|k| {

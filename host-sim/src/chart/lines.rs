@@ -5,7 +5,7 @@
 //! as long on x as on y). Log axes cannot show zero or negative values: callers clamp to a stated
 //! floor.
 
-use super::style::{draw_legend, drawing_err, fmt_num, render_svg, Area, ContactPhase, FONT};
+use super::style::{draw_axes, draw_legend, drawing_err, render_svg, Area, ContactPhase, FONT};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 use softfinger_core::contact_state::ContactState;
@@ -73,10 +73,7 @@ pub fn line_chart(
     h: u32,
     panels: &[(Axes, Vec<Series>)],
 ) -> Result<(), String> {
-    let n = panels.len().max(1);
-    render_svg(path, (panel_w * n as u32, h), |root| {
-        draw_panels(&root.split_evenly((1, n)), panels)
-    })
+    grid_chart(path, (1, panels.len().max(1)), (panel_w, h), panels)
 }
 
 /// Line charts stacked top to bottom, each `w` × `panel_h` px, written atomically to `path`.
@@ -86,9 +83,19 @@ pub fn stacked_chart(
     panel_h: u32,
     panels: &[(Axes, Vec<Series>)],
 ) -> Result<(), String> {
-    let n = panels.len().max(1);
-    render_svg(path, (w, panel_h * n as u32), |root| {
-        draw_panels(&root.split_evenly((n, 1)), panels)
+    grid_chart(path, (panels.len().max(1), 1), (w, panel_h), panels)
+}
+
+/// `panels` on a grid of (rows, columns), row by row, each `panel_px` (w, h).
+fn grid_chart(
+    path: &Path,
+    (rows, cols): (usize, usize),
+    panel_px: (u32, u32),
+    panels: &[(Axes, Vec<Series>)],
+) -> Result<(), String> {
+    let size = (panel_px.0 * cols as u32, panel_px.1 * rows as u32);
+    render_svg(path, size, |root| {
+        draw_panels(&root.split_evenly((rows, cols)), panels)
     })
 }
 
@@ -185,17 +192,7 @@ where
         .y_label_area_size(Y_LABEL_AREA)
         .build_cartesian_2d(x, y)
         .map_err(drawing_err)?;
-    chart
-        .configure_mesh()
-        .x_desc(axes.x_label.as_str())
-        .y_desc(axes.y_label.as_str())
-        .x_label_formatter(&|v| fmt_num(*v))
-        .y_label_formatter(&|v| fmt_num(*v))
-        .label_style((FONT, 13))
-        .axis_desc_style((FONT, 15))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()
-        .map_err(drawing_err)?;
+    draw_axes(&mut chart, &axes.x_label, &axes.y_label)?;
     draw_bands(&mut chart, &axes.bands, xr, yr)?;
     let inside = |&(px, py): &(f64, f64)| {
         px.is_finite() && py.is_finite() && px >= xr.0 && px <= xr.1 && py >= yr.0 && py <= yr.1

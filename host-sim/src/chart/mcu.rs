@@ -13,7 +13,7 @@ use std::path::Path;
 
 use super::pareto;
 use super::style::{
-    backend_shape, draw_legend, draw_line, draw_markers, drawing_err, log_label, log_range,
+    backend_shape, draw_axes, draw_legend, draw_line, draw_markers, drawing_err, log_range,
     svg_string, variant_color, ERROR_FLOOR_MM, FONT, FRONT_COLOR,
 };
 use crate::validate::ours::{Backend, Variant};
@@ -138,14 +138,11 @@ pub fn svg(points: &[McuPoint]) -> Result<String, String> {
             .y_label_area_size(70)
             .build_cartesian_2d((x0..x1).log_scale(), 0.0..y1)
             .map_err(drawing_err)?;
-        chart
-            .configure_mesh()
-            .x_desc("max contact-path error on the paper's scene (mm, log)")
-            .y_desc("instructions per step")
-            .x_label_formatter(&log_label)
-            .y_label_formatter(&|v| format!("{v:.0}"))
-            .draw()
-            .map_err(drawing_err)?;
+        draw_axes(
+            &mut chart,
+            "max contact-path error on the paper's scene (mm, log)",
+            "instructions per step",
+        )?;
         let front_xy: Vec<(f64, f64)> = front(points).iter().map(|&i| xy(&points[i])).collect();
         draw_line(
             &mut chart,

@@ -7,7 +7,7 @@ use plotters::prelude::*;
 use super::pareto;
 use super::points::{Point, Series};
 use super::style::{
-    backend_shape, draw_legend, draw_line, draw_markers, drawing_err, log_label, log_range,
+    backend_shape, draw_axes, draw_legend, draw_line, draw_markers, drawing_err, log_range,
     svg_string, variant_color, Shape, ERROR_FLOOR_MM, FONT, FRONT_COLOR, RK45_COLORS,
 };
 use crate::validate::classical::Rk45Call;
@@ -51,14 +51,11 @@ pub fn svg(points: &[Point]) -> Result<String, String> {
             .y_label_area_size(80)
             .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
             .map_err(drawing_err)?;
-        chart
-            .configure_mesh()
-            .x_desc("time per step (ns, log; host CPU, median of interleaved batches)")
-            .y_desc("max contact-path error, plane or sphere, any axis (mm, log)")
-            .x_label_formatter(&log_label)
-            .y_label_formatter(&log_label)
-            .draw()
-            .map_err(drawing_err)?;
+        draw_axes(
+            &mut chart,
+            "time per step (ns, log; host CPU, median of interleaved batches)",
+            "max contact-path error, plane or sphere, any axis (mm, log)",
+        )?;
 
         draw_front(&mut chart, points, x1)?;
         draw_ours(&mut chart, points)?;

@@ -4,6 +4,7 @@
 //! it: [`super::lines`] (line charts in panels, with state bands and equal axes), [`super::bars`],
 //! [`super::heatmap`], and the `chart` command's own plots.
 
+use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
 use plotters::style::full_palette::{
@@ -184,6 +185,30 @@ where
     Ok(())
 }
 
+/// Draws the axes (the one axis style of every x-y chart): tick labels in [`fmt_num`], the axis
+/// names, a light grid.
+pub fn draw_axes<'a, 'b: 'a, X, Y>(
+    chart: &mut ChartContext<'a, SVGBackend<'b>, Cartesian2d<X, Y>>,
+    x_desc: &str,
+    y_desc: &str,
+) -> Result<(), String>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(&|v| fmt_num(*v))
+        .y_label_formatter(&|v| fmt_num(*v))
+        .label_style((FONT, 13))
+        .axis_desc_style((FONT, 15))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(drawing_err)
+}
+
 /// Draws the legend box (the one legend style of every chart): white, 85 % opaque, black border.
 pub fn draw_legend<'a, 'b: 'a, CT>(
     chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
@@ -271,11 +296,6 @@ pub fn fmt_num(v: f64) -> String {
     }
 }
 
-/// [`fmt_num`] in the form plotters' label formatters take.
-pub fn log_label(v: &f64) -> String {
-    fmt_num(*v)
-}
-
 /// A plotters drawing error as this crate's error text.
 pub fn drawing_err<E: std::fmt::Debug>(e: E) -> String {
     format!("drawing failed: {e:?}")
@@ -338,7 +358,7 @@ mod tests {
 
     #[test]
     fn tick_labels_are_short() {
-        assert_eq!(log_label(&99.999_999_999_97), "100");
+        assert_eq!(fmt_num(99.999_999_999_97), "100");
         assert_eq!(fmt_num(1.000_000_000_1), "1");
         assert_eq!(fmt_num(0.010_000_000_02), "0.01");
         assert_eq!(fmt_num(1e-6), "1e-6");

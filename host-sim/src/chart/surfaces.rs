@@ -5,7 +5,7 @@
 use plotters::prelude::*;
 
 use super::style::{
-    draw_legend, draw_line, drawing_err, log_label, log_range, svg_string, ERROR_FLOOR_MM, FONT,
+    draw_axes, draw_legend, draw_line, drawing_err, log_range, svg_string, ERROR_FLOOR_MM, FONT,
     SURFACE_COLORS,
 };
 use crate::validate::surfaces::{SurfaceErrors, DURATION_S, FINGER_R, OBJECT_R, RATE_HZ};
@@ -63,15 +63,11 @@ pub fn svg(series: &[SurfaceErrors]) -> Result<String, String> {
             .y_label_area_size(80)
             .build_cartesian_2d(0.0..DURATION_S, (y0..y1).log_scale())
             .map_err(drawing_err)?;
-        chart
-            .configure_mesh()
-            .x_desc("time (s)")
-            .y_desc(format!(
-                "contact-point error (mm, log; below {ERROR_FLOOR_MM:.0e} drawn at it)"
-            ))
-            .y_label_formatter(&log_label)
-            .draw()
-            .map_err(drawing_err)?;
+        draw_axes(
+            &mut chart,
+            "time (s)",
+            &format!("contact-point error (mm, log; below {ERROR_FLOOR_MM:.0e} drawn at it)"),
+        )?;
         for (i, (e, object, finger)) in lines.iter().enumerate() {
             let color = SURFACE_COLORS[i % SURFACE_COLORS.len()];
             draw_line(

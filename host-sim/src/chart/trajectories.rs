@@ -5,7 +5,8 @@ use plotters::prelude::*;
 use plotters::style::full_palette::{BLUE_600, GREEN_700};
 
 use super::style::{
-    draw_legend, draw_line, draw_markers, drawing_err, linear_range, svg_string, Shape, FONT,
+    draw_axes, draw_legend, draw_line, draw_markers, drawing_err, linear_range, svg_string, Shape,
+    FONT,
 };
 
 /// One run's paths, in metres, one row per sample.
@@ -86,12 +87,11 @@ pub fn svg(t: &Trajectories) -> Result<String, String> {
                 .y_label_area_size(55)
                 .build_cartesian_2d(x0..x1, y0..y1)
                 .map_err(drawing_err)?;
-            chart
-                .configure_mesh()
-                .x_desc(format!("{} (mm)", AXIS[i]))
-                .y_desc(format!("{} (mm)", AXIS[j]))
-                .draw()
-                .map_err(drawing_err)?;
+            draw_axes(
+                &mut chart,
+                &format!("{} (mm)", AXIS[i]),
+                &format!("{} (mm)", AXIS[j]),
+            )?;
             for (k, run) in t.runs.iter().enumerate() {
                 let pts = pick(run);
                 let (style, shape) = styles[k.min(styles.len() - 1)];
