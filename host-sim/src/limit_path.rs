@@ -149,7 +149,12 @@ pub fn chart(
             "|τn| / τ_max,s(f_N)  [-]   (τ_max,s = 3π/16·μ_s·f_N·a(f_N))",
         )?;
         draw_surfaces(&mut ch, p)?;
-        draw_path(&mut ch, load)?;
+        for state in [ContactState::Rolling, ContactState::Sliding] {
+            let color = state_color(state).mix(0.8).filled();
+            let label = format!("rendered, {}", state.name());
+            let pts = path_points(load, state);
+            draw_markers(&mut ch, &pts, Shape::Circle, color, Some(&label))?;
+        }
         draw_legend(&mut ch, SeriesLabelPosition::UpperRight, 13)?;
         let notes = [
             format!("normal force f_N {f_lo:.2} to {f_hi:.2} N while touching"),
@@ -217,37 +222,14 @@ where
     Ok(())
 }
 
-/// The rendered path's points (every `step`-th, at most about 3000), by state.
-fn draw_path<'a, 'b: 'a, CT>(
-    ch: &mut ChartContext<'a, SVGBackend<'b>, CT>,
-    load: &[LoadPoint],
-) -> Result<(), String>
-where
-    CT: CoordTranslate<From = (f64, f64)>,
-{
+/// The rendered path's points (every `step`-th, at most about 3000) in `state`.
+fn path_points(load: &[LoadPoint], state: ContactState) -> Vec<(f64, f64)> {
     let step = (load.len() / 3000).max(1);
-    let pick = |st: ContactState| -> Vec<(f64, f64)> {
-        load.iter()
-            .step_by(step)
-            .filter(|q| q.state == st)
-            .map(|q| (q.x, q.y))
-            .collect()
-    };
-    draw_markers(
-        ch,
-        &pick(ContactState::Rolling),
-        Shape::Circle,
-        state_color(ContactState::Rolling).mix(0.8).filled(),
-        Some("rendered, rolling"),
-    )?;
-    draw_markers(
-        ch,
-        &pick(ContactState::Sliding),
-        Shape::Circle,
-        state_color(ContactState::Sliding).mix(0.8).filled(),
-        Some("rendered, sliding"),
-    )?;
-    Ok(())
+    load.iter()
+        .step_by(step)
+        .filter(|q| q.state == state)
+        .map(|q| (q.x, q.y))
+        .collect()
 }
 
 /// For a scene that twists while sliding: chart its load path into `dir/limit_surface_path.svg`

@@ -1,7 +1,7 @@
 //! The speed–accuracy chart: time per step against the largest contact-path error, log–log, with the
 //! Pareto front.
 
-use plotters::coord::CoordTranslate;
+use plotters::coord::combinators::LogCoord;
 use plotters::prelude::*;
 
 use super::pareto;
@@ -32,6 +32,9 @@ pub fn rate_label(hz: f64) -> String {
         format!("{hz} Hz")
     }
 }
+
+/// The chart: log time against log error.
+type LogLog<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
 
 /// Renders the chart as SVG.
 pub fn svg(points: &[Point]) -> Result<String, String> {
@@ -67,14 +70,11 @@ pub fn svg(points: &[Point]) -> Result<String, String> {
 
 /// The Pareto front, drawn first, wide and pale, so the points stay visible on it; `x1`: the
 /// x axis end the staircase runs to.
-fn draw_front<'a, 'b: 'a, CT>(
-    chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
+fn draw_front<'a, 'b: 'a>(
+    chart: &mut LogLog<'a, 'b>,
     points: &[Point],
     x1: f64,
-) -> Result<(), String>
-where
-    CT: CoordTranslate<From = (f64, f64)>,
-{
+) -> Result<(), String> {
     let idx = front(points);
     let front_xy: Vec<(f64, f64)> = idx.iter().map(|&i| xy(&points[i])).collect();
     draw_line(
@@ -88,13 +88,7 @@ where
 
 /// Our variants: one line and marker set per method x backend over the rates, the recommended
 /// variant's points labelled with their rate.
-fn draw_ours<'a, 'b: 'a, CT>(
-    chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
-    points: &[Point],
-) -> Result<(), String>
-where
-    CT: CoordTranslate<From = (f64, f64)>,
-{
+fn draw_ours<'a, 'b: 'a>(chart: &mut LogLog<'a, 'b>, points: &[Point]) -> Result<(), String> {
     for v in Variant::all() {
         let mut pts: Vec<&Point> = points
             .iter()
@@ -138,13 +132,7 @@ where
 
 /// The classical RK45 runs: one line per call style over the tolerances, points labelled with
 /// their rtol.
-fn draw_rk45<'a, 'b: 'a, CT>(
-    chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
-    points: &[Point],
-) -> Result<(), String>
-where
-    CT: CoordTranslate<From = (f64, f64)>,
-{
+fn draw_rk45<'a, 'b: 'a>(chart: &mut LogLog<'a, 'b>, points: &[Point]) -> Result<(), String> {
     for (call, color) in [Rk45Call::Restart, Rk45Call::SingleCall]
         .into_iter()
         .zip(RK45_COLORS)
