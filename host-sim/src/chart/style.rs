@@ -186,7 +186,7 @@ where
 }
 
 /// Draws the axes (the one axis style of every x-y chart): tick labels in [`fmt_num`], the axis
-/// names, a light grid.
+/// names, a light grid. On an axis through zero, a tick within rounding of zero reads `0`.
 pub fn draw_axes<'a, 'b: 'a, X, Y>(
     chart: &mut ChartContext<'a, SVGBackend<'b>, Cartesian2d<X, Y>>,
     x_desc: &str,
@@ -196,12 +196,13 @@ where
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
+    let (x, y) = (chart.x_range(), chart.y_range());
     chart
         .configure_mesh()
         .x_desc(x_desc)
         .y_desc(y_desc)
-        .x_label_formatter(&|v| fmt_num(*v))
-        .y_label_formatter(&|v| fmt_num(*v))
+        .x_label_formatter(&|v| tick_label(*v, (x.start, x.end)))
+        .y_label_formatter(&|v| tick_label(*v, (y.start, y.end)))
         .label_style((FONT, 13))
         .axis_desc_style((FONT, 15))
         .light_line_style(RGBColor(235, 235, 235))
@@ -296,6 +297,16 @@ pub fn fmt_num(v: f64) -> String {
     }
 }
 
+/// [`fmt_num`] of a tick on an axis spanning `range`: `0` for a tick within 1e-9 of the span of
+/// zero when the axis holds zero (ticks there are computed in floating point, e.g. -1.1e-16).
+pub fn tick_label(v: f64, (lo, hi): (f64, f64)) -> String {
+    if lo <= 0.0 && 0.0 <= hi && v.abs() < 1e-9 * (hi - lo) {
+        "0".into()
+    } else {
+        fmt_num(v)
+    }
+}
+
 /// A plotters drawing error as this crate's error text.
 pub fn drawing_err<E: std::fmt::Debug>(e: E) -> String {
     format!("drawing failed: {e:?}")
@@ -345,6 +356,16 @@ mod tests {
         let (lo, hi) = log_range([3e-6, 2e2, f64::NAN, 0.0, -1.0]);
         assert!((lo / 1e-6 - 1.0).abs() < 1e-12 && (hi / 1e3 - 1.0).abs() < 1e-12);
         assert_eq!(log_range([]), (1e-1, 1e1));
+    }
+
+    #[test]
+    fn a_tick_near_zero_reads_zero_only_on_an_axis_through_zero() {
+        assert_eq!(tick_label(-1.1e-16, (-0.5, 0.5)), "0");
+        // The threshold, 1e-9 of the span (1 here), just below and just above.
+        assert_eq!(tick_label(0.9e-9, (-0.5, 0.5)), "0");
+        assert_eq!(tick_label(1.1e-9, (-0.5, 0.5)), "1.1e-9");
+        assert_eq!(tick_label(1e-16, (1e-16, 100.0)), "1e-16");
+        assert_eq!(tick_label(0.25, (-0.5, 0.5)), "0.25");
     }
 
     #[test]
