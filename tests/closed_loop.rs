@@ -205,7 +205,7 @@ fn run_command_writes_csv_and_charts() {
         dir.to_str().unwrap(),
     ]);
     assert_eq!(code, 0);
-    for f in ["run.csv", "contact_path.svg", "forces.svg", "states.svg"] {
+    for f in ["run.csv", "contact_path.svg", "forces.svg", "index.html"] {
         let len = std::fs::metadata(dir.join(f)).map(|m| m.len()).unwrap_or(0);
         assert!(len > 500, "{f}: {len} bytes");
     }

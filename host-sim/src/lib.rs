@@ -18,5 +18,4 @@ pub mod run;
 pub mod scene;
 pub mod serve;
 pub mod stability;
-pub mod svg_chart;
 pub mod validate;

@@ -12,7 +12,10 @@
 //! `host-sim run` charts the path for a scene that twists while sliding (`limit_surface_path.svg`)
 //! with the Hertzian reference curve of `host-sim limit-surface` for comparison.
 
-use crate::chart::style::{draw_legend, draw_line, draw_markers, write_svg, Shape};
+use crate::chart::style::{
+    draw_axes, draw_legend, draw_line, draw_markers, drawing_err, render_svg, state_color, Shape,
+    FONT,
+};
 use crate::reference::limit_surface::curve;
 use crate::run::{Row, RunResult};
 use plotters::coord::CoordTranslate;
@@ -132,26 +135,26 @@ pub fn chart(
     let (f_lo, f_hi) = load.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), q| {
         (lo.min(q.f_n), hi.max(q.f_n))
     });
-    let e = |d: DrawingAreaErrorKind<_>| format!("{}: {d:?}", path.display());
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (960, 680)).into_drawing_area();
-        root.fill(&WHITE).map_err(e)?;
-        let mut ch = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 18))
+    render_svg(path, (960, 680), |root| {
+        let mut ch = ChartBuilder::on(root)
+            .caption(title, (FONT, 18))
             .margin(14)
             .x_label_area_size(60)
             .y_label_area_size(64)
             .build_cartesian_2d(0.0f64..1.6, 0.0f64..1.15)
-            .map_err(e)?;
-        ch.configure_mesh()
-            .x_desc("|f_t| / (μ_s·f_N)  [-]   (1 = static friction cone)")
-            .y_desc("|τn| / τ_max,s(f_N)  [-]   (τ_max,s = 3π/16·μ_s·f_N·a(f_N))")
-            .axis_desc_style(("sans-serif", 15))
-            .draw()
-            .map_err(e)?;
+            .map_err(drawing_err)?;
+        draw_axes(
+            &mut ch,
+            "|f_t| / (μ_s·f_N)  [-]   (1 = static friction cone)",
+            "|τn| / τ_max,s(f_N)  [-]   (τ_max,s = 3π/16·μ_s·f_N·a(f_N))",
+        )?;
         draw_surfaces(&mut ch, p)?;
-        draw_path(&mut ch, load)?;
+        for state in [ContactState::Rolling, ContactState::Sliding] {
+            let color = state_color(state).mix(0.8).filled();
+            let label = format!("rendered, {}", state.name());
+            let pts = path_points(load, state);
+            draw_markers(&mut ch, &pts, Shape::Circle, color, Some(&label))?;
+        }
         draw_legend(&mut ch, SeriesLabelPosition::UpperRight, 13)?;
         let notes = [
             format!("normal force f_N {f_lo:.2} to {f_hi:.2} N while touching"),
@@ -168,13 +171,12 @@ pub fn chart(
             root.draw(&Text::new(
                 note.as_str(),
                 (590, 180 + 20 * k as i32),
-                ("sans-serif", 13),
+                (FONT, 13),
             ))
-            .map_err(e)?;
+            .map_err(drawing_err)?;
         }
-        root.present().map_err(e)?;
-    }
-    write_svg(path, &svg)
+        Ok(())
+    })
 }
 
 /// The model's static, slip-threshold and kinetic limit surfaces and the Hertzian reference curve.
@@ -220,37 +222,14 @@ where
     Ok(())
 }
 
-/// The rendered path's points (every `step`-th, at most about 3000), by state.
-fn draw_path<'a, 'b: 'a, CT>(
-    ch: &mut ChartContext<'a, SVGBackend<'b>, CT>,
-    load: &[LoadPoint],
-) -> Result<(), String>
-where
-    CT: CoordTranslate<From = (f64, f64)>,
-{
+/// The rendered path's points (every `step`-th, at most about 3000) in `state`.
+fn path_points(load: &[LoadPoint], state: ContactState) -> Vec<(f64, f64)> {
     let step = (load.len() / 3000).max(1);
-    let pick = |st: ContactState| -> Vec<(f64, f64)> {
-        load.iter()
-            .step_by(step)
-            .filter(|q| q.state == st)
-            .map(|q| (q.x, q.y))
-            .collect()
-    };
-    draw_markers(
-        ch,
-        &pick(ContactState::Rolling),
-        Shape::Circle,
-        GREEN.mix(0.8).filled(),
-        Some("rendered, rolling"),
-    )?;
-    draw_markers(
-        ch,
-        &pick(ContactState::Sliding),
-        Shape::Circle,
-        MAGENTA.mix(0.8).filled(),
-        Some("rendered, sliding"),
-    )?;
-    Ok(())
+    load.iter()
+        .step_by(step)
+        .filter(|q| q.state == state)
+        .map(|q| (q.x, q.y))
+        .collect()
 }
 
 /// For a scene that twists while sliding: chart its load path into `dir/limit_surface_path.svg`

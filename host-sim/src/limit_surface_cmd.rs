@@ -2,7 +2,7 @@
 //! Hertzian patch (numerical integration in f64, [`crate::reference::limit_surface`]): the curve,
 //! the ellipse's radial error at each point, and the worst error; `--svg` charts both curves.
 
-use crate::chart::style::{draw_legend, draw_line, write_svg};
+use crate::chart::style::{draw_axes, draw_legend, draw_line, drawing_err, render_svg, FONT};
 use crate::reference::limit_surface::{curve, ellipse_error_range, LimitPoint};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -25,25 +25,18 @@ pub struct Args {
 
 /// The true curve and the ellipse, normalised by μ·f_N and τ_max, as an SVG chart.
 pub fn chart(path: &Path, c: &[LimitPoint]) -> Result<(), String> {
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (640, 600)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| format!("{e:?}"))?;
-        let mut ch = ChartBuilder::on(&root)
+    render_svg(path, (640, 600), |root| {
+        let mut ch = ChartBuilder::on(root)
             .caption(
                 "Soft-finger limit surface: Hertzian patch vs ellipse",
-                ("sans-serif", 18),
+                (FONT, 18),
             )
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(50)
             .build_cartesian_2d(0.0f64..1.1, 0.0f64..1.1)
-            .map_err(|e| format!("{e:?}"))?;
-        ch.configure_mesh()
-            .x_desc("|f_t| / (mu f_N)")
-            .y_desc("tau_n / tau_max")
-            .draw()
-            .map_err(|e| format!("{e:?}"))?;
+            .map_err(drawing_err)?;
+        draw_axes(&mut ch, "|f_t| / (mu f_N)", "tau_n / tau_max")?;
         let truth: Vec<(f64, f64)> = c.iter().map(|p| (p.x, p.y)).collect();
         let ellipse: Vec<(f64, f64)> = (0..=90)
             .map(|k| {
@@ -64,9 +57,8 @@ pub fn chart(path: &Path, c: &[LimitPoint]) -> Result<(), String> {
             Some("ellipse (rendered model)"),
         )?;
         draw_legend(&mut ch, SeriesLabelPosition::LowerLeft, 14)?;
-        root.present().map_err(|e| format!("{e:?}"))?;
-    }
-    write_svg(path, &svg)
+        Ok(())
+    })
 }
 
 /// The curve and the worst errors, rendered as the command prints them.

@@ -1,13 +1,13 @@
 //! `host-sim run` (the default command): a scene in closed loop with the plant, through the one
 //! control pipeline the firmware runs (homing and arming first, see
-//! [`crate::closed_loop::prepare`]); a short summary, a CSV time series and SVG charts (contact
-//! paths, forces and torque, the state timeline). The CSV and the figures cover the scene, from
-//! the arming on.
+//! [`crate::closed_loop::prepare`]); a short summary, a CSV time series, SVG charts (force and
+//! spin torque over the contact-state bands, the contact paths; [`crate::chart::run_charts`]) and
+//! an `index.html` showing the summary and every chart. The CSV and the figures cover the scene,
+//! from the arming on.
 
 use crate::atomic_file::AtomicFile;
 use crate::closed_loop::{self, prepare, simulate, Prepared};
 use crate::scene::{Scene, SurfaceSpec};
-use crate::svg_chart::{line_chart, Series, PALETTE};
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::contact::surface::Surface;
 use softfinger_core::control::pipeline::{Pipeline, PipelineConfig};
@@ -269,123 +269,13 @@ fn write_csv(path: &Path, rows: &[Row]) -> Result<(), String> {
     f.commit().map_err(|e| format!("{name}: {e}"))
 }
 
-fn write_charts(dir: &Path, res: &RunResult) -> Result<Vec<PathBuf>, String> {
-    let rows = &res.rows;
-    let touching: Vec<&Row> = rows
-        .iter()
-        .filter(|r| r.state != ContactState::Broken)
-        .collect();
-    let mm = |v: f32| v as f64 * 1e3;
-    let mut out = Vec::new();
-    let p = dir.join("contact_path.svg");
-    line_chart(
-        &p,
-        &format!(
-            "{}: contact paths while touching (object frame / fingertip frame)",
-            res.scene.name
-        ),
-        "x [mm]",
-        "y [mm]",
-        &[
-            Series {
-                name: "on the object (object frame)".into(),
-                points: touching
-                    .iter()
-                    .map(|r| (mm(r.object_point_m[0]), mm(r.object_point_m[1])))
-                    .collect(),
-                color: PALETTE[0],
-            },
-            Series {
-                name: "on the fingertip (fingertip frame)".into(),
-                points: touching
-                    .iter()
-                    .map(|r| (mm(r.finger_point_m[0]), mm(r.finger_point_m[1])))
-                    .collect(),
-                color: PALETTE[1],
-            },
-        ],
-        true,
-    )?;
-    out.push(p);
-    let p = dir.join("forces.svg");
-    let step = (rows.len() / 4000).max(1);
-    let ts = |f: &dyn Fn(&Row) -> f64| {
-        rows.iter()
-            .step_by(step)
-            .map(|r| (r.t_s, f(r)))
-            .collect::<Vec<_>>()
-    };
-    line_chart(
-        &p,
-        &format!(
-            "{}: rendered force (base frame) and spin torque",
-            res.scene.name
-        ),
-        "time [s]",
-        "force [N]  /  spin torque [mN·m]",
-        &[
-            Series {
-                name: "Fx [N]".into(),
-                points: ts(&|r| r.force_n[0] as f64),
-                color: PALETTE[0],
-            },
-            Series {
-                name: "Fy [N]".into(),
-                points: ts(&|r| r.force_n[1] as f64),
-                color: PALETTE[1],
-            },
-            Series {
-                name: "Fz [N]".into(),
-                points: ts(&|r| r.force_n[2] as f64),
-                color: PALETTE[2],
-            },
-            Series {
-                name: "τn [mN·m]".into(),
-                points: ts(&|r| r.tau_n_nm as f64 * 1e3),
-                color: PALETTE[3],
-            },
-        ],
-        false,
-    )?;
-    out.push(p);
-    let p = dir.join("states.svg");
-    line_chart(
-        &p,
-        &format!(
-            "{}: contact state (0 broken, 1 rolling, 2 sliding)",
-            res.scene.name
-        ),
-        "time [s]",
-        "state",
-        &[Series {
-            name: "state".into(),
-            points: ts(&|r| state_index(r.state) as f64),
-            color: PALETTE[4],
-        }],
-        false,
-    )?;
-    out.push(p);
-    Ok(out)
-}
-
-pub fn main(args: &Args) -> Result<(), String> {
-    let res = simulate_scene(args)?;
+/// The summary lines the command prints (and `index.html` shows).
+fn summary_lines(
+    res: &RunResult,
+    s: &Summary,
+    limit: Option<&crate::limit_path::LoadSummary>,
+) -> Vec<String> {
     let dt = 1.0 / res.scene.rate_hz;
-    let s = summarize(&res.rows, dt);
-    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
-    let csv = args.out.join("run.csv");
-    write_csv(&csv, &res.rows)?;
-    let mut charts = write_charts(&args.out, &res)?;
-    let limit = crate::limit_path::write_for_run(&args.out, &res)?;
-    println!(
-        "scene {} ({}), {} ticks at {} Hz, method {}, backend {}",
-        res.scene.name,
-        res.scene.description,
-        res.rows.len(),
-        res.scene.rate_hz,
-        res.scene.method,
-        Fast::NAME
-    );
     let p = &res.prepared;
     let err = p
         .homing_error_counts
@@ -393,45 +283,74 @@ pub fn main(args: &Args) -> Result<(), String> {
         .map(|e| e.abs())
         .max()
         .unwrap_or(0);
-    println!(
-        "  session: homed at {:.3} s (homing error {} counts at most), armed at {:.3} s; the scene starts then",
-        p.homed_at_s, err, p.armed_at_s
-    );
-    println!(
-        "  states: broken {:.2} s, rolling {:.2} s, sliding {:.2} s; {} transitions",
-        s.time_in_state_s[0], s.time_in_state_s[1], s.time_in_state_s[2], s.transitions
-    );
-    println!(
-        "  max force {:.2} N (limit {} N); max |spin torque| {:.2} mN·m",
-        s.max_force_n,
-        softfinger_core::contact::params::ContactParams::DEFAULT.max_force_n,
-        s.max_abs_tau_n_nm * 1e3
-    );
-    println!(
-        "  contact path: {:.2} mm on the object, {:.2} mm on the fingertip",
-        s.object_path_m * 1e3,
-        s.finger_path_m * 1e3
-    );
-    println!(
-        "  tick cost on this PC: {:.0} ns per pipeline tick ({:.2} % of the {:.0} µs period)",
-        res.ns_per_tick,
-        res.ns_per_tick * 1e-9 / dt * 100.0,
-        dt * 1e6
-    );
-    println!(
-        "  faults latched: {} ticks; non-finite values: {}",
-        s.latched_fault_ticks, s.non_finite_values
-    );
-    if let Some((file, l)) = limit {
-        println!(
+    let mut lines = vec![
+        format!(
+            "scene {} ({}), {} ticks at {} Hz, method {}, backend {}",
+            res.scene.name,
+            res.scene.description,
+            res.rows.len(),
+            res.scene.rate_hz,
+            res.scene.method,
+            Fast::NAME
+        ),
+        format!(
+            "  session: homed at {:.3} s (homing error {} counts at most), armed at {:.3} s; the scene starts then",
+            p.homed_at_s, err, p.armed_at_s
+        ),
+        format!(
+            "  states: broken {:.2} s, rolling {:.2} s, sliding {:.2} s; {} transitions",
+            s.time_in_state_s[0], s.time_in_state_s[1], s.time_in_state_s[2], s.transitions
+        ),
+        format!(
+            "  max force {:.2} N (limit {} N); max |spin torque| {:.2} mN·m",
+            s.max_force_n,
+            softfinger_core::contact::params::ContactParams::DEFAULT.max_force_n,
+            s.max_abs_tau_n_nm * 1e3
+        ),
+        format!(
+            "  contact path: {:.2} mm on the object, {:.2} mm on the fingertip",
+            s.object_path_m * 1e3,
+            s.finger_path_m * 1e3
+        ),
+        format!(
+            "  tick cost on this PC: {:.0} ns per pipeline tick ({:.2} % of the {:.0} µs period)",
+            res.ns_per_tick,
+            res.ns_per_tick * 1e-9 / dt * 100.0,
+            dt * 1e6
+        ),
+        format!(
+            "  faults latched: {} ticks; non-finite values: {}",
+            s.latched_fault_ticks, s.non_finite_values
+        ),
+    ];
+    if let Some(l) = limit {
+        lines.push(format!(
             "  limit surface (1 = static ellipse): largest load {:.3} rolling, {:.3} sliding ({} ticks); twist used up to {:.3} of τ_max",
             l.max_rolling, l.max_sliding, l.sliding_ticks, l.max_twist
-        );
-        charts.push(file);
+        ));
     }
-    println!("  wrote {}", csv.display());
-    for c in charts {
-        println!("  wrote {}", c.display());
+    lines
+}
+
+pub fn main(args: &Args) -> Result<(), String> {
+    let res = simulate_scene(args)?;
+    let s = summarize(&res.rows, 1.0 / res.scene.rate_hz);
+    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    let csv = args.out.join("run.csv");
+    write_csv(&csv, &res.rows)?;
+    let mut files = vec![csv];
+    files.extend(crate::chart::run_charts::write(&args.out, &res)?);
+    let limit = crate::limit_path::write_for_run(&args.out, &res)?;
+    let lines = summary_lines(&res, &s, limit.as_ref().map(|l| &l.1));
+    files.extend(limit.map(|l| l.0));
+    let title = format!("host-sim run: {}", res.scene.name);
+    let index = crate::chart::index_page::write(&args.out, &title, &lines.join("\n"), &files)?;
+    files.push(index);
+    for l in &lines {
+        println!("{l}");
+    }
+    for f in files {
+        println!("  wrote {}", f.display());
     }
     Ok(())
 }

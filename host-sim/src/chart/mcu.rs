@@ -13,8 +13,8 @@ use std::path::Path;
 
 use super::pareto;
 use super::style::{
-    backend_shape, draw_legend, draw_line, draw_markers, log_label, log_range, variant_color,
-    ERROR_FLOOR_MM, FRONT_COLOR,
+    backend_shape, draw_axes, draw_legend, draw_line, draw_markers, drawing_err, log_range,
+    svg_string, variant_color, ERROR_FLOOR_MM, FONT, FRONT_COLOR,
 };
 use crate::validate::ours::{Backend, Variant};
 
@@ -121,34 +121,28 @@ pub fn front(points: &[McuPoint]) -> Vec<usize> {
 
 /// Renders the chart as SVG.
 pub fn svg(points: &[McuPoint]) -> Result<String, String> {
-    let mut buf = String::new();
-    {
-        let root = SVGBackend::with_string(&mut buf, (1100, 760)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| format!("{e:?}"))?;
+    svg_string((1100, 760), |root| {
         let (x0, x1) = log_range(points.iter().map(|p| xy(p).0));
         // Linear instructions axis from 0, with room above the points for the legend.
         let y1 = points.iter().map(|p| p.instructions).fold(100.0, f64::max) * 1.6;
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(root)
             .caption(
                 format!(
                     "MCU twin: instructions per step (Cortex-M4F, QEMU -icount) vs accuracy on the paper scene; \
                      errors < {ERROR_FLOOR_MM:.0e} mm drawn at {ERROR_FLOOR_MM:.0e} mm"
                 ),
-                ("sans-serif", 16),
+                (FONT, 16),
             )
             .margin(16)
             .x_label_area_size(50)
             .y_label_area_size(70)
             .build_cartesian_2d((x0..x1).log_scale(), 0.0..y1)
-            .map_err(|e| format!("{e:?}"))?;
-        chart
-            .configure_mesh()
-            .x_desc("max contact-path error on the paper's scene (mm, log)")
-            .y_desc("instructions per step")
-            .x_label_formatter(&log_label)
-            .y_label_formatter(&|v| format!("{v:.0}"))
-            .draw()
-            .map_err(|e| format!("{e:?}"))?;
+            .map_err(drawing_err)?;
+        draw_axes(
+            &mut chart,
+            "max contact-path error on the paper's scene (mm, log)",
+            "instructions per step",
+        )?;
         let front_xy: Vec<(f64, f64)> = front(points).iter().map(|&i| xy(&points[i])).collect();
         draw_line(
             &mut chart,
@@ -174,9 +168,8 @@ pub fn svg(points: &[McuPoint]) -> Result<String, String> {
             )?;
         }
         draw_legend(&mut chart, SeriesLabelPosition::UpperRight, 12)?;
-        root.present().map_err(|e| format!("{e:?}"))?;
-    }
-    Ok(buf)
+        Ok(())
+    })
 }
 
 #[cfg(test)]

@@ -1,4 +1,7 @@
-//! `host-sim chart`: speed against accuracy, as SVG charts.
+//! Charts: the one chart style of every SVG host-sim writes ([`style`], with the line charts of
+//! [`lines`], [`bars`] and [`heatmap`] built on it), the charts of `host-sim run` ([`run_charts`])
+//! and its `index.html` ([`index_page`]), and the `chart` command: speed against accuracy, as SVG
+//! charts.
 //!
 //! - `speed-accuracy.svg`: time per step (ns, log) against the largest contact-path error (mm, log) for
 //!   every method × math backend × sampling rate ([`points::RATES_HZ`], the paper's motion for 1 s), and
@@ -11,9 +14,14 @@
 //! Errors: ours against the RK45 reference at `rtol` 1e-12, the classical points against the closed form
 //! (the two references agree within ~1e-11 mm, see `validate`).
 
+pub mod bars;
+pub mod heatmap;
+pub mod index_page;
+pub mod lines;
 pub mod mcu;
 pub mod pareto;
 pub mod points;
+pub mod run_charts;
 pub mod speed_accuracy;
 pub mod style;
 pub mod surfaces;

@@ -1,14 +1,14 @@
 //! The speed–accuracy chart: time per step against the largest contact-path error, log–log, with the
 //! Pareto front.
 
-use plotters::coord::CoordTranslate;
+use plotters::coord::combinators::LogCoord;
 use plotters::prelude::*;
 
 use super::pareto;
 use super::points::{Point, Series};
 use super::style::{
-    backend_shape, draw_legend, draw_line, draw_markers, log_label, log_range, variant_color,
-    Shape, ERROR_FLOOR_MM, FRONT_COLOR, RK45_COLORS,
+    backend_shape, draw_axes, draw_legend, draw_line, draw_markers, drawing_err, log_range,
+    svg_string, variant_color, Shape, ERROR_FLOOR_MM, FONT, FRONT_COLOR, RK45_COLORS,
 };
 use crate::validate::classical::Rk45Call;
 use crate::validate::ours::Variant;
@@ -33,55 +33,48 @@ pub fn rate_label(hz: f64) -> String {
     }
 }
 
+/// The chart: log time against log error.
+type LogLog<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
+
 /// Renders the chart as SVG.
 pub fn svg(points: &[Point]) -> Result<String, String> {
-    let mut buf = String::new();
-    {
-        let root = SVGBackend::with_string(&mut buf, (1200, 860)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| format!("{e:?}"))?;
+    svg_string((1200, 860), |root| {
         let (x0, x1) = log_range(points.iter().map(|p| p.ns_per_step));
         let (y0, y1) = log_range(points.iter().map(|p| xy(p).1));
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(root)
             .caption(
                 format!(
                     "Rolling contact step: speed vs accuracy (paper §3.1 motion, sphere 10 mm on a plane, 1 s); \
                      errors < {ERROR_FLOOR_MM:.0e} mm drawn at {ERROR_FLOOR_MM:.0e} mm"
                 ),
-                ("sans-serif", 17),
+                (FONT, 17),
             )
             .margin(16)
             .x_label_area_size(50)
             .y_label_area_size(80)
             .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-            .map_err(|e| format!("{e:?}"))?;
-        chart
-            .configure_mesh()
-            .x_desc("time per step (ns, log; host CPU, median of interleaved batches)")
-            .y_desc("max contact-path error, plane or sphere, any axis (mm, log)")
-            .x_label_formatter(&log_label)
-            .y_label_formatter(&log_label)
-            .draw()
-            .map_err(|e| format!("{e:?}"))?;
+            .map_err(drawing_err)?;
+        draw_axes(
+            &mut chart,
+            "time per step (ns, log; host CPU, median of interleaved batches)",
+            "max contact-path error, plane or sphere, any axis (mm, log)",
+        )?;
 
         draw_front(&mut chart, points, x1)?;
         draw_ours(&mut chart, points)?;
         draw_rk45(&mut chart, points)?;
         draw_legend(&mut chart, SeriesLabelPosition::UpperRight, 13)?;
-        root.present().map_err(|e| format!("{e:?}"))?;
-    }
-    Ok(buf)
+        Ok(())
+    })
 }
 
 /// The Pareto front, drawn first, wide and pale, so the points stay visible on it; `x1`: the
 /// x axis end the staircase runs to.
-fn draw_front<'a, 'b: 'a, CT>(
-    chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
+fn draw_front<'a, 'b: 'a>(
+    chart: &mut LogLog<'a, 'b>,
     points: &[Point],
     x1: f64,
-) -> Result<(), String>
-where
-    CT: CoordTranslate<From = (f64, f64)>,
-{
+) -> Result<(), String> {
     let idx = front(points);
     let front_xy: Vec<(f64, f64)> = idx.iter().map(|&i| xy(&points[i])).collect();
     draw_line(
@@ -95,13 +88,7 @@ where
 
 /// Our variants: one line and marker set per method x backend over the rates, the recommended
 /// variant's points labelled with their rate.
-fn draw_ours<'a, 'b: 'a, CT>(
-    chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
-    points: &[Point],
-) -> Result<(), String>
-where
-    CT: CoordTranslate<From = (f64, f64)>,
-{
+fn draw_ours<'a, 'b: 'a>(chart: &mut LogLog<'a, 'b>, points: &[Point]) -> Result<(), String> {
     for v in Variant::all() {
         let mut pts: Vec<&Point> = points
             .iter()
@@ -134,10 +121,10 @@ where
                     Text::new(
                         rate_label(p.rate_hz),
                         xy(p),
-                        ("sans-serif", 12).into_font().color(&color),
+                        (FONT, 12).into_font().color(&color),
                     )
                 }))
-                .map_err(|e| format!("{e:?}"))?;
+                .map_err(drawing_err)?;
         }
     }
     Ok(())
@@ -145,13 +132,7 @@ where
 
 /// The classical RK45 runs: one line per call style over the tolerances, points labelled with
 /// their rtol.
-fn draw_rk45<'a, 'b: 'a, CT>(
-    chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
-    points: &[Point],
-) -> Result<(), String>
-where
-    CT: CoordTranslate<From = (f64, f64)>,
-{
+fn draw_rk45<'a, 'b: 'a>(chart: &mut LogLog<'a, 'b>, points: &[Point]) -> Result<(), String> {
     for (call, color) in [Rk45Call::Restart, Rk45Call::SingleCall]
         .into_iter()
         .zip(RK45_COLORS)
@@ -185,12 +166,12 @@ where
                 labels.push(Text::new(
                     format!("{r:.0e}"),
                     (x, y),
-                    ("sans-serif", 11).into_font().color(&color),
+                    (FONT, 11).into_font().color(&color),
                 ));
                 last = Some((x, y));
             }
         }
-        chart.draw_series(labels).map_err(|e| format!("{e:?}"))?;
+        chart.draw_series(labels).map_err(drawing_err)?;
     }
     Ok(())
 }

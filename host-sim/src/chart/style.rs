@@ -1,18 +1,90 @@
-//! Shared drawing helpers: marker shapes, colours per method and backend, log-axis ranges, and writing an
-//! SVG atomically.
+//! The one chart style of every SVG host-sim writes: the palette (series, methods × backends,
+//! surfaces, contact states), the font, marker shapes, the legend box, number formats on the axes,
+//! log-axis ranges, and rendering a figure into an SVG written atomically. The chart kinds built on
+//! it: [`super::lines`] (line charts in panels, with state bands and equal axes), [`super::bars`],
+//! [`super::heatmap`], and the `chart` command's own plots.
 
-use plotters::coord::CoordTranslate;
+use plotters::coord::ranged1d::ValueFormatter;
+use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
 use plotters::style::full_palette::{
-    BLUE_300, BLUE_600, BLUE_700, BLUE_900, DEEPORANGE_400, GREEN_400, GREEN_700, GREEN_900,
-    GREY_500, ORANGE_700, PURPLE, RED_700, RED_900,
+    BLUE_300, BLUE_600, BLUE_900, DEEPORANGE_400, GREEN_400, GREEN_700, GREEN_900, GREY_500,
+    ORANGE_700, PURPLE, RED_900,
 };
 use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::state::ContactState;
 use std::io::Write;
 use std::path::Path;
 
 use crate::atomic_file::AtomicFile;
 use crate::validate::ours::Backend;
+
+/// The font family of every label (the SVG leaves the glyphs to the viewer).
+pub const FONT: &str = "sans-serif";
+
+/// A drawing area of an SVG figure.
+pub type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+
+/// The series palette: distinct, readable on white (blue, orange, green, red, purple, brown).
+pub const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+/// What the contact was doing over a stretch of time, as the charts colour it: the core's three
+/// states, with `Broken` split into before the first touch and after a release.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContactPhase {
+    /// Broken before the first touch of the scene: the fingertip has not touched yet.
+    NoContact,
+    /// Rolling without slip.
+    Rolling,
+    /// Sliding on kinetic friction.
+    Sliding,
+    /// Broken after a touch: the contact was released or lost.
+    Broken,
+}
+
+impl ContactPhase {
+    /// The phase of a tick in `state`, `touched` telling whether any earlier tick was in contact.
+    pub fn of(state: ContactState, touched: bool) -> ContactPhase {
+        match state {
+            ContactState::Rolling => ContactPhase::Rolling,
+            ContactState::Sliding => ContactPhase::Sliding,
+            ContactState::Broken if touched => ContactPhase::Broken,
+            ContactState::Broken => ContactPhase::NoContact,
+        }
+    }
+
+    /// Legend text.
+    pub fn label(self) -> &'static str {
+        match self {
+            ContactPhase::NoContact => "no contact yet",
+            ContactPhase::Rolling => "rolling",
+            ContactPhase::Sliding => "sliding",
+            ContactPhase::Broken => "broken (released)",
+        }
+    }
+
+    /// Its colour, for bands (drawn pale) and path segments alike.
+    pub fn color(self) -> RGBColor {
+        match self {
+            ContactPhase::NoContact => RGBColor(150, 150, 150),
+            ContactPhase::Rolling => PALETTE[2],
+            ContactPhase::Sliding => PALETTE[1],
+            ContactPhase::Broken => PALETTE[3],
+        }
+    }
+}
+
+/// The colour of a contact state (a broken tick counts as released).
+pub fn state_color(s: ContactState) -> RGBColor {
+    ContactPhase::of(s, true).color()
+}
 
 /// Errors below this (mm) are drawn at it on log axes (exact zeros cannot be drawn); charts say so.
 pub const ERROR_FLOOR_MM: f64 = 1e-13;
@@ -75,13 +147,18 @@ pub fn variant_color(m: Method, b: Backend) -> RGBColor {
     }
 }
 
+/// The colour of a method (its libm shade): exact blue, rpy green, paper-verbatim red.
+pub fn method_color(m: Method) -> RGBColor {
+    variant_color(m, Backend::Libm)
+}
+
 /// Colour of the classical runs.
 pub const RK45_COLORS: [RGBColor; 2] = [BLACK, PURPLE];
 /// Colour of the Pareto staircase.
 pub const FRONT_COLOR: RGBColor = GREY_500;
 
 /// One colour per surface (plane, sphere, bowl, cylinder), in that order.
-pub const SURFACE_COLORS: [RGBColor; 4] = [BLUE_700, RED_700, GREEN_700, ORANGE_700];
+pub const SURFACE_COLORS: [RGBColor; 4] = [PALETTE[0], PALETTE[3], PALETTE[2], PALETTE[1]];
 
 /// Draws `pts` with one marker shape and style, optionally with a legend entry.
 pub fn draw_markers<'a, 'b: 'a, CT>(
@@ -100,7 +177,7 @@ where
             pts.iter()
                 .map(|&p| EmptyElement::at(p) + Polygon::new(offsets.clone(), style)),
         )
-        .map_err(|e| format!("drawing: {e:?}"))?;
+        .map_err(drawing_err)?;
     if let Some(label) = label {
         anno.label(label)
             .legend(move |(x, y)| EmptyElement::at((x, y)) + Polygon::new(offsets.clone(), style));
@@ -108,7 +185,32 @@ where
     Ok(())
 }
 
-/// Draws the legend box in this module's style: white, 85 % opaque, black border.
+/// Draws the axes (the one axis style of every x-y chart): tick labels in [`fmt_num`], the axis
+/// names, a light grid. On an axis through zero, a tick within rounding of zero reads `0`.
+pub fn draw_axes<'a, 'b: 'a, X, Y>(
+    chart: &mut ChartContext<'a, SVGBackend<'b>, Cartesian2d<X, Y>>,
+    x_desc: &str,
+    y_desc: &str,
+) -> Result<(), String>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let (x, y) = (chart.x_range(), chart.y_range());
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(&|v| tick_label(*v, (x.start, x.end)))
+        .y_label_formatter(&|v| tick_label(*v, (y.start, y.end)))
+        .label_style((FONT, 13))
+        .axis_desc_style((FONT, 15))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(drawing_err)
+}
+
+/// Draws the legend box (the one legend style of every chart): white, 85 % opaque, black border.
 pub fn draw_legend<'a, 'b: 'a, CT>(
     chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
     position: SeriesLabelPosition,
@@ -122,9 +224,9 @@ where
         .position(position)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
-        .label_font(("sans-serif", font_size))
+        .label_font((FONT, font_size))
         .draw()
-        .map_err(|e| format!("{e:?}"))
+        .map_err(drawing_err)
 }
 
 /// Draws a polyline, optionally with a legend entry.
@@ -139,12 +241,28 @@ where
 {
     let anno = chart
         .draw_series(LineSeries::new(pts.iter().copied(), style))
-        .map_err(|e| format!("drawing: {e:?}"))?;
+        .map_err(drawing_err)?;
     if let Some(label) = label {
         anno.label(label)
             .legend(move |(x, y)| PathElement::new(vec![(x - 10, y), (x + 10, y)], style));
     }
     Ok(())
+}
+
+/// `(lo, hi)` covering the finite `values` with 5 % margin (at least `min_pad`), and `top` (a
+/// fraction of the span) more above, e.g. room for a legend; `(-1, 1)` when there are none.
+pub fn linear_range(values: impl IntoIterator<Item = f64>, min_pad: f64, top: f64) -> (f64, f64) {
+    let (lo, hi) = values
+        .into_iter()
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+    if lo > hi {
+        return (-1.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05).max(min_pad);
+    (lo - pad, hi + pad + (hi - lo) * top)
 }
 
 /// A log-axis range covering `values` (positive, finite ones), widened to whole decades with half a
@@ -165,15 +283,59 @@ pub fn log_range(values: impl IntoIterator<Item = f64>) -> (f64, f64) {
     )
 }
 
-/// Tick label of a log axis: `1e-6`, `0.01`, `100`, `1e5`.
-pub fn log_label(v: &f64) -> String {
-    if (0.999..1e4).contains(v) {
-        format!("{v:.0}")
-    } else if (0.00999..0.999).contains(v) {
-        format!("{}", (v * 100.0).round() / 100.0)
-    } else {
-        format!("{v:.0e}")
+/// An axis tick label, short: powers of ten as `1e-7`, others with at most 3 decimals (`0.01`,
+/// `100`, `2000`, `1e5`).
+pub fn fmt_num(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
     }
+    if (1e-2..1e4).contains(&v.abs()) {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.1e}").replace(".0e", "e")
+    }
+}
+
+/// [`fmt_num`] of a tick on an axis spanning `range`: `0` for a tick within 1e-9 of the span of
+/// zero when the axis holds zero (ticks there are computed in floating point, e.g. -1.1e-16).
+pub fn tick_label(v: f64, (lo, hi): (f64, f64)) -> String {
+    if lo <= 0.0 && 0.0 <= hi && v.abs() < 1e-9 * (hi - lo) {
+        "0".into()
+    } else {
+        fmt_num(v)
+    }
+}
+
+/// A plotters drawing error as this crate's error text.
+pub fn drawing_err<E: std::fmt::Debug>(e: E) -> String {
+    format!("drawing failed: {e:?}")
+}
+
+/// Renders a `size` (px) figure on white with `draw` and writes it to `path` atomically; errors
+/// name the file.
+pub fn render_svg(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(&Area) -> Result<(), String>,
+) -> Result<(), String> {
+    let svg = svg_string(size, draw).map_err(|e| format!("{}: {e}", path.display()))?;
+    write_svg(path, &svg)
+}
+
+/// Renders a `size` (px) figure on white with `draw` into an SVG string.
+pub fn svg_string(
+    size: (u32, u32),
+    draw: impl FnOnce(&Area) -> Result<(), String>,
+) -> Result<String, String> {
+    let mut buf = String::new();
+    {
+        let root = SVGBackend::with_string(&mut buf, size).into_drawing_area();
+        root.fill(&WHITE).map_err(drawing_err)?;
+        draw(&root)?;
+        root.present().map_err(drawing_err)?;
+    }
+    Ok(buf)
 }
 
 /// Writes `svg` to `path` atomically.
@@ -197,12 +359,53 @@ mod tests {
     }
 
     #[test]
-    fn log_labels_are_short() {
-        assert_eq!(log_label(&99.999_999_999_97), "100");
-        assert_eq!(log_label(&1.000_000_000_1), "1");
-        assert_eq!(log_label(&0.010_000_000_02), "0.01");
-        assert_eq!(log_label(&1e-6), "1e-6");
-        assert_eq!(log_label(&1e5), "1e5");
+    fn a_tick_near_zero_reads_zero_only_on_an_axis_through_zero() {
+        assert_eq!(tick_label(-1.1e-16, (-0.5, 0.5)), "0");
+        // The threshold, 1e-9 of the span (1 here), just below and just above.
+        assert_eq!(tick_label(0.9e-9, (-0.5, 0.5)), "0");
+        assert_eq!(tick_label(1.1e-9, (-0.5, 0.5)), "1.1e-9");
+        assert_eq!(tick_label(1e-16, (1e-16, 100.0)), "1e-16");
+        assert_eq!(tick_label(0.25, (-0.5, 0.5)), "0.25");
+    }
+
+    #[test]
+    fn linear_range_pads_and_leaves_room_on_top() {
+        assert_eq!(linear_range([0.0, 10.0, f64::NAN], 0.1, 0.0), (-0.5, 10.5));
+        assert_eq!(linear_range([0.0, 10.0], 0.1, 0.3), (-0.5, 13.5));
+        // A single value: the minimum pad either side.
+        assert_eq!(linear_range([2.0], 0.25, 0.0), (1.75, 2.25));
+        assert_eq!(linear_range([], 0.1, 0.0), (-1.0, 1.0));
+    }
+
+    #[test]
+    fn tick_labels_are_short() {
+        assert_eq!(fmt_num(99.999_999_999_97), "100");
+        assert_eq!(fmt_num(1.000_000_000_1), "1");
+        assert_eq!(fmt_num(0.010_000_000_02), "0.01");
+        assert_eq!(fmt_num(1e-6), "1e-6");
+        assert_eq!(fmt_num(1e-7), "1e-7");
+        assert_eq!(fmt_num(1e5), "1e5");
+        assert_eq!(fmt_num(0.5), "0.5");
+        assert_eq!(fmt_num(-2.25), "-2.25");
+        assert_eq!(fmt_num(2000.0), "2000");
+        assert_eq!(fmt_num(0.0), "0");
+    }
+
+    #[test]
+    fn broken_before_the_first_touch_is_no_contact() {
+        assert_eq!(
+            ContactPhase::of(ContactState::Broken, false),
+            ContactPhase::NoContact
+        );
+        assert_eq!(
+            ContactPhase::of(ContactState::Broken, true),
+            ContactPhase::Broken
+        );
+        assert_eq!(
+            ContactPhase::of(ContactState::Sliding, false),
+            ContactPhase::Sliding
+        );
+        assert_ne!(ContactPhase::Rolling.color(), ContactPhase::Sliding.color());
     }
 
     #[test]

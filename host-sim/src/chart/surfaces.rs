@@ -4,7 +4,10 @@
 
 use plotters::prelude::*;
 
-use super::style::{draw_legend, draw_line, log_label, log_range, ERROR_FLOOR_MM, SURFACE_COLORS};
+use super::style::{
+    draw_axes, draw_legend, draw_line, drawing_err, log_range, svg_string, ERROR_FLOOR_MM, FONT,
+    SURFACE_COLORS,
+};
 use crate::validate::surfaces::{SurfaceErrors, DURATION_S, FINGER_R, OBJECT_R, RATE_HZ};
 
 /// At most this many points per line (the run has 10 001 samples; every k-th is drawn, and the
@@ -29,10 +32,7 @@ pub fn decimated(t: &[f64], v: &[f64]) -> Line {
 
 /// Renders the chart as SVG.
 pub fn svg(series: &[SurfaceErrors]) -> Result<String, String> {
-    let mut buf = String::new();
-    {
-        let root = SVGBackend::with_string(&mut buf, (1200, 700)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| format!("{e:?}"))?;
+    svg_string((1200, 700), |root| {
         let lines: Vec<(&SurfaceErrors, Line, Line)> = series
             .iter()
             .map(|e| {
@@ -48,7 +48,7 @@ pub fn svg(series: &[SurfaceErrors]) -> Result<String, String> {
                 .iter()
                 .flat_map(|(_, o, f)| o.iter().chain(f.iter()).map(|p| p.1)),
         );
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(root)
             .caption(
                 format!(
                     "Rolling on every surface vs the Montana-form RK45 reference (rtol 1e-12): \
@@ -56,22 +56,18 @@ pub fn svg(series: &[SurfaceErrors]) -> Result<String, String> {
                     FINGER_R * 1e3,
                     OBJECT_R * 1e3
                 ),
-                ("sans-serif", 16),
+                (FONT, 16),
             )
             .margin(16)
             .x_label_area_size(50)
             .y_label_area_size(80)
             .build_cartesian_2d(0.0..DURATION_S, (y0..y1).log_scale())
-            .map_err(|e| format!("{e:?}"))?;
-        chart
-            .configure_mesh()
-            .x_desc("time (s)")
-            .y_desc(format!(
-                "contact-point error (mm, log; below {ERROR_FLOOR_MM:.0e} drawn at it)"
-            ))
-            .y_label_formatter(&log_label)
-            .draw()
-            .map_err(|e| format!("{e:?}"))?;
+            .map_err(drawing_err)?;
+        draw_axes(
+            &mut chart,
+            "time (s)",
+            &format!("contact-point error (mm, log; below {ERROR_FLOOR_MM:.0e} drawn at it)"),
+        )?;
         for (i, (e, object, finger)) in lines.iter().enumerate() {
             let color = SURFACE_COLORS[i % SURFACE_COLORS.len()];
             draw_line(
@@ -88,9 +84,8 @@ pub fn svg(series: &[SurfaceErrors]) -> Result<String, String> {
             )?;
         }
         draw_legend(&mut chart, SeriesLabelPosition::LowerRight, 14)?;
-        root.present().map_err(|e| format!("{e:?}"))?;
-    }
-    Ok(buf)
+        Ok(())
+    })
 }
 
 #[cfg(test)]

@@ -4,7 +4,10 @@
 use plotters::prelude::*;
 use plotters::style::full_palette::{BLUE_600, GREEN_700};
 
-use super::style::{draw_legend, draw_line, draw_markers, Shape};
+use super::style::{
+    draw_axes, draw_legend, draw_line, draw_markers, drawing_err, linear_range, svg_string, Shape,
+    FONT,
+};
 
 /// One run's paths, in metres, one row per sample.
 #[derive(Clone, Debug)]
@@ -51,33 +54,16 @@ const PANELS: [Panel; 3] = [
 
 const AXIS: [&str; 3] = ["x", "y", "z"];
 
-/// `(lo, hi)` covering `v` with 5 % margin, and `top` (a fraction of the span) more above.
-fn range(v: impl Iterator<Item = f64>, top: f64) -> (f64, f64) {
-    let (lo, hi) = v
-        .filter(|x| x.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-            (a.min(x), b.max(x))
-        });
-    if lo > hi {
-        return (-1.0, 1.0);
-    }
-    let pad = ((hi - lo) * 0.05).max(1e-3);
-    (lo - pad, hi + pad + (hi - lo) * top)
-}
-
 /// Renders the three panels as one SVG.
 pub fn svg(t: &Trajectories) -> Result<String, String> {
-    let mut buf = String::new();
-    {
-        let root = SVGBackend::with_string(&mut buf, (1500, 560)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| format!("{e:?}"))?;
+    svg_string((1500, 560), |root| {
         let root = root
             .titled(
                 "Paper Fig. 3 reproduced: contact trajectories, sphere R = 10 mm rolling on a plane \
                  (δφ, δθ, δψ = 0.05, 0.02, 0.03 rad per 10 ms, 1 s)",
-                ("sans-serif", 18),
+                (FONT, 18),
             )
-            .map_err(|e| format!("{e:?}"))?;
+            .map_err(drawing_err)?;
         let areas = root.split_evenly((1, 3));
         let styles = [
             (BLACK.mix(0.35).stroke_width(6), None),
@@ -91,22 +77,21 @@ pub fn svg(t: &Trajectories) -> Result<String, String> {
                 path.iter().map(|p| (p[i] * 1e3, p[j] * 1e3)).collect()
             };
             let all: Vec<(f64, f64)> = t.runs.iter().flat_map(pick).collect();
-            let (x0, x1) = range(all.iter().map(|p| p.0), 0.0);
+            let (x0, x1) = linear_range(all.iter().map(|p| p.0), 1e-3, 0.0);
             // Room above the paths for the legend.
-            let (y0, y1) = range(all.iter().map(|p| p.1), 0.3);
+            let (y0, y1) = linear_range(all.iter().map(|p| p.1), 1e-3, 0.3);
             let mut chart = ChartBuilder::on(area)
-                .caption(panel.title, ("sans-serif", 15))
+                .caption(panel.title, (FONT, 15))
                 .margin(12)
                 .x_label_area_size(40)
                 .y_label_area_size(55)
                 .build_cartesian_2d(x0..x1, y0..y1)
-                .map_err(|e| format!("{e:?}"))?;
-            chart
-                .configure_mesh()
-                .x_desc(format!("{} (mm)", AXIS[i]))
-                .y_desc(format!("{} (mm)", AXIS[j]))
-                .draw()
-                .map_err(|e| format!("{e:?}"))?;
+                .map_err(drawing_err)?;
+            draw_axes(
+                &mut chart,
+                &format!("{} (mm)", AXIS[i]),
+                &format!("{} (mm)", AXIS[j]),
+            )?;
             for (k, run) in t.runs.iter().enumerate() {
                 let pts = pick(run);
                 let (style, shape) = styles[k.min(styles.len() - 1)];
@@ -132,7 +117,6 @@ pub fn svg(t: &Trajectories) -> Result<String, String> {
             }
             draw_legend(&mut chart, SeriesLabelPosition::UpperLeft, 12)?;
         }
-        root.present().map_err(|e| format!("{e:?}"))?;
-    }
-    Ok(buf)
+        Ok(())
+    })
 }

@@ -2,7 +2,8 @@
 //! orientations as `host-sim replay` input (`t_s,qw,qx,qy,qz`), so a log taken on the device (or
 //! the emulated board) is looked at and replayed on the PC.
 
-use crate::svg_chart::{line_chart, Series, PALETTE};
+use crate::chart::lines::{line_chart, Axes, Series, Style};
+use crate::chart::style::{linear_range, PALETTE};
 use softfinger_core::device::DeviceParams;
 use softfinger_core::device::OMEGA_LIKE;
 use softfinger_core::Libm;
@@ -31,22 +32,26 @@ pub fn force_chart(
         .iter()
         .enumerate()
         .map(|(i, axis)| Series {
-            name: format!("F{axis}"),
+            label: format!("F{axis}"),
+            color: PALETTE[i],
+            style: Style::Line,
             points: rows
                 .iter()
                 .map(|r| (t_s(r, rate_hz), value(r, &format!("force_mn_{i}")) / 1000.0))
                 .collect(),
-            color: PALETTE[i],
         })
         .collect();
-    line_chart(
-        path,
-        "Rendered force (telemetry)",
-        "t (s)",
-        "force (N)",
-        &series,
-        false,
-    )
+    let xs = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
+    let ys = series.iter().flat_map(|s| s.points.iter().map(|p| p.1));
+    let axes = Axes {
+        title: "Rendered force (telemetry)".into(),
+        x_label: "t (s)".into(),
+        y_label: "force (N)".into(),
+        x: linear_range(xs, 1e-3, 0.0),
+        y: linear_range(ys, 0.1, 0.3),
+        ..Axes::default()
+    };
+    line_chart(path, 900, 600, &[(axes, series)])
 }
 
 /// The handle orientation of each record from its wrist counts (the device's wrist

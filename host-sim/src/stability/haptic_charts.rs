@@ -1,11 +1,11 @@
 //! Charts of part 3 (haptic stability of the virtual wall): K_max against the control rate,
 //! the energy ratio over the stiffness sweep, K_max against the delay and the impact trace.
 
-use super::charts::{self, Axes, Series, Style};
 use super::haptic::TraceSample;
 use super::haptic::{self, Device, RateRow};
 use super::haptic_timing::{Impact, TimingRow, IMPACT_SECONDS, IMPACT_SPEED};
-use super::present::PALETTE;
+use crate::chart::lines::{line_chart, Axes, Series, Style};
+use crate::chart::style::PALETTE;
 use plotters::style::RGBColor;
 use std::path::Path;
 
@@ -70,32 +70,35 @@ fn kmax_chart(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), String> {
             r.measured_delay
         }),
     ];
-    charts::line_chart(
-        &out.join("haptic_kmax.svg"),
-        1000,
-        640,
-        &[(
-            Axes {
-                title: format!(
-                    "Virtual wall K_max vs control rate (m = {} kg, b = {} N s/m, B = 0)",
-                    d.mass_kg, d.damping
-                ),
-                x_label: "control rate 1/T (Hz)".into(),
-                y_label: "largest stable wall stiffness K_max (N/m)".into(),
-                x: (900.0, 22_000.0),
-                y: (1e3, 2e5),
-                x_log: true,
-                y_log: true,
-            },
-            series,
-        )],
-    )?;
-    Ok(())
+    let title = format!(
+        "Virtual wall K_max vs control rate (m = {} kg, b = {} N s/m, B = 0)",
+        d.mass_kg, d.damping
+    );
+    let axes = rate_axes(
+        title,
+        "largest stable wall stiffness K_max (N/m)",
+        (1e3, 2e5),
+    );
+    line_chart(&out.join("haptic_kmax.svg"), 1000, 640, &[(axes, series)])
+}
+
+/// The log-log axes of a K_max chart against the control rate (0.9 to 22 kHz).
+fn rate_axes(title: String, y_label: &str, y: (f64, f64)) -> Axes {
+    Axes {
+        title,
+        x_label: "control rate 1/T (Hz)".into(),
+        y_label: y_label.into(),
+        x: (900.0, 22_000.0),
+        y,
+        x_log: true,
+        y_log: true,
+        ..Axes::default()
+    }
 }
 
 /// haptic_energy.svg: energy ratio late/early over the K sweep, per rate, both delays.
 fn energy_chart(out: &Path, rows: &[RateRow]) -> Result<(), String> {
-    charts::line_chart(
+    line_chart(
         &out.join("haptic_energy.svg"),
         700,
         560,
@@ -144,6 +147,7 @@ fn energy_panel(rows: &[RateRow], delay: usize) -> (Axes, Vec<Series>) {
             y: (1e-12, 1e6),
             x_log: true,
             y_log: true,
+            ..Axes::default()
         },
         s,
     )
@@ -162,51 +166,47 @@ pub fn timing_chart(out: &Path, d: &Device, rows: &[TimingRow]) -> Result<(), St
             .collect(),
     };
     let (blue, red, green) = (PALETTE[0], PALETTE[3], PALETTE[2]);
-    let series = vec![
-        pts(
+    type Get = fn(&TimingRow) -> Option<f64>;
+    let table: [(&str, RGBColor, Style, Get); 4] = [
+        (
             "one tick of delay (measured)",
             red,
             Style::LineMarkers,
-            &|r| r.measured_one_tick,
+            |r| r.measured_one_tick,
         ),
-        pts(
+        (
             "firmware timing, 40 kHz PWM (measured)",
             blue,
             Style::LineMarkers,
-            &|r| r.measured_firmware,
+            |r| r.measured_firmware,
         ),
-        pts(
+        (
             "firmware timing (eigenvalue limit)",
             blue,
             Style::Dashed,
-            &|r| r.eigen_firmware,
+            |r| r.eigen_firmware,
         ),
-        pts(
+        (
             "firmware timing + passivity controller (measured; none = stable to 1e6 N/m)",
             green,
             Style::LineMarkers,
-            &|r| r.measured_passivity,
+            |r| r.measured_passivity,
         ),
     ];
-    charts::line_chart(
+    let series: Vec<Series> = table
+        .iter()
+        .map(|&(label, color, style, get)| pts(label, color, style, &get))
+        .collect();
+    let title = format!(
+        "Largest passive wall / (2b/T) vs control rate (m = {} kg, b = {} N s/m)",
+        d.mass_kg, d.damping
+    );
+    let axes = rate_axes(title, "K_max / (2b/T)", (0.1, 100.0));
+    line_chart(
         &out.join("haptic_kmax_timing.svg"),
         1000,
         640,
-        &[(
-            Axes {
-                title: format!(
-                    "Largest passive wall / (2b/T) vs control rate (m = {} kg, b = {} N s/m)",
-                    d.mass_kg, d.damping
-                ),
-                x_label: "control rate 1/T (Hz)".into(),
-                y_label: "K_max / (2b/T)".into(),
-                x: (900.0, 22_000.0),
-                y: (0.1, 100.0),
-                x_log: true,
-                y_log: true,
-            },
-            series,
-        )],
+        &[(axes, series)],
     )
 }
 
@@ -233,43 +233,37 @@ pub fn impact_chart(out: &Path, imp: &Impact) -> Result<(), String> {
     };
     let pos = |p: &TraceSample| clamp(p.x_m * 1e3, x_lim);
     let force = |p: &TraceSample| clamp(-p.force_n, f_lim);
-    let ms = (0.0, IMPACT_SECONDS * 1e3);
-    charts::line_chart(
+    let axes = |what: &str, y_label: String, lim: f64| Axes {
+        title: title(what),
+        x_label: "time (ms)".into(),
+        y_label,
+        x: (0.0, IMPACT_SECONDS * 1e3),
+        y: (-lim, lim),
+        ..Axes::default()
+    };
+    let panel = |what: &str, y_label: String, lim: f64, get: &dyn Fn(&TraceSample) -> f64| {
+        let series = vec![
+            s("without passivity", red, &imp.without, get),
+            s("with passivity", green, &imp.with, get),
+        ];
+        (axes(what, y_label, lim), series)
+    };
+    line_chart(
         &out.join("haptic_impact.svg"),
         800,
         560,
         &[
-            (
-                Axes {
-                    title: title("Penetration"),
-                    x_label: "time (ms)".into(),
-                    y_label: format!("penetration x (mm, clipped at ±{x_lim:.2})"),
-                    x: ms,
-                    y: (-x_lim, x_lim),
-                    x_log: false,
-                    y_log: false,
-                },
-                vec![
-                    s("without passivity", red, &imp.without, &pos),
-                    s("with passivity", green, &imp.with, &pos),
-                ],
+            panel(
+                "Penetration",
+                format!("penetration x (mm, clipped at ±{x_lim:.2})"),
+                x_lim,
+                &pos,
             ),
-            (
-                Axes {
-                    title: title("Wall force"),
-                    x_label: "time (ms)".into(),
-                    y_label: format!(
-                        "force on the probe, out of the wall (N, clipped at ±{f_lim:.1})"
-                    ),
-                    x: ms,
-                    y: (-f_lim, f_lim),
-                    x_log: false,
-                    y_log: false,
-                },
-                vec![
-                    s("without passivity", red, &imp.without, &force),
-                    s("with passivity", green, &imp.with, &force),
-                ],
+            panel(
+                "Wall force",
+                format!("force on the probe, out of the wall (N, clipped at ±{f_lim:.1})"),
+                f_lim,
+                &force,
             ),
         ],
     )

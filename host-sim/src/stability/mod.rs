@@ -11,8 +11,6 @@
 //!
 //! The tables are also written to `summary.txt` in the output folder.
 
-pub mod bar_chart;
-pub mod charts;
 pub mod chatter;
 pub mod decomp_map;
 pub mod drift;

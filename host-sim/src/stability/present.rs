@@ -1,25 +1,19 @@
 //! Tables and charts of the four experiments.
 
-use super::bar_chart;
-use super::charts::{self, Axes, HeatPanel, Series, Style};
 use super::chatter::{self, ChatterRun};
 use super::decomp_map::{self, Grid, MethodMap};
 use super::drift::DriftRun;
 use super::table::{sci, Table};
+use crate::chart::bars::BarChart;
+use crate::chart::heatmap::{heatmap, HeatPanel};
+use crate::chart::lines::{line_chart, Axes, Series, Style};
+use crate::chart::style::{method_color, PALETTE};
 use plotters::style::RGBColor;
 use softfinger_core::contact::decompose::Method;
 use std::path::Path;
 
 /// Floor of the log error axes, rad (errors are clamped to it for display only).
 pub const ERR_FLOOR: f64 = 1e-16;
-
-fn method_color(m: Method) -> RGBColor {
-    match m {
-        Method::PaperVerbatim => RGBColor(214, 39, 40),
-        Method::Rpy => RGBColor(31, 119, 180),
-        Method::Exact => RGBColor(44, 160, 44),
-    }
-}
 
 fn backend_style(b: &str) -> Style {
     match b {
@@ -28,14 +22,6 @@ fn backend_style(b: &str) -> Style {
         _ => Style::Dotted,
     }
 }
-
-pub(super) const PALETTE: [RGBColor; 5] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-];
 
 // ---------------------------------------------------------------- part 1
 
@@ -69,7 +55,7 @@ pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), 
                     .collect(),
             })
             .collect();
-        charts::heatmap(
+        heatmap(
             &out.join(format!("decomp_map_{}.svg", m.name())),
             &panels,
             ERR_FLOOR.log10(),
@@ -96,7 +82,7 @@ pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), 
         style: Style::Dotted,
         points: mags.iter().map(|&x| (x, x)).collect(),
     });
-    charts::line_chart(
+    line_chart(
         &out.join("decomp_worst_error.svg"),
         1000,
         620,
@@ -109,6 +95,7 @@ pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), 
                 y: (ERR_FLOOR, 100.0),
                 x_log: true,
                 y_log: true,
+                ..Axes::default()
             },
             series,
         )],
@@ -246,10 +233,10 @@ pub fn drift_charts(out: &Path, runs: &[DriftRun]) -> Result<(), String> {
         y_label: "error vs f64 closed form (mm), max per block".into(),
         x: (0.0, tmax),
         y: (floor, ymax),
-        x_log: false,
         y_log: true,
+        ..Axes::default()
     };
-    charts::line_chart(
+    line_chart(
         &out.join("drift.svg"),
         760,
         560,
@@ -325,16 +312,16 @@ pub fn chatter_chart(out: &Path, runs: &[ChatterRun]) -> Result<(), String> {
             i += 1;
         }
     }
-    bar_chart::bar_chart(
-        &out.join("chatter.svg"),
-        "State-machine transitions with f_T held on the static cone (10 kHz)",
-        "noise amplitude on f_T (uniform, fraction of mu_s f_N)",
-        "transitions per second",
-        &cats,
-        &groups,
-        &values,
-        (0.05, 1e6),
-    )
+    BarChart {
+        title: "State-machine transitions with f_T held on the static cone (10 kHz)",
+        x_label: "noise amplitude on f_T (uniform, fraction of mu_s f_N)",
+        y_label: "transitions per second",
+        categories: &cats,
+        groups: &groups,
+        values: &values,
+        y_range: (0.05, 1e6),
+    }
+    .write(&out.join("chatter.svg"))
 }
 
 pub fn chatter_table(runs: &[ChatterRun], steps: u64) -> Table {
