@@ -81,12 +81,19 @@ pub struct Controller<M: Math, S: Scene = Plane> {
     dt_s: f32,
     /// Low-pass coefficient α of the velocity filters: v ← v + α·(v_raw − v).
     alpha: f32,
+    /// False until the first tick: the velocity filters start from that tick's position.
     started: bool,
+    /// The previous tick's probe position, object frame, m.
     prev_probe: Vec3,
+    /// Filtered probe velocity, object frame, m/s.
     probe_vel: Vec3,
+    /// The previous tick's arm angles, rad.
     prev_angles: [f32; 3],
+    /// Filtered arm angular velocities, rad/s (the back-EMF feed-forward).
     arm_vel: [f32; 3],
+    /// Scale on every rendered force, 0..=1 (the arming ramp).
     force_scale: f32,
+    /// Flags raised between ticks, reported with the next one.
     pending: Flags,
     /// The passivity observer and controller (on by default).
     passivity: Passivity,

@@ -141,10 +141,15 @@ pub struct Guarded {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct OutputGuard {
     config: GuardConfig,
+    /// Faults latched so far: any of them holds the outputs at zero.
     latched: Flags,
+    /// False until the first tick (no previous counts to compare with).
     started: bool,
+    /// The previous tick's extended counts, for the glitch check.
     prev_counts: [i32; 6],
+    /// Consecutive overrun ticks.
     overruns: u32,
+    /// Consecutive ticks of drive without a count, per motor.
     stuck: [u32; 3],
 }
 

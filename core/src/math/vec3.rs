@@ -15,9 +15,28 @@ pub struct Vec3 {
     pub z: f32,
 }
 
+/// [`Vec3::CUBE_DIRECTIONS`], built at compile time.
+const fn cube_directions() -> [Vec3; 26] {
+    let mut out = [Vec3::ZERO; 26];
+    let (mut k, mut i) = (0, 0);
+    while k < 27 {
+        if k != 13 {
+            let (x, y, z) = (k / 9 - 1, k / 3 % 3 - 1, k % 3 - 1);
+            out[i] = Vec3::new(x as f32, y as f32, z as f32);
+            i += 1;
+        }
+        k += 1;
+    }
+    out
+}
+
 impl Vec3 {
     /// The zero vector.
     pub const ZERO: Vec3 = Vec3::new(0.0, 0.0, 0.0);
+    /// The 26 directions from a cube's centre to its faces, edges and corners: every (x, y, z) in
+    /// {−1, 0, 1}³ but the origin, in lexicographic order (x slowest), not normalised (each
+    /// component is exact). The sweep directions of the rolling tests.
+    pub const CUBE_DIRECTIONS: [Vec3; 26] = cube_directions();
     /// Unit x axis.
     pub const X: Vec3 = Vec3::new(1.0, 0.0, 0.0);
     /// Unit y axis.
@@ -109,5 +128,26 @@ impl Neg for Vec3 {
     #[inline]
     fn neg(self) -> Vec3 {
         Vec3::new(-self.x, -self.y, -self.z)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Vec3;
+
+    /// The 26 directions are the nested loops over {−1, 0, 1}³ (x slowest) without the origin.
+    #[test]
+    fn cube_directions_are_the_lattice_neighbours_in_order() {
+        let mut expected = std::vec::Vec::new();
+        for x in -1..=1 {
+            for y in -1..=1 {
+                for z in -1..=1 {
+                    if (x, y, z) != (0, 0, 0) {
+                        expected.push(Vec3::new(x as f32, y as f32, z as f32));
+                    }
+                }
+            }
+        }
+        assert_eq!(Vec3::CUBE_DIRECTIONS.to_vec(), expected);
     }
 }

@@ -14,19 +14,13 @@ const TIGHT: ReferenceMethod = ReferenceMethod::Rk45 {
     atol: 1e-14,
 };
 
-/// 26 unit directions: the faces, edges and corners of a cube.
+/// The 26 cube directions ([`Vec3::CUBE_DIRECTIONS`]), normalised in f64.
 fn axes() -> Vec<Vector3<f64>> {
-    let mut v = Vec::new();
-    for x in -1..=1 {
-        for y in -1..=1 {
-            for z in -1..=1 {
-                if (x, y, z) != (0, 0, 0) {
-                    v.push(Vector3::new(x as f64, y as f64, z as f64).normalize());
-                }
-            }
-        }
-    }
-    v
+    let f = |d: softfinger_core::Vec3| Vector3::new(d.x as f64, d.y as f64, d.z as f64).normalize();
+    softfinger_core::Vec3::CUBE_DIRECTIONS
+        .iter()
+        .map(|&d| f(d))
+        .collect()
 }
 
 /// `n` samples, each turning by `step` rad about `axis` (object frame), or about `axis` turned by a

@@ -14,19 +14,10 @@ use std::vec::Vec;
 const RHO: f64 = 0.01;
 const BIG: f64 = 0.05;
 
-/// 26 unit directions: the faces, edges and corners of a cube.
+/// The 26 cube directions ([`Vec3::CUBE_DIRECTIONS`]), normalised in f64.
 fn axes() -> Vec<Vector3<f64>> {
-    let mut v = Vec::new();
-    for x in -1..=1 {
-        for y in -1..=1 {
-            for z in -1..=1 {
-                if (x, y, z) != (0, 0, 0) {
-                    v.push(Vector3::new(x as f64, y as f64, z as f64).normalize());
-                }
-            }
-        }
-    }
-    v
+    let f = |d: Vec3| Vector3::new(d.x as f64, d.y as f64, d.z as f64).normalize();
+    Vec3::CUBE_DIRECTIONS.iter().map(|&d| f(d)).collect()
 }
 
 /// 60 samples rotating by 0.02 rad per sample about `axis` turned by a slowly changing offset.

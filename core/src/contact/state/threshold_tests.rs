@@ -30,14 +30,16 @@ fn check(name: &str, from: ContactState, i: StateInputs, want: (ContactState, Re
     assert_eq!(next_state(from, &i, &P), want, "{name}: {i:?}");
 }
 
-/// Pressed with 2 N, touching, at rest, long in its state.
-fn pressed() -> StateInputs {
-    StateInputs {
-        normal_force_n: 2.0,
-        gap_m: -0.001,
-        time_in_state_s: 1.0,
-        ..StateInputs::default()
-    }
+/// One threshold bracketed: `at(BELOW)` must give `want[0]` and `at(ABOVE)` `want[1]`. `below` names
+/// the case below; the case above is named with "below" replaced by "above".
+fn bracket(
+    below: &str,
+    from: ContactState,
+    at: impl Fn(f32) -> StateInputs,
+    want: [(ContactState, Reason); 2],
+) {
+    check(below, from, at(BELOW), want[0]);
+    check(&below.replace("below", "above"), from, at(ABOVE), want[1]);
 }
 
 /// Rolling with f_N = 2 N and every condition of the cone rule met except the one a case varies:
@@ -72,17 +74,11 @@ fn make_force_is_bracketed() {
         ..pressed()
     };
     check("f_N = f_make", Broken, at(0.05), (Broken, Reason::Kept));
-    check(
+    bracket(
         "f_N below f_make",
         Broken,
-        at(0.05 * BELOW),
-        (Broken, Reason::Kept),
-    );
-    check(
-        "f_N above f_make",
-        Broken,
-        at(0.05 * ABOVE),
-        (Rolling, Reason::MadeContact),
+        |s| at(0.05 * s),
+        [(Broken, Reason::Kept), (Rolling, Reason::MadeContact)],
     );
 }
 
@@ -126,35 +122,27 @@ fn separation_thresholds_are_bracketed() {
         let broken = (Broken, Reason::Separated);
         // The force, with a clear separating acceleration.
         check("f_N = ε_f, a_N > 0", from, lifted(0.01, 1.0, 0.0), broken);
-        check(
+        bracket(
             "f_N below ε_f",
             from,
-            lifted(0.01 * BELOW, 1.0, 0.0),
-            broken,
+            |s| lifted(0.01 * s, 1.0, 0.0),
+            [broken, kept],
         );
-        check("f_N above ε_f", from, lifted(0.01 * ABOVE, 1.0, 0.0), kept);
         // The separating acceleration alone (touching: gap 0).
         check("a_N = ε_a", from, lifted(0.0, 0.05, 0.0), kept);
-        check("a_N below ε_a", from, lifted(0.0, 0.05 * BELOW, 0.0), kept);
-        check(
-            "a_N above ε_a",
+        bracket(
+            "a_N below ε_a",
             from,
-            lifted(0.0, 0.05 * ABOVE, 0.0),
-            broken,
+            |s| lifted(0.0, 0.05 * s, 0.0),
+            [kept, broken],
         );
         // The gap alone (no acceleration).
         check("gap = ε_gap", from, lifted(0.0, 0.0, 1e-4), kept);
-        check(
+        bracket(
             "gap below ε_gap",
             from,
-            lifted(0.0, 0.0, 1e-4 * BELOW),
-            kept,
-        );
-        check(
-            "gap above ε_gap",
-            from,
-            lifted(0.0, 0.0, 1e-4 * ABOVE),
-            broken,
+            |s| lifted(0.0, 0.0, 1e-4 * s),
+            [kept, broken],
         );
     }
 }
@@ -188,13 +176,12 @@ fn hysteresis_cone_is_bracketed() {
         tangential_force_n: along(ft),
         ..over_cone()
     };
-    check(
+    bracket(
         "|f_T| below the cone",
         Rolling,
-        at(cone * BELOW),
-        STAY_ROLLING,
+        |s| at(cone * s),
+        [STAY_ROLLING, SLIDE],
     );
-    check("|f_T| above the cone", Rolling, at(cone * ABOVE), SLIDE);
     // The plain static cone μ_s·f_N = 1.6 N is inside the margin.
     check(
         "|f_T| just over μ_s·f_N",
@@ -221,8 +208,12 @@ fn normal_acceleration_tolerance_is_bracketed_for_the_cone_rule() {
             ..over_cone()
         };
         check("|a_N| = tol_a", Rolling, at(20.0), SLIDE);
-        check("|a_N| below tol_a", Rolling, at(20.0 * BELOW), SLIDE);
-        check("|a_N| above tol_a", Rolling, at(20.0 * ABOVE), STAY_ROLLING);
+        bracket(
+            "|a_N| below tol_a",
+            Rolling,
+            |s| at(20.0 * s),
+            [SLIDE, STAY_ROLLING],
+        );
     }
 }
 
@@ -235,17 +226,11 @@ fn slip_speed_alone_takes_rolling_to_sliding_bracketed() {
         ..over_cone()
     };
     check("|v_T| = v_stick", Rolling, at(x(0.002)), STAY_ROLLING);
-    check(
+    bracket(
         "|v_T| below v_stick",
         Rolling,
-        at(along(0.002 * BELOW)),
-        STAY_ROLLING,
-    );
-    check(
-        "|v_T| above v_stick",
-        Rolling,
-        at(along(0.002 * ABOVE)),
-        SLIDE,
+        |s| at(along(0.002 * s)),
+        [STAY_ROLLING, SLIDE],
     );
 }
 
@@ -258,13 +243,12 @@ fn tangential_acceleration_alone_takes_rolling_to_sliding_bracketed() {
         ..over_cone()
     };
     check("|a_T| = ε_a", Rolling, at(x(0.05)), STAY_ROLLING);
-    check(
+    bracket(
         "|a_T| below ε_a",
         Rolling,
-        at(along(0.05 * BELOW)),
-        STAY_ROLLING,
+        |s| at(along(0.05 * s)),
+        [STAY_ROLLING, SLIDE],
     );
-    check("|a_T| above ε_a", Rolling, at(along(0.05 * ABOVE)), SLIDE);
 }
 
 /// The haptic rule: a force against the rolling displacement keeps rolling, unless the
@@ -278,17 +262,11 @@ fn haptic_rule_is_bracketed() {
     };
     check("|d_roll| = roll_eps", Rolling, against(x(-1e-9)), SLIDE);
     let tilted = |d: f32| Vec3::new(-0.6 * d, 0.8 * d, 0.0);
-    check(
+    bracket(
         "|d_roll| below roll_eps",
         Rolling,
-        against(tilted(1e-9 * BELOW)),
-        SLIDE,
-    );
-    check(
-        "|d_roll| above roll_eps",
-        Rolling,
-        against(tilted(1e-9 * ABOVE)),
-        STAY_ROLLING,
+        |s| against(tilted(1e-9 * s)),
+        [SLIDE, STAY_ROLLING],
     );
     // f_T·d_roll = 0 (rolling across the force) counts as agreeing; slightly against does not.
     // f_T = (1.5, −1, 0) N (|f_T| = 1.80 N, over the cone) and d_roll = (u, 1.5·u + δ, 0): the
@@ -319,12 +297,11 @@ fn twist_threshold_is_bracketed() {
             tilt_rate_sq: rate * rate,
             ..pressed()
         };
-        check("Δθ below Δθ_max", Rolling, at(limit * BELOW), STAY_ROLLING);
-        check(
-            "Δθ above Δθ_max",
+        bracket(
+            "Δθ below Δθ_max",
             Rolling,
-            at(limit * ABOVE),
-            (Sliding, Reason::TwistExceeded),
+            |s| at(limit * s),
+            [STAY_ROLLING, (Sliding, Reason::TwistExceeded)],
         );
     }
     // The rule holds whatever the normal acceleration (it does not need a_N = 0).
@@ -349,12 +326,11 @@ fn stick_rule_thresholds_are_bracketed() {
         tangential_force_n: along(ft),
         ..ready_to_stick()
     };
-    check("|f_T| below μ_k·f_N", Sliding, force(1.2 * BELOW), STUCK);
-    check(
-        "|f_T| above μ_k·f_N",
+    bracket(
+        "|f_T| below μ_k·f_N",
         Sliding,
-        force(1.2 * ABOVE),
-        STAY_SLIDING,
+        |s| force(1.2 * s),
+        [STUCK, STAY_SLIDING],
     );
     // Slip speed v_stick.
     let speed = |v: Vec3| StateInputs {
@@ -362,17 +338,11 @@ fn stick_rule_thresholds_are_bracketed() {
         ..ready_to_stick()
     };
     check("|v_T| = v_stick", Sliding, speed(x(0.002)), STUCK);
-    check(
+    bracket(
         "|v_T| below v_stick",
         Sliding,
-        speed(along(0.002 * BELOW)),
-        STUCK,
-    );
-    check(
-        "|v_T| above v_stick",
-        Sliding,
-        speed(along(0.002 * ABOVE)),
-        STAY_SLIDING,
+        |s| speed(along(0.002 * s)),
+        [STUCK, STAY_SLIDING],
     );
     // Dwell t_slide.
     let dwell = |t: f32| StateInputs {

@@ -117,12 +117,7 @@ fn a_twist_and_a_load_in_the_same_step_share_the_budget() {
         m.contact_step(&sample(twist(held), pressed(0.0, 0.001), v));
         let q = twist(to * tau_s / P.spin_stiffness);
         let o = m.contact_step(&sample(q, pressed(d, 0.001), v));
-        assert_eq!(
-            o.state == ContactState::Sliding,
-            slides,
-            "to {to}: {:?}",
-            o.reason
-        );
+        assert_slides(&o, slides, &std::format!("to {to}"));
     }
 }
 

@@ -25,6 +25,13 @@ fn at(x: f32, y: f32, z: f32) -> ContactInput {
     }
 }
 
+/// Asserts whether a step's output is sliding; `case` names the case in the message, with the
+/// transition's reason.
+fn assert_slides(o: &ContactOutput, slides: bool, case: &str) {
+    let sliding = o.state == ContactState::Sliding;
+    assert_eq!(sliding, slides, "{case}: {:?}", o.reason);
+}
+
 #[test]
 fn free_space_renders_nothing() {
     let mut m = model();

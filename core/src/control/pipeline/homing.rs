@@ -77,19 +77,33 @@ pub enum HomingStep {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Homing {
     spec: HomingSpec,
+    /// Control rate, Hz.
     rate_hz: f32,
+    /// Ticks without motion that count as a stall at the stop.
     stall_ticks: u32,
+    /// Ticks after which homing fails.
     timeout_ticks: u32,
+    /// Counts of travel before a stall may count (a stop right at power-up is not trusted).
     min_travel_counts: i64,
+    /// The homed count of the stop angle: what the stop reads once homed.
     target_count: i32,
+    /// Arm angle per motor count, rad.
     rad_per_count: f32,
+    /// Low-pass coefficient of the velocity estimate.
     alpha: f32,
+    /// False until the first tick.
     started: bool,
+    /// Ticks since homing began.
     elapsed: u32,
+    /// Motor counts at the first tick.
     start: [i32; 3],
+    /// Motor counts at the previous tick.
     prev: [i32; 3],
+    /// Counts where each arm last left its stall window (the window is measured from here).
     anchor: [i32; 3],
+    /// Ticks each arm has stayed within the stall window.
     still: [u32; 3],
+    /// Filtered arm speeds, rad/s.
     velocity: [f32; 3],
     /// Set when all three stops are found; then the arms park.
     offsets: Option<[i32; 3]>,
