@@ -27,7 +27,7 @@ use softfinger_core::controller::{Controller, ControllerConfig, TickInput};
 use softfinger_core::device::DeviceParams;
 use softfinger_core::math::Fast;
 use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::passivity::PassivityConfig;
+use softfinger_core::pipeline::passivity::{damping_time_for_cutoff, PassivityConfig};
 use softfinger_core::vec3::Vec3;
 
 /// Run length, s.
@@ -126,6 +126,7 @@ fn simulate(
         enabled: l.passivity,
         output_delay_ticks: l.delay_ticks.clamp(0.0, 1.0) as f32,
         position_quantum_m: device.probe_m_per_motor_count(),
+        damping_time_s: damping_time_for_cutoff(config.limits.velocity_cutoff_hz),
         ..PassivityConfig::DEFAULT
     })
     .map_err(|e| format!("passivity: {e}"))?;
