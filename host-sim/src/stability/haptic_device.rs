@@ -13,7 +13,9 @@
 //! [`SETTLED_AMPLITUDE_M`], one motor-encoder count at the tip (about 13 µm): the loop has
 //! settled to its resolution, where only a sub-count limit cycle of the quantised loop remains.
 //! (The amplitude over [0.35, 0.45) s is reported beside it: equal amplitudes are a sustained
-//! oscillation.) K_max: log sweep, then bisection to 2 %.
+//! oscillation.) K_max: log sweep, then bisection to 2 %. The 3x wall with passivity is judged
+//! over the last second of a 2 s run against one encoder cell along the normal
+//! ([`super::encoder_cell`]), the floor a quantised wall, passive ones included, cycles within.
 //!
 //! **Diagnostic.** Every figure is also computed with the winding inductance made negligible
 //! ([`NEGLIGIBLE_INDUCTANCE_H`]): the current then follows the duty at once, and what remains is
@@ -21,6 +23,7 @@
 //! the negligible winding and with a [`FINE_ENCODER_FACTOR`]× finer motor encoder (controller and
 //! plant), separating the winding lag from the encoder's quantisation.
 
+use super::encoder_cell;
 use crate::closed_loop;
 use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
 use softfinger_core::controller::{Controller, ControllerConfig, TickInput};
@@ -325,6 +328,15 @@ pub struct DeviceRow {
     pub passivity_3x_envelope_with_m: Option<Vec<f64>>,
     /// The same run's encoder levels, load and observer ([`Cycle`]).
     pub passivity_3x_cycle: Option<Cycle>,
+    /// One motor-encoder cell along the wall's normal at the touching pose, m
+    /// ([`encoder_cell::normal_cell_m`]).
+    pub encoder_cell_normal_m: Option<f64>,
+    /// Largest peak-to-peak per 0.1 s window over the last second of a 2 s run: the largest
+    /// passive wall (1 × `kmax_firmware_timing`) without the stage, and the 3x wall with it, m.
+    pub passive_1x_late_amp_m: Option<f64>,
+    pub passivity_3x_late_amp_max_m: Option<f64>,
+    /// The 3x wall with passivity stays within one encoder cell ([`encoder_cell`]).
+    pub passivity_3x_bounded: Option<bool>,
     /// The same with the winding inductance at [`NEGLIGIBLE_INDUCTANCE_H`]: K_max for one tick and
     /// the firmware timing, N/m, and whether the 3x wall with passivity settles.
     pub no_lag_kmax_one_tick: Option<f64>,
@@ -387,6 +399,17 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
         Some((e, c)) => (Some(e), Some(c)),
         None => (None, None),
     };
+    let passive = DeviceLoop {
+        passivity: false,
+        ..pc
+    };
+    let passive_1x = fw.map(|k| envelope(&passive, k)).transpose()?;
+    let cell = encoder_cell::normal_cell_m(&DeviceParams::OMEGA_LIKE);
+    let late_max = env.as_deref().and_then(encoder_cell::late_max_m);
+    let bounded = match (&env, cell) {
+        (Some(e), Some(c)) => encoder_cell::bounded(e, c),
+        _ => None,
+    };
     let no_lag = DeviceLoop {
         inductance_h: NEGLIGIBLE_INDUCTANCE_H,
         ..pc
@@ -411,6 +434,10 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
         passivity_3x_late_amp_with_m: with.map(|o| o.late_amp_m),
         passivity_3x_envelope_with_m: env,
         passivity_3x_cycle: cycle,
+        encoder_cell_normal_m: cell,
+        passive_1x_late_amp_m: passive_1x.and_then(|(e, _)| encoder_cell::late_max_m(&e)),
+        passivity_3x_late_amp_max_m: late_max,
+        passivity_3x_bounded: bounded,
         no_lag_kmax_one_tick: n_one,
         no_lag_kmax_firmware_timing: n_fw,
         no_lag_passivity_3x_stable: n_with.map(|o| o.stable),

@@ -148,7 +148,8 @@ pub struct HapticJson {
     pub kmax_over_bound_firmware_timing: Vec<Option<f64>>,
     /// Measured largest stable wall over 2b/T with the passivity stage (null: stable to 1e6 N/m).
     pub kmax_over_bound_passivity: Vec<Option<f64>>,
-    /// The 3x wall with passivity is bounded at every rate.
+    /// The 3x wall with passivity is bounded at every rate, in the sampled-wall model and in
+    /// closed loop with the device plant (`device_plant[i].passivity_3x_bounded`).
     pub passivity_3x_bounded: bool,
     /// Peak oscillation energy over the hit's, 3x wall with passivity, per rate.
     pub passivity_3x_peak_energy_over_hit: Vec<Option<f64>>,
@@ -172,7 +173,10 @@ pub fn haptic_json(rows: &[TimingRow], imp: &Impact, device_plant: Vec<DeviceRow
         kmax_over_bound_firmware_timing: ratio(&|r| r.measured_firmware),
         kmax_over_bound_passivity: ratio(&|r| r.measured_passivity),
         passivity_3x_bounded: !rows.is_empty()
-            && rows.iter().all(|r| r.passivity_bounded() == Some(true)),
+            && rows.iter().all(|r| r.passivity_bounded() == Some(true))
+            && device_plant
+                .iter()
+                .all(|r| r.passivity_3x_bounded == Some(true)),
         passivity_3x_peak_energy_over_hit: rows
             .iter()
             .map(|r| r.at_multiple.as_ref().map(|(_, _, b)| b.peak_j / b.hit_j))
@@ -197,6 +201,8 @@ pub fn device_table(rows: &[DeviceRow]) -> Table {
             "3x wall p-p with passivity (um)",
             "settled with passivity",
             "3x with passivity, p-p first / last 0.1 s of 2 s (um)",
+            "late 1 s p-p max: 1x without / 3x with passivity / one cell (um)",
+            "3x bounded (within one cell)",
             "L ~ 0: K_max one tick / firmware (N/m)",
             "L ~ 0: 3x settled with passivity",
         ],
@@ -221,6 +227,13 @@ pub fn device_table(rows: &[DeviceRow]) -> Table {
                 Some([first, .., last]) => format!("{} / {}", um(Some(*first)), um(Some(*last))),
                 _ => "-".into(),
             },
+            format!(
+                "{} / {} / {}",
+                um(r.passive_1x_late_amp_m),
+                um(r.passivity_3x_late_amp_max_m),
+                um(r.encoder_cell_normal_m)
+            ),
+            r.passivity_3x_bounded.map_or("-".into(), |s| s.to_string()),
             format!(
                 "{} / {}",
                 k(r.no_lag_kmax_one_tick),
