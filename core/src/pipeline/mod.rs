@@ -137,9 +137,6 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
                 // The motor encoders' resolution at the probe: a held probe's count dither is
                 // not energy the wall generates.
                 position_quantum_m: config.device.params.probe_m_per_motor_count(),
-                // The damper acts on the controller's filtered velocity: its limit follows the
-                // wall's stiffness over that filter's time constant.
-                damping_time_s: passivity::damping_time_for_cutoff(cc.limits.velocity_cutoff_hz),
                 enabled: S::PASSIVITY_DAMPS,
                 ..passivity::PassivityConfig::DEFAULT
             })

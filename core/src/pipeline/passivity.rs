@@ -40,24 +40,6 @@ use crate::vec3::Vec3;
 /// 4.6e-5 W its count dither feeds the observer (measured over a 60 s hold, see the module doc).
 pub const LEAK_S: f32 = 0.1;
 
-/// Filter time constants in [`PassivityConfig::damping_time_s`] for a damper on a low-pass
-/// filtered velocity ([`damping_time_for_cutoff`]). Measured on the device plant
-/// (`host-sim stability`, `device_plant`: the 3× wall at 10 and 20 kHz, damper limit swept
-/// 50-2 400 N·s/m): with K·(3·τ_f) (570-610 N·s/m) the cycle stays within one encoder cell along
-/// the normal; limits from 570 to 1 200 N·s/m do, 50-400 and 1 600 and above do not at one rate
-/// or the other.
-pub const FILTER_TIME_CONSTANTS: f32 = 3.0;
-
-/// The damping time for a damper on a velocity low-pass filtered at `cutoff_hz`:
-/// [`FILTER_TIME_CONSTANTS`] · 1/(2π·`cutoff_hz`), s (0 for a cutoff that is not finite and > 0).
-pub fn damping_time_for_cutoff(cutoff_hz: f32) -> f32 {
-    if cutoff_hz.is_finite() && cutoff_hz > 0.0 {
-        FILTER_TIME_CONSTANTS / (2.0 * core::f32::consts::PI * cutoff_hz)
-    } else {
-        0.0
-    }
-}
-
 /// Parameters of the passivity stage.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -71,12 +53,6 @@ pub struct PassivityConfig {
     /// Probe displacement of one position-sensor count, m (≥ 0; 0: an ideal sensor). The damper
     /// leaves alone the energy |F|·quantum that one count of dither can fake.
     pub position_quantum_m: f32,
-    /// The damper's limit grows with the rendered spring: at least K·`damping_time_s` N·s/m (K
-    /// the contact's stiffest spring), s (≥ 0; 0: the fixed limit alone). A quantised wall's
-    /// force steps K·(one cell) at every count edge; a damper on the filtered velocity whose
-    /// kick at the edge scales with that step holds the cycle within one cell
-    /// ([`FILTER_TIME_CONSTANTS`]).
-    pub damping_time_s: f32,
 }
 
 impl PassivityConfig {
@@ -89,7 +65,6 @@ impl PassivityConfig {
         max_damping_n_s_per_m: 50.0,
         output_delay_ticks: 1.0,
         position_quantum_m: 0.0,
-        damping_time_s: 0.0,
     };
 
     /// Check every field.
@@ -97,7 +72,6 @@ impl PassivityConfig {
         positive("max_damping_n_s_per_m", self.max_damping_n_s_per_m)?;
         non_negative("output_delay_ticks", self.output_delay_ticks)?;
         non_negative("position_quantum_m", self.position_quantum_m)?;
-        non_negative("damping_time_s", self.damping_time_s)?;
         if self.output_delay_ticks > 1.0 {
             return Err(ParamError::OutOfRange("output_delay_ticks"));
         }
@@ -132,8 +106,6 @@ pub struct Passivity {
     spring_n_per_m: f32,
     /// Largest force magnitude rendered, damper included, N.
     max_force_n: f32,
-    /// The damper's limit in force, N·s/m: the larger of the fixed limit and K·damping time.
-    max_damping: f32,
 }
 
 impl Passivity {
@@ -151,7 +123,6 @@ impl Passivity {
         positive("spring_n_per_m", spring_n_per_m)?;
         positive("max_force_n", max_force_n)?;
         Ok(Passivity {
-            max_damping: max_damping(&config, spring_n_per_m),
             leak_per_tick: dt_s / LEAK_S,
             spring_n_per_m,
             max_force_n,
@@ -179,7 +150,6 @@ impl Passivity {
     pub fn set_contact(&mut self, spring_n_per_m: f32, max_force_n: f32) {
         if spring_n_per_m.is_finite() && spring_n_per_m > 0.0 {
             self.spring_n_per_m = spring_n_per_m;
-            self.max_damping = max_damping(&self.config, spring_n_per_m);
         }
         if max_force_n.is_finite() && max_force_n > 0.0 {
             self.max_force_n = max_force_n;
@@ -221,7 +191,7 @@ impl Passivity {
         self.energy_j = energy;
         let v2 = velocity.norm_squared();
         let (out, alpha) = if self.config.enabled && energy > e_q && v2 > 0.0 {
-            let alpha = (energy / (self.dt_s * v2)).min(self.max_damping);
+            let alpha = (energy / (self.dt_s * v2)).min(self.config.max_damping_n_s_per_m);
             let damped = self.limited(force - velocity * alpha);
             if damped.is_finite() {
                 (damped, alpha)
@@ -240,20 +210,7 @@ impl Passivity {
     }
 }
 
-/// The damper's limit for a contact whose stiffest spring is `spring_n_per_m`, N·s/m: the
-/// larger of the fixed limit and K·damping time (both validated finite and ≥ 0).
-fn max_damping(config: &PassivityConfig, spring_n_per_m: f32) -> f32 {
-    config
-        .max_damping_n_s_per_m
-        .max(spring_n_per_m * config.damping_time_s)
-}
-
 impl Passivity {
-    /// The damper's limit in force, N·s/m (see [`PassivityConfig::damping_time_s`]).
-    pub fn max_damping_n_s_per_m(&self) -> f32 {
-        self.max_damping
-    }
-
     /// `f` scaled down to the force limit when above it (never above the larger of the limit).
     fn limited(&self, f: Vec3) -> Vec3 {
         let n2 = f.norm_squared();
