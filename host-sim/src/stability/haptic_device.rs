@@ -14,8 +14,9 @@
 //! settled to its resolution, where only a sub-count limit cycle of the quantised loop remains.
 //! (The amplitude over [0.35, 0.45) s is reported beside it: equal amplitudes are a sustained
 //! oscillation.) K_max: log sweep, then bisection to 2 %. The 3x wall with passivity is judged
-//! over the last second of a 2 s run against one encoder cell along the normal
-//! ([`super::encoder_cell`]), the floor a quantised wall, passive ones included, cycles within.
+//! over the last second of a 2 s run against the encoder quantisation's floor
+//! ([`super::encoder_cell`]): one cell along the normal in position, K·cell/2 in the rendered
+//! force's standard deviation, where the largest passive wall without the stage sits.
 //!
 //! **Diagnostic.** Every figure is also computed with the winding inductance made negligible
 //! ([`NEGLIGIBLE_INDUCTANCE_H`]): the current then follows the duty at once, and what remains is
