@@ -13,7 +13,10 @@
 //! [`SETTLED_AMPLITUDE_M`], one motor-encoder count at the tip (about 13 µm): the loop has
 //! settled to its resolution, where only a sub-count limit cycle of the quantised loop remains.
 //! (The amplitude over [0.35, 0.45) s is reported beside it: equal amplitudes are a sustained
-//! oscillation.) K_max: log sweep, then bisection to 2 %.
+//! oscillation.) K_max: log sweep, then bisection to 2 %. The 3x wall with passivity is judged
+//! over the last second of a 2 s run against the encoder quantisation's floor
+//! ([`super::encoder_cell`]): one cell along the normal in position, K·cell/2 in the rendered
+//! force's standard deviation, where the largest passive wall without the stage sits.
 //!
 //! **Diagnostic.** Every figure is also computed with the winding inductance made negligible
 //! ([`NEGLIGIBLE_INDUCTANCE_H`]): the current then follows the duty at once, and what remains is
@@ -21,6 +24,7 @@
 //! the negligible winding and with a [`FINE_ENCODER_FACTOR`]× finer motor encoder (controller and
 //! plant), separating the winding lag from the encoder's quantisation.
 
+use super::encoder_cell;
 use crate::closed_loop;
 use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
 use softfinger_core::contact::params::ContactParams;
@@ -212,12 +216,19 @@ pub fn envelope(l: &DeviceLoop, k: f64) -> Result<(Vec<f64>, Cycle), String> {
             late.push(*x);
         }
     })?;
+    let n = late.len().max(1) as f64;
+    let mean = late.iter().map(|x| x.force_z_n).sum::<f64>() / n;
+    let var = late
+        .iter()
+        .map(|x| (x.force_z_n - mean).powi(2))
+        .sum::<f64>()
+        / n;
     let cycle = Cycle {
         levels: levels(&late),
-        mean_force_z_n: late.iter().map(|x| x.force_z_n).sum::<f64>() / late.len().max(1) as f64,
+        mean_force_z_n: mean,
+        force_z_std_n: var.sqrt(),
         observed_energy_j: (energy_at_1s, late.last().map_or(0.0, |x| x.energy_j)),
-        damped_fraction: late.iter().filter(|x| x.energy_j > 0.0).count() as f64
-            / late.len().max(1) as f64,
+        damped_fraction: late.iter().filter(|x| x.energy_j > 0.0).count() as f64 / n,
     };
     Ok((w.into_iter().map(|(lo, hi)| hi - lo).collect(), cycle))
 }
@@ -234,6 +245,9 @@ pub struct Cycle {
     pub levels: Vec<Level>,
     /// Mean rendered force along z, N: the load (hand and gravity) the wall holds.
     pub mean_force_z_n: f64,
+    /// Standard deviation of the rendered force along z about that mean, N: the force the
+    /// cycle makes the user feel.
+    pub force_z_std_n: f64,
     /// The observer's energy at 1 s and at the end (2 s), J.
     pub observed_energy_j: (f64, f64),
     /// Fraction of ticks with positive observed energy (the damper armed).
@@ -324,6 +338,18 @@ pub struct DeviceRow {
     pub passivity_3x_envelope_with_m: Option<Vec<f64>>,
     /// The same run's encoder levels, load and observer ([`Cycle`]).
     pub passivity_3x_cycle: Option<Cycle>,
+    /// One motor-encoder cell along the wall's normal at the touching pose, m
+    /// ([`encoder_cell::normal_cell_m`]).
+    pub encoder_cell_normal_m: Option<f64>,
+    /// The largest passive wall (1 × `kmax_firmware_timing`) without the stage, 2 s run: largest
+    /// peak-to-peak per 0.1 s window over the last second, m, and the rendered force's standard
+    /// deviation along z over the last [`CYCLE_S`], N.
+    pub passive_1x_late_amp_m: Option<f64>,
+    pub passive_1x_force_z_std_n: Option<f64>,
+    /// The 3x wall with passivity within the encoder quantisation's floor in position and force
+    /// ([`encoder_cell`]), and the figures it is judged on.
+    pub passivity_3x_bounded: Option<bool>,
+    pub passivity_3x_verdict: Option<encoder_cell::CellVerdict>,
     /// The same with the winding inductance at [`NEGLIGIBLE_INDUCTANCE_H`]: K_max for one tick and
     /// the firmware timing, N/m, and whether the 3x wall with passivity settles.
     pub no_lag_kmax_one_tick: Option<f64>,
@@ -386,6 +412,23 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
         Some((e, c)) => (Some(e), Some(c)),
         None => (None, None),
     };
+    let passive_1x = fw.map(|k| {
+        envelope(
+            &DeviceLoop {
+                passivity: false,
+                ..pc
+            },
+            k,
+        )
+    });
+    let passive_1x = passive_1x.transpose()?;
+    let cell = encoder_cell::normal_cell_m(&DeviceParams::OMEGA_LIKE);
+    let verdict = match (&env, &cycle, cell, fw) {
+        (Some(e), Some(c), Some(cell), Some(k)) => {
+            encoder_cell::verdict(e, c.force_z_std_n, 3.0 * k, cell)
+        }
+        _ => None,
+    };
     let no_lag = DeviceLoop {
         inductance_h: NEGLIGIBLE_INDUCTANCE_H,
         ..pc
@@ -410,6 +453,11 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
         passivity_3x_late_amp_with_m: with.map(|o| o.late_amp_m),
         passivity_3x_envelope_with_m: env,
         passivity_3x_cycle: cycle,
+        encoder_cell_normal_m: cell,
+        passive_1x_force_z_std_n: passive_1x.as_ref().map(|(_, c)| c.force_z_std_n),
+        passive_1x_late_amp_m: passive_1x.and_then(|(e, _)| encoder_cell::late_max_m(&e)),
+        passivity_3x_bounded: verdict.map(|v| v.bounded),
+        passivity_3x_verdict: verdict,
         no_lag_kmax_one_tick: n_one,
         no_lag_kmax_firmware_timing: n_fw,
         no_lag_passivity_3x_stable: n_with.map(|o| o.stable),
@@ -419,41 +467,4 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn at(h: f64, f: f64) -> Sample {
-        Sample {
-            t_s: 0.0,
-            z_m: 0.0,
-            probe_height_m: h,
-            force_z_n: f,
-            force_n: f.abs(),
-            energy_j: 0.0,
-        }
-    }
-
-    /// Heights that round to the same 0.1 µm are one level (1.09 and 1.12 µm: one bin rounded, two
-    /// truncated); levels come lowest first with their tick counts, mean force and first height;
-    /// heights 0.2 µm apart stay apart.
-    #[test]
-    fn levels_group_equal_heights() {
-        let s = [
-            at(-7.58e-6, 2.0),
-            at(15.01e-6, 0.0),
-            at(-7.58e-6 + 0.01e-6, 4.0),
-            at(-7.38e-6, 1.0),
-            at(1.09e-6, 0.5),
-            at(1.12e-6, 0.5),
-        ];
-        let l = levels(&s);
-        assert_eq!(l.len(), 4, "{l:?}");
-        assert!((l[0].height_m + 7.58e-6).abs() < 1e-12);
-        assert_eq!(l[0].ticks, 2);
-        assert!((l[0].mean_force_z_n - 3.0).abs() < 1e-12);
-        assert!((l[1].height_m + 7.38e-6).abs() < 1e-12 && l[1].ticks == 1);
-        assert!((l[2].height_m - 1.09e-6).abs() < 1e-12 && l[2].ticks == 2);
-        assert!((l[3].height_m - 15.01e-6).abs() < 1e-12 && l[3].mean_force_z_n == 0.0);
-        assert!(levels(&[]).is_empty());
-    }
-}
+mod tests;

@@ -148,7 +148,9 @@ pub struct HapticJson {
     pub kmax_over_bound_firmware_timing: Vec<Option<f64>>,
     /// Measured largest stable wall over 2b/T with the passivity stage (null: stable to 1e6 N/m).
     pub kmax_over_bound_passivity: Vec<Option<f64>>,
-    /// The 3x wall with passivity is bounded at every rate.
+    /// The 3x wall with passivity is bounded at every rate in the sampled-wall model. The device
+    /// plant's verdict is per rate (`device_plant[i].passivity_3x_bounded`) and not part of this
+    /// one: it does not hold at 10 kHz.
     pub passivity_3x_bounded: bool,
     /// Peak oscillation energy over the hit's, 3x wall with passivity, per rate.
     pub passivity_3x_peak_energy_over_hit: Vec<Option<f64>>,
@@ -197,12 +199,16 @@ pub fn device_table(rows: &[DeviceRow]) -> Table {
             "3x wall p-p with passivity (um)",
             "settled with passivity",
             "3x with passivity, p-p first / last 0.1 s of 2 s (um)",
+            "late 1 s p-p max: 1x without / 3x with passivity / one cell (um)",
+            "force std: 1x without / 3x with / 3x bound K*cell/2 (N)",
+            "3x bounded (within the quantisation floor)",
             "L ~ 0: K_max one tick / firmware (N/m)",
             "L ~ 0: 3x settled with passivity",
         ],
     );
     let k = |v: Option<f64>| v.map_or("-".to_string(), |k| format!("{k:.0}"));
     let um = |v: Option<f64>| v.map_or("-".to_string(), |a| format!("{:.1}", a * 1e6));
+    let n = |v: Option<f64>| v.map_or("-".to_string(), |f| format!("{f:.2}"));
     for r in rows {
         let gain = match (r.kmax_firmware_timing, r.kmax_one_tick) {
             (Some(a), Some(b)) => format!("{:.2}", a / b),
@@ -221,6 +227,19 @@ pub fn device_table(rows: &[DeviceRow]) -> Table {
                 Some([first, .., last]) => format!("{} / {}", um(Some(*first)), um(Some(*last))),
                 _ => "-".into(),
             },
+            format!(
+                "{} / {} / {}",
+                um(r.passive_1x_late_amp_m),
+                um(r.passivity_3x_verdict.map(|v| v.late_amp_max_m)),
+                um(r.encoder_cell_normal_m)
+            ),
+            format!(
+                "{} / {} / {}",
+                n(r.passive_1x_force_z_std_n),
+                n(r.passivity_3x_verdict.map(|v| v.force_z_std_n)),
+                n(r.passivity_3x_verdict.map(|v| v.force_z_std_bound_n))
+            ),
+            r.passivity_3x_bounded.map_or("-".into(), |s| s.to_string()),
             format!(
                 "{} / {}",
                 k(r.no_lag_kmax_one_tick),

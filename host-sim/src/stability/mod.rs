@@ -14,6 +14,7 @@
 pub mod chatter;
 pub mod decomp_map;
 pub mod drift;
+pub mod encoder_cell;
 pub mod haptic;
 pub mod haptic_charts;
 pub mod haptic_device;

@@ -69,32 +69,30 @@ fn passive_force_passes_unchanged() {
     }
 }
 
+/// A damping stage (T = 0.1 ms, K = 10 N/mm, 12 N limit, no delay) after an active start: out of
+/// contact, then +2 N along the motion over 1 µm puts 2 µJ into the user; the third tick renders
+/// `force` at that position with the probe moving at 0.01 m/s along x.
+fn after_active_start(config: PassivityConfig, force: Vec3) -> PassivityStep {
+    let config = PassivityConfig {
+        enabled: true,
+        output_delay_ticks: 0.0,
+        ..config
+    };
+    let mut p = Passivity::new(config, 1e-4, 1e4, 12.0).unwrap();
+    let _ = p.step(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+    let _ = p.step(Vec3::new(2.0, 0.0, 0.0), Vec3::ZERO, Vec3::ZERO);
+    p.step(force, Vec3::new(1e-6, 0.0, 0.0), Vec3::new(0.01, 0.0, 0.0))
+}
+
 /// Positive energy: the damper removes it at the current speed, up to its limit (bracketed).
 #[test]
 fn damper_removes_positive_energy_within_its_limit() {
-    let dt = 1e-4f32;
     let mk = |max| {
-        let mut p = Passivity::new(
-            PassivityConfig {
-                enabled: true,
-                max_damping_n_s_per_m: max,
-                output_delay_ticks: 0.0,
-                position_quantum_m: 0.0,
-            },
-            dt,
-            1e4,
-            12.0,
-        )
-        .unwrap();
-        // Out of contact, then an active force: +2 N along the motion over 1 µm puts 2 µJ
-        // into the user.
-        let _ = p.step(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
-        let _ = p.step(Vec3::new(2.0, 0.0, 0.0), Vec3::ZERO, Vec3::ZERO);
-        p.step(
-            Vec3::new(2.0, 0.0, 0.0),
-            Vec3::new(1e-6, 0.0, 0.0),
-            Vec3::new(0.01, 0.0, 0.0),
-        )
+        let c = PassivityConfig {
+            max_damping_n_s_per_m: max,
+            ..PassivityConfig::DEFAULT
+        };
+        after_active_start(c, Vec3::new(2.0, 0.0, 0.0))
     };
     // α = W/(T·v²) = 2e-6/(1e-4·1e-4) = 200 N·s/m at v = 0.01 m/s: a limit of 200.5 lets
     // it through …
@@ -113,27 +111,15 @@ fn damper_removes_positive_energy_within_its_limit() {
     );
     // The damper never takes the force beyond the contact's limit: a 12 N force moving at
     // 0.01 m/s against α = 200 would be 14 N; it is held at 12 N.
-    let mut p = Passivity::new(
-        PassivityConfig {
-            max_damping_n_s_per_m: 1e3,
-            output_delay_ticks: 0.0,
-            ..PassivityConfig::DEFAULT
-        },
-        dt,
-        1e4,
-        12.0,
-    )
-    .unwrap();
-    let _ = p.step(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
-    let _ = p.step(Vec3::new(2.0, 0.0, 0.0), Vec3::ZERO, Vec3::ZERO);
-    let s = p.step(
-        Vec3::new(-12.0, 0.0, 0.0),
-        Vec3::new(1e-6, 0.0, 0.0),
-        Vec3::new(0.01, 0.0, 0.0),
-    );
+    let c = PassivityConfig {
+        max_damping_n_s_per_m: 1e3,
+        ..PassivityConfig::DEFAULT
+    };
+    let s = after_active_start(c, Vec3::new(-12.0, 0.0, 0.0));
     assert!(s.damping_n_s_per_m > 100.0);
     assert!((s.force_n.x + 12.0).abs() < 1e-5, "{:?}", s.force_n);
     // Off: observe only.
+    let dt = 1e-4f32;
     let mut p = observer(0.0, dt);
     let _ = p.step(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
     let _ = p.step(Vec3::new(2.0, 0.0, 0.0), Vec3::ZERO, Vec3::ZERO);
