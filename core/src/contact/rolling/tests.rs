@@ -331,3 +331,28 @@ fn restart_takes_the_orientation_as_the_reference() {
     let step = r.step::<Libm>(q);
     assert_eq!(r.surface.contact_point(), before, "{step:?}");
 }
+
+/// The read accessors return what the contact started with, and the orientation sample and
+/// contact point a step leaves behind.
+#[test]
+fn accessors_read_the_rolling_state() {
+    let q0 = Quat::from_axis_angle::<Libm>(Vec3::Z, 0.3);
+    let plane = Plane::default();
+    let mut r = Rolling::new(plane, 0.012, q0, Method::Rpy);
+    assert_eq!(r.radius_m(), 0.012);
+    assert_eq!(r.method(), Method::Rpy);
+    assert_eq!(r.q_prev(), q0);
+    assert_eq!(r.surface().contact_point(), plane.contact_point());
+    let q1 = Quat::from_axis_angle::<Libm>(Vec3::Y, 0.01) * q0;
+    let step = r.step::<Libm>(q1);
+    // The sample is kept renormalised: within 2 ulp of the unit quaternion given (measured 1 ulp).
+    let (a, b) = (r.q_prev(), q1);
+    let diff = [a.w - b.w, a.x - b.x, a.y - b.y, a.z - b.z];
+    assert!(diff.iter().all(|d| d.abs() <= 2.4e-7), "{a:?}");
+    let moved = r.surface().contact_point() - plane.contact_point();
+    assert!(step.object_disp_m.norm::<Libm>() > 0.0);
+    assert!(
+        (moved - step.object_disp_m).norm::<Libm>() <= 1e-12,
+        "{moved:?}"
+    );
+}

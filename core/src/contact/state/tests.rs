@@ -364,3 +364,53 @@ fn twisting_while_pushing_sideways_slips_sooner() {
     assert_eq!(state(cone_only(0.999 * 1.05 * cone)), Rolling);
     assert_eq!(state(cone_only(1.001 * 1.05 * cone)), Sliding);
 }
+
+/// The tolerances' validation: each field is named when NaN, negative or above its largest value;
+/// the hysteresis must stay below 1 and f_make at or above ε_f, both bracketed.
+#[test]
+fn tolerances_are_validated_field_by_field() {
+    use crate::contact::params::ParamError::{Negative, NotFinite, OutOfRange};
+    type Field = fn(&mut Tolerances) -> &mut f32;
+    let d = Tolerances::DEFAULT;
+    assert_eq!(d.validate(), Ok(()));
+    let fields: [(&str, Field); 9] = [
+        ("force_eps_n", |t| &mut t.force_eps_n),
+        ("accel_eps", |t| &mut t.accel_eps),
+        ("normal_accel_tol", |t| &mut t.normal_accel_tol),
+        ("gap_eps_m", |t| &mut t.gap_eps_m),
+        ("stick_speed", |t| &mut t.stick_speed),
+        ("hysteresis", |t| &mut t.hysteresis),
+        ("make_force_n", |t| &mut t.make_force_n),
+        ("min_slide_s", |t| &mut t.min_slide_s),
+        ("min_broken_s", |t| &mut t.min_broken_s),
+    ];
+    for (name, field) in fields {
+        let with = |v: f32| {
+            let mut t = d;
+            *field(&mut t) = v;
+            t.validate()
+        };
+        assert_eq!(with(f32::NAN), Err(NotFinite(name)));
+        assert_eq!(with(-1e-6), Err(Negative(name)));
+        let max = *field(&mut { Tolerances::MAX });
+        assert_eq!(with(max * 1.001), Err(OutOfRange(name)), "{name}");
+        if !matches!(name, "force_eps_n" | "hysteresis") {
+            assert_eq!(with(max), Ok(()), "{name} at its largest value");
+        }
+    }
+    let hysteresis = |h: f32| Tolerances { hysteresis: h, ..d }.validate();
+    assert_eq!(hysteresis(1.0_f32.next_down()), Ok(()));
+    assert_eq!(hysteresis(1.0), Err(OutOfRange("hysteresis")));
+    let make = |f: f32| {
+        let t = Tolerances {
+            make_force_n: f,
+            ..d
+        };
+        t.validate()
+    };
+    assert_eq!(make(d.force_eps_n), Ok(()));
+    assert_eq!(
+        make(d.force_eps_n.next_down()),
+        Err(OutOfRange("make_force_n"))
+    );
+}

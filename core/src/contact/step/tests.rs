@@ -131,6 +131,10 @@ fn twisting_about_the_normal_gives_the_spin_torque_then_saturates() {
         o.tau_n_nm
     );
     assert!((o.spin_rad - 0.2).abs() < 1.8e-7);
+    // The accessors read the same state the output reports.
+    assert_eq!(m.spin().accumulated_rad, o.spin_rad);
+    assert_eq!(m.spin().elastic_rad, o.spin_rad);
+    assert_eq!(m.rolling().surface().contact_point(), o.object_point_m);
     for k in 1..=200 {
         let q = Quat::from_axis_angle::<Libm>(Vec3::Z, 0.2 + 0.8 * k as f32 / 200.0);
         o = m.contact_step(&ContactInput {
