@@ -60,20 +60,20 @@ where
             return if e.use_stderr() { 2 } else { 0 };
         }
     };
-    let result = match cli.command {
-        Some(Command::Run(args)) => crate::run::main(&args),
-        Some(Command::Replay(args)) => crate::replay::main(&args),
-        Some(Command::Faults(args)) => crate::faults::main(&args),
-        Some(Command::Soak(args)) => crate::faults::soak::main(&args),
-        Some(Command::Validate(args)) => crate::validate::main(&args),
-        Some(Command::Chart(args)) => crate::chart::main(&args),
-        Some(Command::Pil(args)) => crate::pil::main(&args),
-        Some(Command::PilDecode(args)) => crate::pil::decode_main(&args),
-        Some(Command::Creep(args)) => crate::creep::main(&args),
-        Some(Command::LimitSurface(args)) => crate::limit_surface_cmd::main(&args),
-        Some(Command::Stability(args)) => crate::stability::main(&args),
-        Some(Command::Serve(args)) => crate::serve::main(&args),
-        None => crate::run::main(&crate::run::Args::default()),
+    let result: Result<(), Box<dyn std::error::Error>> = match cli.command {
+        Some(Command::Run(args)) => crate::run::main(&args).map_err(Into::into),
+        Some(Command::Replay(args)) => crate::replay::main(&args).map_err(Into::into),
+        Some(Command::Faults(args)) => crate::faults::main(&args).map_err(Into::into),
+        Some(Command::Soak(args)) => crate::faults::soak::main(&args).map_err(Into::into),
+        Some(Command::Validate(args)) => crate::validate::main(&args).map_err(Into::into),
+        Some(Command::Chart(args)) => crate::chart::main(&args).map_err(Into::into),
+        Some(Command::Pil(args)) => crate::pil::main(&args).map_err(Into::into),
+        Some(Command::PilDecode(args)) => crate::pil::decode_main(&args).map_err(Into::into),
+        Some(Command::Creep(args)) => crate::creep::main(&args).map_err(Into::into),
+        Some(Command::LimitSurface(args)) => crate::limit_surface_cmd::main(&args).map_err(Into::into),
+        Some(Command::Stability(args)) => crate::stability::main(&args).map_err(Into::into),
+        Some(Command::Serve(args)) => crate::serve::main(&args).map_err(Into::into),
+        None => crate::run::main(&crate::run::Args::default()).map_err(Into::into),
     };
     match result {
         Ok(()) => 0,

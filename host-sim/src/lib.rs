@@ -6,6 +6,7 @@ pub mod chart;
 pub mod cli;
 pub mod closed_loop;
 pub mod creep;
+pub mod error;
 pub mod faults;
 pub mod hold_quantisation;
 pub mod limit_path;

@@ -21,7 +21,20 @@ use softfinger_core::contact_state::ContactState;
 use softfinger_core::limit_surface::patch_radius;
 use softfinger_core::params::ContactParams;
 use softfinger_core::spin::torsion_limit;
+use crate::closed_loop::ClosedLoopError;
+use crate::error::ChartError;
 use std::path::{Path, PathBuf};
+
+/// Why the load path of a run could not be charted.
+#[derive(Debug, thiserror::Error)]
+pub enum LimitPathError {
+    /// The scene's contact parameters were rejected.
+    #[error(transparent)]
+    Scene(#[from] ClosedLoopError),
+    /// The chart could not be drawn or written.
+    #[error(transparent)]
+    Chart(#[from] ChartError),
+}
 
 /// One touching tick's load, normalised by the model's static limits at its normal force.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -128,28 +141,28 @@ pub fn chart(
     title: &str,
     load: &[LoadPoint],
     p: &ContactParams,
-) -> Result<(), String> {
+) -> Result<(), ChartError> {
     let (f_lo, f_hi) = load.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), q| {
         (lo.min(q.f_n), hi.max(q.f_n))
     });
-    let e = |d: DrawingAreaErrorKind<_>| format!("{}: {d:?}", path.display());
+    let e = ChartError::drawing(path);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (960, 680)).into_drawing_area();
-        root.fill(&WHITE).map_err(e)?;
+        root.fill(&WHITE).map_err(&e)?;
         let mut ch = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 18))
             .margin(14)
             .x_label_area_size(60)
             .y_label_area_size(64)
             .build_cartesian_2d(0.0f64..1.6, 0.0f64..1.15)
-            .map_err(e)?;
+            .map_err(&e)?;
         ch.configure_mesh()
             .x_desc("|f_t| / (μ_s·f_N)  [-]   (1 = static friction cone)")
             .y_desc("|τn| / τ_max,s(f_N)  [-]   (τ_max,s = 3π/16·μ_s·f_N·a(f_N))")
             .axis_desc_style(("sans-serif", 15))
             .draw()
-            .map_err(e)?;
+            .map_err(&e)?;
         draw_surfaces(&mut ch, p)?;
         draw_path(&mut ch, load)?;
         draw_legend(&mut ch, SeriesLabelPosition::UpperRight, 13)?;
@@ -170,18 +183,18 @@ pub fn chart(
                 (590, 180 + 20 * k as i32),
                 ("sans-serif", 13),
             ))
-            .map_err(e)?;
+            .map_err(&e)?;
         }
-        root.present().map_err(e)?;
+        root.present().map_err(&e)?;
     }
-    write_svg(path, &svg)
+    Ok(write_svg(path, &svg)?)
 }
 
 /// The model's static, slip-threshold and kinetic limit surfaces and the Hertzian reference curve.
 fn draw_surfaces<'a, 'b: 'a, CT>(
     ch: &mut ChartContext<'a, SVGBackend<'b>, CT>,
     p: &ContactParams,
-) -> Result<(), String>
+) -> Result<(), ChartError>
 where
     CT: CoordTranslate<From = (f64, f64)>,
 {
@@ -224,7 +237,7 @@ where
 fn draw_path<'a, 'b: 'a, CT>(
     ch: &mut ChartContext<'a, SVGBackend<'b>, CT>,
     load: &[LoadPoint],
-) -> Result<(), String>
+) -> Result<(), ChartError>
 where
     CT: CoordTranslate<From = (f64, f64)>,
 {
@@ -258,7 +271,7 @@ where
 pub fn write_for_run(
     dir: &Path,
     res: &RunResult,
-) -> Result<Option<(PathBuf, LoadSummary)>, String> {
+) -> Result<Option<(PathBuf, LoadSummary)>, LimitPathError> {
     if res.scene.script.twist_while_sliding != Some(true) {
         return Ok(None);
     }

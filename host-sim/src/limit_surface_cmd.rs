@@ -5,7 +5,22 @@
 use crate::chart::style::{draw_legend, draw_line, write_svg};
 use crate::reference::limit_surface::{curve, ellipse_error_range, LimitPoint};
 use plotters::prelude::*;
+use crate::error::{ChartError, JsonError};
 use std::path::{Path, PathBuf};
+
+/// Why the limit-surface command failed.
+#[derive(Debug, thiserror::Error)]
+pub enum LimitSurfaceError {
+    /// `--points` or `--cells` out of range.
+    #[error("--points must be >= 2 and --cells between 10 and 5000")]
+    Options,
+    /// The chart could not be drawn or written.
+    #[error(transparent)]
+    Chart(#[from] ChartError),
+    /// The JSON could not be serialised.
+    #[error(transparent)]
+    Json(#[from] JsonError),
+}
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -24,11 +39,12 @@ pub struct Args {
 }
 
 /// The true curve and the ellipse, normalised by μ·f_N and τ_max, as an SVG chart.
-pub fn chart(path: &Path, c: &[LimitPoint]) -> Result<(), String> {
+pub fn chart(path: &Path, c: &[LimitPoint]) -> Result<(), ChartError> {
+    let draw = ChartError::drawing(path);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (640, 600)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| format!("{e:?}"))?;
+        root.fill(&WHITE).map_err(&draw)?;
         let mut ch = ChartBuilder::on(&root)
             .caption(
                 "Soft-finger limit surface: Hertzian patch vs ellipse",
@@ -38,12 +54,12 @@ pub fn chart(path: &Path, c: &[LimitPoint]) -> Result<(), String> {
             .x_label_area_size(40)
             .y_label_area_size(50)
             .build_cartesian_2d(0.0f64..1.1, 0.0f64..1.1)
-            .map_err(|e| format!("{e:?}"))?;
+            .map_err(&draw)?;
         ch.configure_mesh()
             .x_desc("|f_t| / (mu f_N)")
             .y_desc("tau_n / tau_max")
             .draw()
-            .map_err(|e| format!("{e:?}"))?;
+            .map_err(&draw)?;
         let truth: Vec<(f64, f64)> = c.iter().map(|p| (p.x, p.y)).collect();
         let ellipse: Vec<(f64, f64)> = (0..=90)
             .map(|k| {
@@ -64,15 +80,15 @@ pub fn chart(path: &Path, c: &[LimitPoint]) -> Result<(), String> {
             Some("ellipse (rendered model)"),
         )?;
         draw_legend(&mut ch, SeriesLabelPosition::LowerLeft, 14)?;
-        root.present().map_err(|e| format!("{e:?}"))?;
+        root.present().map_err(&draw)?;
     }
-    write_svg(path, &svg)
+    Ok(write_svg(path, &svg)?)
 }
 
 /// The curve and the worst errors, rendered as the command prints them.
-pub fn render(args: &Args) -> Result<String, String> {
+pub fn render(args: &Args) -> Result<String, LimitSurfaceError> {
     if args.points < 2 || args.cells < 10 || args.cells > 5000 {
-        return Err("--points must be >= 2 and --cells between 10 and 5000".into());
+        return Err(LimitSurfaceError::Options);
     }
     let c = curve(args.points, args.cells, 2 * args.cells);
     let (lo, hi) = ellipse_error_range(&c);
@@ -82,7 +98,7 @@ pub fn render(args: &Args) -> Result<String, String> {
     if args.json {
         let doc =
             serde_json::json!({ "curve": c, "ellipse_error_min": lo, "ellipse_error_max": hi });
-        return serde_json::to_string_pretty(&doc).map_err(|e| format!("JSON output: {e}"));
+        return Ok(serde_json::to_string_pretty(&doc).map_err(JsonError)?);
     }
     let mut out = String::from(
         "Hertzian limit surface (f64 integration) vs the ellipse (|f|/(mu fN))^2 + (tau/tau_max)^2 = 1\n\
@@ -103,7 +119,7 @@ pub fn render(args: &Args) -> Result<String, String> {
     Ok(out)
 }
 
-pub fn main(args: &Args) -> Result<(), String> {
+pub fn main(args: &Args) -> Result<(), LimitSurfaceError> {
     println!("{}", render(args)?);
     Ok(())
 }
