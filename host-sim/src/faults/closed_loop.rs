@@ -13,7 +13,9 @@
 //! plant.step_bridges(&out.bridges, &timing)   // compares act from the next PWM boundary
 //! ```
 
-use crate::closed_loop::{prepare, Prepared};
+use crate::closed_loop::{prepare, ClosedLoopError, Prepared};
+use crate::plant::PlantError;
+use softfinger_core::pipeline::PipelineError;
 use crate::plant::{HandScript, Plant, PlantParams, TouchScript};
 use nalgebra::{Matrix3, Vector3};
 use softfinger_core::contact_state::ContactState;
@@ -105,6 +107,20 @@ pub struct ClosedLoop {
     torque_per_amp: f64,
 }
 
+/// Why a closed loop could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum LoopError {
+    /// The plant refused its parameters or script.
+    #[error("plant: {0}")]
+    Plant(#[from] PlantError),
+    /// The pipeline refused its configuration.
+    #[error("pipeline: {0}")]
+    Pipeline(#[from] PipelineError),
+    /// The operator's session (homing, arming) failed.
+    #[error(transparent)]
+    Session(#[from] ClosedLoopError),
+}
+
 impl ClosedLoop {
     /// Power-up: the plant with `script` (hand holding the handle), the pipeline unhomed; tick 0
     /// is the first tick after power-up.
@@ -112,10 +128,10 @@ impl ClosedLoop {
         config: PipelineConfig<Plane>,
         plant_params: PlantParams,
         script: HandScript,
-    ) -> Result<ClosedLoop, String> {
+    ) -> Result<ClosedLoop, LoopError> {
         let device = config.device.params;
-        let plant = Plant::new(device, plant_params, script).map_err(|e| format!("{e:?}"))?;
-        let pipe = Pipe::new(config).map_err(|e| format!("{e:?}"))?;
+        let plant = Plant::new(device, plant_params, script)?;
+        let pipe = Pipe::new(config)?;
         Ok(ClosedLoop {
             plant,
             pipe,
@@ -134,7 +150,7 @@ impl ClosedLoop {
         config: PipelineConfig<Plane>,
         plant_params: PlantParams,
         script: HandScript,
-    ) -> Result<ClosedLoop, String> {
+    ) -> Result<ClosedLoop, LoopError> {
         let mut lp = ClosedLoop::powered(config, plant_params, script)?;
         lp.prepared = Some(prepare(&mut lp.pipe, &mut lp.plant)?);
         Ok(lp)
