@@ -9,6 +9,31 @@ use softfinger_core::pipeline::passivity::PassivityConfig;
 use softfinger_core::pipeline::Pipeline;
 use softfinger_core::surface::Plane;
 
+use crate::closed_loop::ClosedLoopError;
+use crate::plant::PlantError;
+use softfinger_core::params::ParamError;
+use softfinger_core::pipeline::PipelineError;
+
+/// Why the default scene could not be run.
+#[derive(Debug, thiserror::Error)]
+pub enum PassivitySceneError {
+    /// The default scene is not on the plane.
+    #[error("the default scene is expected on the plane")]
+    NotPlane,
+    /// The scene's configuration or operator session failed.
+    #[error(transparent)]
+    Setup(#[from] ClosedLoopError),
+    /// The pipeline refused its configuration.
+    #[error("pipeline: {0}")]
+    Pipeline(#[from] PipelineError),
+    /// The passivity stage refused its configuration.
+    #[error("passivity: {0}")]
+    Passivity(ParamError),
+    /// The plant refused its parameters.
+    #[error("plant: {0}")]
+    Plant(#[from] PlantError),
+}
+
 /// The comparison's figures.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct SceneDifference {
@@ -33,19 +58,19 @@ struct Run {
 }
 
 /// One run of the default scene.
-fn run(enabled: bool) -> Result<Run, String> {
+fn run(enabled: bool) -> Result<Run, PassivitySceneError> {
     let scene = Scene::default_scene();
     if scene.surface != SurfaceSpec::Plane {
-        return Err("the default scene is expected on the plane".into());
+        return Err(PassivitySceneError::NotPlane);
     }
     let contact = closed_loop::contact_params(&scene)?;
     let config = closed_loop::plane_config(&scene, contact)?;
     let mut pipe: Pipeline<Fast, Plane> =
-        Pipeline::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
+        Pipeline::new(config)?;
     let base = *pipe.controller().passivity().config();
     pipe.set_passivity(PassivityConfig { enabled, ..base })
-        .map_err(|e| format!("passivity: {e}"))?;
-    let mut plant = closed_loop::plant(&scene, &contact).map_err(|e| format!("plant: {e:?}"))?;
+        .map_err(PassivitySceneError::Passivity)?;
+    let mut plant = closed_loop::plant(&scene, &contact)?;
     prepare(&mut pipe, &mut plant)?;
     let ticks = (scene.duration_s * scene.rate_hz).round() as u64;
     let mut forces = Vec::with_capacity(ticks as usize);
@@ -73,7 +98,7 @@ fn run(enabled: bool) -> Result<Run, String> {
 }
 
 /// Run the default scene with the stage on and observing only, and compare.
-pub fn compare() -> Result<SceneDifference, String> {
+pub fn compare() -> Result<SceneDifference, PassivitySceneError> {
     let Run {
         forces: on,
         energy_range_j: (max_e, min_e),

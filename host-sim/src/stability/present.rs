@@ -8,6 +8,7 @@ use super::drift::DriftRun;
 use super::table::{sci, Table};
 use plotters::style::RGBColor;
 use softfinger_core::decompose::Method;
+use crate::error::ChartError;
 use std::path::Path;
 
 /// Floor of the log error axes, rad (errors are clamped to it for display only).
@@ -40,7 +41,7 @@ pub(super) const PALETTE: [RGBColor; 5] = [
 // ---------------------------------------------------------------- part 1
 
 /// One heatmap SVG per method (a panel per backend) and the worst-error line chart.
-pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), String> {
+pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), ChartError> {
     let mags = grid.magnitudes();
     let tilts_deg: Vec<f64> = grid.tilts().iter().map(|t| t.to_degrees()).collect();
     for m in Method::ALL {
@@ -113,6 +114,7 @@ pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), 
             series,
         )],
     )
+    .map_err(ChartError)
 }
 
 /// Per method × backend and magnitude decade: worst error and failure fraction.
@@ -214,7 +216,7 @@ pub fn decomp_failures(grid: &Grid, maps: &[MethodMap]) -> String {
 
 // ---------------------------------------------------------------- part 2
 
-pub fn drift_charts(out: &Path, runs: &[DriftRun]) -> Result<(), String> {
+pub fn drift_charts(out: &Path, runs: &[DriftRun]) -> Result<(), ChartError> {
     let floor = 1e-10; // mm
     let tmax = runs
         .iter()
@@ -258,6 +260,7 @@ pub fn drift_charts(out: &Path, runs: &[DriftRun]) -> Result<(), String> {
             (axes("Fingertip contact point drift (f32)"), mk(true)),
         ],
     )
+    .map_err(ChartError)
 }
 
 pub fn drift_table(runs: &[DriftRun]) -> Table {
@@ -301,7 +304,7 @@ fn chatter_group(single_mu: bool, h: f32) -> String {
     )
 }
 
-pub fn chatter_chart(out: &Path, runs: &[ChatterRun]) -> Result<(), String> {
+pub fn chatter_chart(out: &Path, runs: &[ChatterRun]) -> Result<(), ChartError> {
     let cats: Vec<String> = chatter::NOISE_LEVELS
         .iter()
         .map(|a| format!("±{:.0}%", a * 100.0))
@@ -335,6 +338,7 @@ pub fn chatter_chart(out: &Path, runs: &[ChatterRun]) -> Result<(), String> {
         &values,
         (0.05, 1e6),
     )
+    .map_err(ChartError)
 }
 
 pub fn chatter_table(runs: &[ChatterRun], steps: u64) -> Table {
