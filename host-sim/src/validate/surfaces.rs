@@ -6,6 +6,7 @@
 //! the rolling constraint ([`crate::reference::rolling_ode`], rtol 1e-10), and the distance
 //! between the two is reported.
 
+use super::ValidateError;
 use crate::reference::rolling_ode::{integrate, Object};
 use crate::reference::{max_distance, reference_paths_on, Ground, ReferenceMethod};
 use nalgebra::UnitQuaternion;
@@ -92,12 +93,12 @@ fn ours<M: Math, S: Surface>(
 }
 
 /// Every surface with the libm and fast backends.
-pub fn run() -> Result<Vec<SurfaceRow>, String> {
+pub fn run() -> Result<Vec<SurfaceRow>, ValidateError> {
     run_with_series().map(|(rows, _)| rows)
 }
 
 /// [`run`], with each surface's error along the run for the charts.
-pub fn run_with_series() -> Result<(Vec<SurfaceRow>, Vec<SurfaceErrors>), String> {
+pub fn run_with_series() -> Result<(Vec<SurfaceRow>, Vec<SurfaceErrors>), ValidateError> {
     let s = samples();
     let dt = 1.0 / RATE_HZ;
     let big = OBJECT_R as f32;
@@ -121,9 +122,17 @@ pub fn run_with_series() -> Result<(Vec<SurfaceRow>, Vec<SurfaceErrors>), String
             Object::Cylinder(r) => Ground::Cylinder { radius: r },
         };
         let montana = reference_paths_on(ground, method, &s, dt, FINGER_R)
-            .map_err(|e| format!("Montana reference on the {name}: {e:?}"))?;
+            .map_err(|source| ValidateError::Surface {
+                reference: "Montana",
+                object: name,
+                source,
+            })?;
         let cartesian = integrate(object, FINGER_R, &s, dt, 1e-10)
-            .map_err(|e| format!("Cartesian reference on the {name}: {e:?}"))?;
+            .map_err(|e| ValidateError::Surface {
+                reference: "Cartesian",
+                object: name,
+                source: e.into(),
+            })?;
         let cross = max_distance(&montana.plane, &cartesian.object)
             .max(max_distance(&montana.sphere, &cartesian.finger));
         for backend in ["libm", "fast"] {
