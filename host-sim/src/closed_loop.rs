@@ -15,7 +15,7 @@ use softfinger_core::devices::OMEGA_LIKE;
 use softfinger_core::params::ContactParams;
 use softfinger_core::pipeline::{
     BoardTiming, Command, CommandError, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
-    TimingError,
+    PipelineError, TimingError,
 };
 use softfinger_core::params::ParamError;
 use softfinger_core::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
@@ -78,6 +78,23 @@ pub enum ClosedLoopError {
 }
 
 crate::error::error_into_string!(ClosedLoopError);
+
+/// Why a closed loop (plant, pipeline, operator session) could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum SetupError {
+    /// The plant refused its parameters or script.
+    #[error("plant: {0}")]
+    Plant(#[from] PlantError),
+    /// The pipeline refused its configuration.
+    #[error("pipeline: {0}")]
+    Pipeline(#[from] PipelineError),
+    /// The passivity stage refused its configuration.
+    #[error("passivity: {0}")]
+    Passivity(ParamError),
+    /// The scene's configuration or the operator's session failed.
+    #[error(transparent)]
+    Session(#[from] ClosedLoopError),
+}
 
 /// Height (base frame, m) of the first contact point in every built-in scene (the plane, the top
 /// of the sphere or the cylinder, the bottom of the bowl): 10 mm below the workspace centre, so a

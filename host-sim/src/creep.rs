@@ -18,7 +18,7 @@
 //!   first and last windows
 //!   and its change, the count changes and the anchor's walk.
 
-use crate::closed_loop;
+use crate::closed_loop::{self, SetupError};
 use crate::hold_quantisation::{self, HoldSetup};
 use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
 use softfinger_core::contact::{ContactInput, ContactModel};
@@ -158,7 +158,7 @@ pub struct HoldForces {
 
 /// Closed loop: press 1 mm with the wrist at [`rest_orientation`]'s angles and hold `hold_s`, once
 /// still and once with one wrist count dithering every tick.
-pub fn closed_loop_hold<M: Math>(method: Method, hold_s: f64) -> Result<HoldForces, String> {
+pub fn closed_loop_hold<M: Math>(method: Method, hold_s: f64) -> Result<HoldForces, SetupError> {
     let contact = ContactParams {
         method,
         ..ContactParams::DEFAULT
@@ -182,7 +182,7 @@ fn hold_run<M: Math>(
     contact: ContactParams,
     hold_s: f64,
     dither: bool,
-) -> Result<(f64, f64, f64), String> {
+) -> Result<(f64, f64, f64), SetupError> {
     let (mut ctrl, mut plant) = hold_scene::<M>(contact, hold_s, 0.0)?;
     let rate = f64::from(ctrl.config().timing.control_hz);
     let ticks = ((0.5 + hold_s) * rate) as u64;
@@ -234,7 +234,7 @@ pub fn hold_scene<M: Math>(
     contact: ContactParams,
     hold_s: f64,
     drift_m_per_s: f64,
-) -> Result<(Pipeline<M, Plane>, Plant), String> {
+) -> Result<(Pipeline<M, Plane>, Plant), SetupError> {
     let top = closed_loop::surface_top_z_m();
     let c = DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
     let wrist = [0.3, -0.2, 0.1];
@@ -261,8 +261,7 @@ pub fn hold_scene<M: Math>(
             wrist_rad: wrist,
         },
     );
-    let mut plant = Plant::new(OMEGA_LIKE.params, PlantParams::OMEGA_LIKE, script)
-        .map_err(|e| format!("plant: {e:?}"))?;
+    let mut plant = Plant::new(OMEGA_LIKE.params, PlantParams::OMEGA_LIKE, script)?;
     let config = PipelineConfig {
         device: OMEGA_LIKE,
         timing: BoardTiming::STM32G474_10KHZ,
@@ -271,14 +270,13 @@ pub fn hold_scene<M: Math>(
         object_origin_m: Vec3::new(0.0, 0.0, top as f32),
         log_rate_hz: softfinger_core::telemetry::DEFAULT_LOG_RATE_HZ,
     };
-    let mut ctrl: Pipeline<M, Plane> =
-        Pipeline::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
+    let mut ctrl: Pipeline<M, Plane> = Pipeline::new(config)?;
     // The operator's session first (home, grasp, arm); the script starts when armed.
     closed_loop::prepare(&mut ctrl, &mut plant)?;
     Ok((ctrl, plant))
 }
 
-fn per_backend(args: &Args, method: Method) -> Result<(), String> {
+fn per_backend(args: &Args, method: Method) -> Result<(), CreepError> {
     macro_rules! row {
         ($m:ty) => {{
             let n = (args.seconds * args.rate_hz) as u64;
@@ -319,16 +317,32 @@ fn per_backend(args: &Args, method: Method) -> Result<(), String> {
     Ok(())
 }
 
-pub fn main(args: &Args) -> Result<(), String> {
+/// Why the creep command failed.
+#[derive(Debug, thiserror::Error)]
+pub enum CreepError {
+    /// An option out of range (its message names it).
+    #[error("{0}")]
+    Option(&'static str),
+    /// A closed-loop hold could not be set up.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    /// A hold measurement failed.
+    #[error(transparent)]
+    Hold(#[from] hold_quantisation::HoldError),
+}
+
+pub fn main(args: &Args) -> Result<(), CreepError> {
     if !(args.seconds.is_finite()
         && args.seconds > 0.0
         && args.rate_hz.is_finite()
         && args.rate_hz > 0.0)
     {
-        return Err("--seconds and --rate-hz must be positive numbers".into());
+        return Err(CreepError::Option(
+            "--seconds and --rate-hz must be positive numbers",
+        ));
     }
     if !(args.hold_s.is_finite() && args.hold_s >= 0.0) {
-        return Err("--hold-s must be a non-negative number".into());
+        return Err(CreepError::Option("--hold-s must be a non-negative number"));
     }
     println!(
         "creep at rest: {} s at {} Hz (replay), {} held ticks, {} s closed-loop hold",

@@ -13,9 +13,7 @@
 //! plant.step_bridges(&out.bridges, &timing)   // compares act from the next PWM boundary
 //! ```
 
-use crate::closed_loop::{prepare, ClosedLoopError, Prepared};
-use crate::plant::PlantError;
-use softfinger_core::pipeline::PipelineError;
+use crate::closed_loop::{prepare, Prepared, SetupError};
 use crate::plant::{HandScript, Plant, PlantParams, TouchScript};
 use nalgebra::{Matrix3, Vector3};
 use softfinger_core::contact_state::ContactState;
@@ -107,20 +105,6 @@ pub struct ClosedLoop {
     torque_per_amp: f64,
 }
 
-/// Why a closed loop could not be set up.
-#[derive(Debug, thiserror::Error)]
-pub enum LoopError {
-    /// The plant refused its parameters or script.
-    #[error("plant: {0}")]
-    Plant(#[from] PlantError),
-    /// The pipeline refused its configuration.
-    #[error("pipeline: {0}")]
-    Pipeline(#[from] PipelineError),
-    /// The operator's session (homing, arming) failed.
-    #[error(transparent)]
-    Session(#[from] ClosedLoopError),
-}
-
 impl ClosedLoop {
     /// Power-up: the plant with `script` (hand holding the handle), the pipeline unhomed; tick 0
     /// is the first tick after power-up.
@@ -128,7 +112,7 @@ impl ClosedLoop {
         config: PipelineConfig<Plane>,
         plant_params: PlantParams,
         script: HandScript,
-    ) -> Result<ClosedLoop, LoopError> {
+    ) -> Result<ClosedLoop, SetupError> {
         let device = config.device.params;
         let plant = Plant::new(device, plant_params, script)?;
         let pipe = Pipe::new(config)?;
@@ -150,7 +134,7 @@ impl ClosedLoop {
         config: PipelineConfig<Plane>,
         plant_params: PlantParams,
         script: HandScript,
-    ) -> Result<ClosedLoop, LoopError> {
+    ) -> Result<ClosedLoop, SetupError> {
         let mut lp = ClosedLoop::powered(config, plant_params, script)?;
         lp.prepared = Some(prepare(&mut lp.pipe, &mut lp.plant)?);
         Ok(lp)

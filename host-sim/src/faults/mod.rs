@@ -123,7 +123,7 @@ pub enum FaultsError {
         /// Scenario name.
         scenario: &'static str,
         /// The setup's reason.
-        source: closed_loop::LoopError,
+        source: crate::closed_loop::SetupError,
     },
     /// The JSON could not be serialised.
     #[error(transparent)]

@@ -14,7 +14,8 @@
 //! exert (from the plant's currents) within `max_force_n` × [`PLANT_FORCE_MARGIN`], no output is
 //! NaN, and the bridges never drive the wrong way (plant truth).
 
-use super::closed_loop::{scene_config, ClosedLoop, LoopError, Pipe, Trace};
+use super::closed_loop::{scene_config, ClosedLoop, Pipe, Trace};
+use crate::closed_loop::SetupError;
 use super::FaultsError;
 use super::{classic, pipeline_cases};
 use crate::plant::{HandScript, Plant, PlantParams, TouchScript};
@@ -181,7 +182,7 @@ pub struct Scenario {
     pub judge: fn(&Trace, &ClosedLoop, &Ctx) -> Judged,
 }
 
-fn run(s: Setup) -> Result<(Trace, ClosedLoop), LoopError> {
+fn run(s: Setup) -> Result<(Trace, ClosedLoop), SetupError> {
     let mut lp = match s.start {
         Start::Armed => ClosedLoop::new(s.config, s.plant, s.script)?,
         Start::PowerUp => ClosedLoop::powered(s.config, s.plant, s.script)?,

@@ -9,10 +9,7 @@ use softfinger_core::pipeline::passivity::PassivityConfig;
 use softfinger_core::pipeline::Pipeline;
 use softfinger_core::surface::Plane;
 
-use crate::closed_loop::ClosedLoopError;
-use crate::plant::PlantError;
-use softfinger_core::params::ParamError;
-use softfinger_core::pipeline::PipelineError;
+use crate::closed_loop::SetupError;
 
 /// Why the default scene could not be run.
 #[derive(Debug, thiserror::Error)]
@@ -20,18 +17,9 @@ pub enum PassivitySceneError {
     /// The default scene is not on the plane.
     #[error("the default scene is expected on the plane")]
     NotPlane,
-    /// The scene's configuration or operator session failed.
+    /// The closed loop could not be set up.
     #[error(transparent)]
-    Setup(#[from] ClosedLoopError),
-    /// The pipeline refused its configuration.
-    #[error("pipeline: {0}")]
-    Pipeline(#[from] PipelineError),
-    /// The passivity stage refused its configuration.
-    #[error("passivity: {0}")]
-    Passivity(ParamError),
-    /// The plant refused its parameters.
-    #[error("plant: {0}")]
-    Plant(#[from] PlantError),
+    Setup(#[from] SetupError),
 }
 
 /// The comparison's figures.
@@ -63,15 +51,15 @@ fn run(enabled: bool) -> Result<Run, PassivitySceneError> {
     if scene.surface != SurfaceSpec::Plane {
         return Err(PassivitySceneError::NotPlane);
     }
-    let contact = closed_loop::contact_params(&scene)?;
-    let config = closed_loop::plane_config(&scene, contact)?;
+    let contact = closed_loop::contact_params(&scene).map_err(SetupError::from)?;
+    let config = closed_loop::plane_config(&scene, contact).map_err(SetupError::from)?;
     let mut pipe: Pipeline<Fast, Plane> =
-        Pipeline::new(config)?;
+        Pipeline::new(config).map_err(SetupError::from)?;
     let base = *pipe.controller().passivity().config();
     pipe.set_passivity(PassivityConfig { enabled, ..base })
-        .map_err(PassivitySceneError::Passivity)?;
-    let mut plant = closed_loop::plant(&scene, &contact)?;
-    prepare(&mut pipe, &mut plant)?;
+        .map_err(SetupError::Passivity)?;
+    let mut plant = closed_loop::plant(&scene, &contact).map_err(SetupError::from)?;
+    prepare(&mut pipe, &mut plant).map_err(SetupError::from)?;
     let ticks = (scene.duration_s * scene.rate_hz).round() as u64;
     let mut forces = Vec::with_capacity(ticks as usize);
     let (mut max_e, mut min_e, mut damped) = (f64::MIN, f64::MAX, 0u64);
