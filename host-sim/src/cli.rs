@@ -70,7 +70,9 @@ where
         Some(Command::Pil(args)) => crate::pil::main(&args).map_err(Into::into),
         Some(Command::PilDecode(args)) => crate::pil::decode_main(&args).map_err(Into::into),
         Some(Command::Creep(args)) => crate::creep::main(&args).map_err(Into::into),
-        Some(Command::LimitSurface(args)) => crate::limit_surface_cmd::main(&args).map_err(Into::into),
+        Some(Command::LimitSurface(args)) => {
+            crate::limit_surface_cmd::main(&args).map_err(Into::into)
+        }
         Some(Command::Stability(args)) => crate::stability::main(&args).map_err(Into::into),
         Some(Command::Serve(args)) => crate::serve::main(&args).map_err(Into::into),
         None => crate::run::main(&crate::run::Args::default()).map_err(Into::into),

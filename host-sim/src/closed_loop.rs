@@ -13,11 +13,11 @@ use softfinger_core::controller::Scene as PipelineScene;
 use softfinger_core::delta::DeltaGeometry;
 use softfinger_core::devices::OMEGA_LIKE;
 use softfinger_core::params::ContactParams;
-use softfinger_core::pipeline::{
-    BoardTiming, Command, CommandError, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
-    PipelineError, TimingError,
-};
 use softfinger_core::params::ParamError;
+use softfinger_core::pipeline::{
+    BoardTiming, Command, CommandError, Mode, Pipeline, PipelineConfig, PipelineError,
+    PipelineOutput, RawInput, TimingError,
+};
 use softfinger_core::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::{Math, Vec3};
 use std::time::{Duration, Instant};

@@ -18,11 +18,14 @@ pub struct FileError {
 
 impl FileError {
     /// A closure for `map_err`: the failure of `action` on `path`.
-    pub fn on<'a>(path: &'a Path, action: &'static str) -> impl FnOnce(io::Error) -> FileError + 'a {
+    pub fn on<'a, E: Into<io::Error>>(
+        path: &'a Path,
+        action: &'static str,
+    ) -> impl FnOnce(E) -> FileError + 'a {
         move |source| FileError {
             path: path.to_path_buf(),
             action,
-            source,
+            source: source.into(),
         }
     }
 }

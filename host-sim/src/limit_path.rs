@@ -13,6 +13,8 @@
 //! with the Hertzian reference curve of `host-sim limit-surface` for comparison.
 
 use crate::chart::style::{draw_legend, draw_line, draw_markers, write_svg, Shape};
+use crate::closed_loop::ClosedLoopError;
+use crate::error::ChartError;
 use crate::reference::limit_surface::curve;
 use crate::run::{Row, RunResult};
 use plotters::coord::CoordTranslate;
@@ -21,8 +23,6 @@ use softfinger_core::contact_state::ContactState;
 use softfinger_core::limit_surface::patch_radius;
 use softfinger_core::params::ContactParams;
 use softfinger_core::spin::torsion_limit;
-use crate::closed_loop::ClosedLoopError;
-use crate::error::ChartError;
 use std::path::{Path, PathBuf};
 
 /// Why the load path of a run could not be charted.

@@ -3,9 +3,9 @@
 //! the ellipse's radial error at each point, and the worst error; `--svg` charts both curves.
 
 use crate::chart::style::{draw_legend, draw_line, write_svg};
+use crate::error::{ChartError, JsonError};
 use crate::reference::limit_surface::{curve, ellipse_error_range, LimitPoint};
 use plotters::prelude::*;
-use crate::error::{ChartError, JsonError};
 use std::path::{Path, PathBuf};
 
 /// Why the limit-surface command failed.

@@ -212,9 +212,12 @@ pub fn read_samples(path: &std::path::Path) -> Result<Vec<Sample>, ReplayError> 
         if i == 0 {
             let got: Vec<&str> = rec.iter().collect();
             if got != INPUT_HEADER {
-                return Err(bad(Some(line), InputProblem::Header {
+                return Err(bad(
+                    Some(line),
+                    InputProblem::Header {
                         found: got.join(","),
-                    }));
+                    },
+                ));
             }
             continue;
         }
@@ -375,7 +378,8 @@ pub fn main(args: &Args) -> Result<(), ReplayError> {
     let samples = read_samples(&args.input)?;
     let rows = replay_args(args, &samples)?;
     let out = args.out.display();
-    let mut file = AtomicFile::create(&args.out).map_err(FileError::on(&args.out, "cannot create"))?;
+    let mut file =
+        AtomicFile::create(&args.out).map_err(FileError::on(&args.out, "cannot create"))?;
     let w = file.writer();
     let io = |e| FileError::on(&args.out, "write failed")(e);
     writeln!(w, "{OUTPUT_HEADER}").map_err(io)?;

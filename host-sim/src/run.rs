@@ -211,10 +211,9 @@ fn run_with<M: Math, S: Surface>(
     };
     let mut pipe: Pipeline<M, S> =
         Pipeline::new(config).map_err(|e| in_scene(SceneStage::Pipeline(e)))?;
-    let mut plant = closed_loop::plant(&scene, &config.contact)
-        .map_err(|e| in_scene(SceneStage::Plant(e)))?;
-    let prepared =
-        prepare(&mut pipe, &mut plant).map_err(|e| in_scene(SceneStage::Session(e)))?;
+    let mut plant =
+        closed_loop::plant(&scene, &config.contact).map_err(|e| in_scene(SceneStage::Plant(e)))?;
+    let prepared = prepare(&mut pipe, &mut plant).map_err(|e| in_scene(SceneStage::Session(e)))?;
     let dt = 1.0 / f64::from(config.timing.control_hz);
     let full_scale = config.timing.pwm_period_counts() as u16;
     let mut rows = Vec::with_capacity(ticks as usize);

@@ -152,7 +152,10 @@ pub enum SceneError {
         problem: SceneProblem,
     },
     /// Neither a built-in name nor an existing file.
-    #[error("no built-in scene or file named '{name}' (built-ins: {})", built_in_names())]
+    #[error(
+        "no built-in scene or file named '{name}' (built-ins: {})",
+        built_in_names()
+    )]
     NotFound {
         /// The name or path asked for.
         name: String,
@@ -183,7 +186,11 @@ pub enum SceneProblem {
 }
 
 fn built_in_names() -> String {
-    BUILT_IN.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+    BUILT_IN
+        .iter()
+        .map(|(n, _)| *n)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 crate::error::error_into_string!(SceneError);
@@ -244,7 +251,8 @@ impl Scene {
 
     /// The decomposition method.
     pub fn method(&self) -> Result<Method, SceneProblem> {
-        Method::from_name(&self.method).ok_or_else(|| SceneProblem::UnknownMethod(self.method.clone()))
+        Method::from_name(&self.method)
+            .ok_or_else(|| SceneProblem::UnknownMethod(self.method.clone()))
     }
 
     /// The scene as TOML text (every field the command line can override, and the rest), for
@@ -361,7 +369,10 @@ mod tests {
             )
         };
         assert!(heading("6.283").is_ok());
-        assert!(heading("6.284").unwrap_err().to_string().contains("heading_rad"));
+        assert!(heading("6.284")
+            .unwrap_err()
+            .to_string()
+            .contains("heading_rad"));
         assert!(heading("-6.284").is_err());
     }
 
@@ -382,13 +393,15 @@ mod tests {
             "name = \"x\"\nrate_hz = 5\n[surface]\nkind = \"plane\"\n",
             "r.toml",
         )
-        .unwrap_err().to_string();
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("rate_hz"), "{e}");
         let e = Scene::parse(
             "name = \"x\"\nbogus = 1\n[surface]\nkind = \"plane\"\n",
             "u.toml",
         )
-        .unwrap_err().to_string();
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("line 2"), "{e}");
     }
 }

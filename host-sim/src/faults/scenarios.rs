@@ -15,9 +15,9 @@
 //! NaN, and the bridges never drive the wrong way (plant truth).
 
 use super::closed_loop::{scene_config, ClosedLoop, Pipe, Trace};
-use crate::closed_loop::SetupError;
 use super::FaultsError;
 use super::{classic, pipeline_cases};
+use crate::closed_loop::SetupError;
 use crate::plant::{HandScript, Plant, PlantParams, TouchScript};
 use serde::Serialize;
 use softfinger_core::controller::TickLimits;

@@ -2,6 +2,8 @@
 //! orientations as `host-sim replay` input (`t_s,qw,qx,qy,qz`), so a log taken on the device (or
 //! the emulated board) is looked at and replayed on the PC.
 
+use crate::atomic_file::AtomicFile;
+use crate::error::{ChartError, FileError};
 use crate::svg_chart::{line_chart, Series, PALETTE};
 use softfinger_core::device::DeviceParams;
 use softfinger_core::devices::OMEGA_LIKE;
@@ -26,7 +28,7 @@ pub fn force_chart(
     path: &Path,
     rows: &[Vec<(String, String)>],
     rate_hz: u32,
-) -> Result<(), String> {
+) -> Result<(), ChartError> {
     let series: Vec<Series> = ["x", "y", "z"]
         .iter()
         .enumerate()
@@ -47,15 +49,19 @@ pub fn force_chart(
         &series,
         false,
     )
+    .map_err(ChartError)
 }
 
 /// The handle orientation of each record from its wrist counts (the device's wrist
 /// kinematics), as `host-sim replay` reads it.
-pub fn replay_csv(path: &Path, rows: &[Vec<(String, String)>], rate_hz: u32) -> Result<(), String> {
-    let io = |e: std::io::Error| format!("{}: {e}", path.display());
-    let mut file = crate::atomic_file::AtomicFile::create(path).map_err(io)?;
+pub fn replay_csv(
+    path: &Path,
+    rows: &[Vec<(String, String)>],
+    rate_hz: u32,
+) -> Result<(), FileError> {
+    let mut file = AtomicFile::create(path).map_err(FileError::on(path, "cannot create"))?;
     let mut w = csv::Writer::from_writer(file.writer());
-    let err = |e: csv::Error| format!("{}: {e}", path.display());
+    let err = |e: csv::Error| FileError::on(path, "write failed")(e);
     w.write_record(crate::replay::INPUT_HEADER).map_err(err)?;
     let device = OMEGA_LIKE.params;
     for r in rows {
@@ -73,7 +79,7 @@ pub fn replay_csv(path: &Path, rows: &[Vec<(String, String)>], rate_hz: u32) -> 
         ])
         .map_err(err)?;
     }
-    w.flush().map_err(io)?;
+    w.flush().map_err(FileError::on(path, "write failed"))?;
     drop(w);
-    file.commit().map_err(io)
+    file.commit().map_err(FileError::on(path, "cannot publish"))
 }

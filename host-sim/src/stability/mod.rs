@@ -27,11 +27,11 @@ pub mod present;
 pub mod rng;
 pub mod table;
 
+use crate::error::{ChartError, FileError, JsonError};
 use haptic_device::DeviceRow;
 use haptic_present::HapticJson;
 use haptic_timing::TimingRow;
 use passivity_scene::SceneDifference;
-use crate::error::{ChartError, FileError, JsonError};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -127,10 +127,7 @@ pub fn main(args: &Args) -> Result<(), StabilityError> {
     write_summary(&out.join("summary.txt"), &summary.text)?;
     if args.json {
         let v = serde_json::json!({ "haptic": haptic_json });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(JsonError)?
-        );
+        println!("{}", serde_json::to_string_pretty(&v).map_err(JsonError)?);
     }
     Ok(())
 }

@@ -53,8 +53,7 @@ fn run(enabled: bool) -> Result<Run, PassivitySceneError> {
     }
     let contact = closed_loop::contact_params(&scene).map_err(SetupError::from)?;
     let config = closed_loop::plane_config(&scene, contact).map_err(SetupError::from)?;
-    let mut pipe: Pipeline<Fast, Plane> =
-        Pipeline::new(config).map_err(SetupError::from)?;
+    let mut pipe: Pipeline<Fast, Plane> = Pipeline::new(config).map_err(SetupError::from)?;
     let base = *pipe.controller().passivity().config();
     pipe.set_passivity(PassivityConfig { enabled, ..base })
         .map_err(SetupError::Passivity)?;

@@ -6,9 +6,9 @@ use super::chatter::{self, ChatterRun};
 use super::decomp_map::{self, Grid, MethodMap};
 use super::drift::DriftRun;
 use super::table::{sci, Table};
+use crate::error::ChartError;
 use plotters::style::RGBColor;
 use softfinger_core::decompose::Method;
-use crate::error::ChartError;
 use std::path::Path;
 
 /// Floor of the log error axes, rad (errors are clamped to it for display only).

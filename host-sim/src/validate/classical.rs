@@ -15,9 +15,9 @@ use nalgebra::UnitQuaternion;
 
 use super::errors::PathErrors;
 use super::timing::Case;
+use super::ValidateError;
 use crate::reference::montana_paths::{self, MontanaOptions};
 use crate::reference::surface::Surface;
-use super::ValidateError;
 use crate::reference::{reference_paths, ReferenceError, ReferenceMethod, ReferencePaths};
 
 /// Matlab's `ode45` default tolerances (`RelTol`, `AbsTol`), which the paper used.

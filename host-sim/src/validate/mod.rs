@@ -341,10 +341,7 @@ fn candidate_errors(ours: &[OurRun]) -> Vec<f64> {
 
 /// For each call style and each candidate error, the loosest-tolerance classical run that reaches
 /// it (each distinct run once).
-fn matched_runs(
-    sref: SceneRef<'_>,
-    candidates: &[f64],
-) -> Result<Vec<Rk45Run>, ValidateError> {
+fn matched_runs(sref: SceneRef<'_>, candidates: &[f64]) -> Result<Vec<Rk45Run>, ValidateError> {
     let mut matched: Vec<Rk45Run> = Vec::new();
     for call in [Rk45Call::Restart, Rk45Call::SingleCall] {
         for &target in candidates {

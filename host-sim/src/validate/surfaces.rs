@@ -121,14 +121,15 @@ pub fn run_with_series() -> Result<(Vec<SurfaceRow>, Vec<SurfaceErrors>), Valida
             Object::Bowl(r) => Ground::Bowl { radius: r },
             Object::Cylinder(r) => Ground::Cylinder { radius: r },
         };
-        let montana = reference_paths_on(ground, method, &s, dt, FINGER_R)
-            .map_err(|source| ValidateError::Surface {
+        let montana = reference_paths_on(ground, method, &s, dt, FINGER_R).map_err(|source| {
+            ValidateError::Surface {
                 reference: "Montana",
                 object: name,
                 source,
-            })?;
-        let cartesian = integrate(object, FINGER_R, &s, dt, 1e-10)
-            .map_err(|e| ValidateError::Surface {
+            }
+        })?;
+        let cartesian =
+            integrate(object, FINGER_R, &s, dt, 1e-10).map_err(|e| ValidateError::Surface {
                 reference: "Cartesian",
                 object: name,
                 source: e.into(),
