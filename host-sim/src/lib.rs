@@ -15,6 +15,7 @@ pub mod pil;
 pub mod plant;
 pub mod reference;
 pub mod replay;
+pub mod rng;
 pub mod run;
 pub mod scene;
 pub mod serve;

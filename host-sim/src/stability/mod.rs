@@ -24,7 +24,6 @@ pub mod haptic_present;
 pub mod haptic_timing;
 pub mod passivity_scene;
 pub mod present;
-pub mod rng;
 pub mod table;
 
 use crate::error::{ChartError, FileError, JsonError};
