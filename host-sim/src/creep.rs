@@ -18,6 +18,7 @@
 //!   first and last windows
 //!   and its change, the count changes and the anchor's walk.
 
+use crate::backend::{dispatch, Backend};
 use crate::closed_loop::{self, SetupError};
 use crate::hold_quantisation::{self, HoldSetup};
 use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
@@ -31,7 +32,7 @@ use softfinger_core::pipeline::{BoardTiming, Pipeline, PipelineConfig};
 use softfinger_core::rolling::Rolling;
 use softfinger_core::spin::SpinSpring;
 use softfinger_core::surface::{Plane, Surface};
-use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Vec3};
+use softfinger_core::{Libm, Math, Quat, Vec3};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -276,44 +277,41 @@ pub fn hold_scene<M: Math>(
     Ok((ctrl, plant))
 }
 
-fn per_backend(args: &Args, method: Method) -> Result<(), CreepError> {
-    macro_rules! row {
-        ($m:ty) => {{
-            let n = (args.seconds * args.rate_hz) as u64;
-            let q = rest_orientation();
-            let c = wrist_count_rad();
-            let twist = q * Quat::from_axis_angle::<Libm>(Vec3::Z, c);
-            let tilt = q * Quat::from_axis_angle::<Libm>(Vec3::X, c);
-            let same = replay_cycle::<$m>(method, &[q], n);
-            let dt = replay_cycle::<$m>(method, &[q, tilt], n);
-            let dz = replay_cycle::<$m>(method, &[q, twist], n);
-            let (walk, f_t) = held_contact::<$m>(method, args.held_ticks);
-            let cl = if args.hold_s > 0.0 {
-                let h = closed_loop_hold::<$m>(method, args.hold_s)?;
-                format!(
-                    "still {:.3e} N (change {:.3e} N, anchor walk {:.3e} N), dither pair mean {:.3e} N (anchor walk {:.3e} N), one count {:.3e} N",
-                    h.still_max_n, h.still_growth_n, h.still_anchor_walk_n, h.dither_pair_max_n, h.dither_anchor_walk_n, h.one_count_n
-                )
-            } else {
-                "skipped".to_string()
-            };
-            println!(
-                "{:<15} {:<9} identical {:.3e} m {:.3e} rad | tilt dither {:.3e} m | twist dither {:.3e} rad | held anchor {:.3e} m f_t {:.3e} N | closed loop {}",
-                method.name(),
-                <$m as Math>::NAME,
-                same.point_m,
-                same.spin_rad,
-                dt.point_m,
-                dz.spin_rad,
-                walk,
-                f_t,
-                cl
-            );
-        }};
-    }
-    row!(Libm);
-    row!(Micromath);
-    row!(Fast);
+/// The backends in the order the command prints them.
+const PRINT_ORDER: [Backend; 3] = [Backend::Libm, Backend::Micromath, Backend::Fast];
+
+/// One printed row: every creep measurement of `method` on backend `M`.
+fn backend_row<M: Math>(args: &Args, method: Method) -> Result<(), CreepError> {
+    let n = (args.seconds * args.rate_hz) as u64;
+    let q = rest_orientation();
+    let c = wrist_count_rad();
+    let twist = q * Quat::from_axis_angle::<Libm>(Vec3::Z, c);
+    let tilt = q * Quat::from_axis_angle::<Libm>(Vec3::X, c);
+    let same = replay_cycle::<M>(method, &[q], n);
+    let dt = replay_cycle::<M>(method, &[q, tilt], n);
+    let dz = replay_cycle::<M>(method, &[q, twist], n);
+    let (walk, f_t) = held_contact::<M>(method, args.held_ticks);
+    let cl = if args.hold_s > 0.0 {
+        let h = closed_loop_hold::<M>(method, args.hold_s)?;
+        format!(
+            "still {:.3e} N (change {:.3e} N, anchor walk {:.3e} N), dither pair mean {:.3e} N (anchor walk {:.3e} N), one count {:.3e} N",
+            h.still_max_n, h.still_growth_n, h.still_anchor_walk_n, h.dither_pair_max_n, h.dither_anchor_walk_n, h.one_count_n
+        )
+    } else {
+        "skipped".to_string()
+    };
+    println!(
+        "{:<15} {:<9} identical {:.3e} m {:.3e} rad | tilt dither {:.3e} m | twist dither {:.3e} rad | held anchor {:.3e} m f_t {:.3e} N | closed loop {}",
+        method.name(),
+        M::NAME,
+        same.point_m,
+        same.spin_rad,
+        dt.point_m,
+        dz.spin_rad,
+        walk,
+        f_t,
+        cl
+    );
     Ok(())
 }
 
@@ -349,7 +347,9 @@ pub fn main(args: &Args) -> Result<(), CreepError> {
         args.seconds, args.rate_hz, args.held_ticks, args.hold_s
     );
     for m in Method::ALL {
-        per_backend(args, m)?;
+        for b in PRINT_ORDER {
+            dispatch!(b, M => backend_row::<M>(args, m))?;
+        }
     }
     if args.hold_s > 2.0 {
         // The hold through the encoders (exact method, libm): with and without the passivity
@@ -361,12 +361,9 @@ pub fn main(args: &Args) -> Result<(), CreepError> {
                 drift_m_per_s: drift,
                 window_s: (args.hold_s / 6.0).min(10.0),
             };
-            for (name, p) in [
-                ("libm", hold_quantisation::measure::<Libm>(setup)?),
-                ("micromath", hold_quantisation::measure::<Micromath>(setup)?),
-                ("fast", hold_quantisation::measure::<Fast>(setup)?),
-            ] {
-                println!("{name:<9} {}", hold_quantisation::line(&setup, &p));
+            for b in PRINT_ORDER {
+                let p = dispatch!(b, M => hold_quantisation::measure::<M>(setup))?;
+                println!("{b:<9} {}", hold_quantisation::line(&setup, &p));
             }
         }
     }

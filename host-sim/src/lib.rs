@@ -2,6 +2,7 @@
 //! tests in `tests/` run them in-process.
 
 pub mod atomic_file;
+pub mod backend;
 pub mod chart;
 pub mod cli;
 pub mod closed_loop;

@@ -6,6 +6,7 @@ use super::chatter::{self, ChatterRun};
 use super::decomp_map::{self, Grid, MethodMap};
 use super::drift::DriftRun;
 use super::table::{sci, Table};
+use crate::backend::Backend;
 use crate::error::ChartError;
 use plotters::style::RGBColor;
 use softfinger_core::decompose::Method;
@@ -22,11 +23,11 @@ fn method_color(m: Method) -> RGBColor {
     }
 }
 
-fn backend_style(b: &str) -> Style {
+fn backend_style(b: Backend) -> Style {
     match b {
-        "libm" => Style::Line,
-        "fast" => Style::Dashed,
-        _ => Style::Dotted,
+        Backend::Libm => Style::Line,
+        Backend::Fast => Style::Dashed,
+        Backend::Micromath => Style::Dotted,
     }
 }
 
