@@ -97,7 +97,10 @@ mod tests {
     fn names_match_the_core_in_json_and_on_the_command_line() {
         use clap::ValueEnum;
         for b in Backend::ALL {
-            assert_eq!(serde_json::to_string(&b).unwrap(), format!("\"{}\"", b.name()));
+            assert_eq!(
+                serde_json::to_string(&b).unwrap(),
+                format!("\"{}\"", b.name())
+            );
             assert_eq!(Backend::from_str(b.name(), false), Ok(b));
             assert_eq!(dispatch!(b, M => <M as MathBackend>::BACKEND), b);
             assert_eq!(dispatch!(b, M => M::NAME), b.name());

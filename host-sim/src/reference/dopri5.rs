@@ -2,49 +2,61 @@
 //! continuous extension (Matlab's `ntrp45`) and a fixed-step integration used to check the
 //! method's order. The adaptive integrator built on them is [`super::rk45::Rk45`].
 
-// Dormand–Prince 5(4) tableau.
-const C2: f64 = 1.0 / 5.0;
-const C3: f64 = 3.0 / 10.0;
-const C4: f64 = 4.0 / 5.0;
-const C5: f64 = 8.0 / 9.0;
-const A21: f64 = 1.0 / 5.0;
-const A31: f64 = 3.0 / 40.0;
-const A32: f64 = 9.0 / 40.0;
-const A41: f64 = 44.0 / 45.0;
-const A42: f64 = -56.0 / 15.0;
-const A43: f64 = 32.0 / 9.0;
-const A51: f64 = 19372.0 / 6561.0;
-const A52: f64 = -25360.0 / 2187.0;
-const A53: f64 = 64448.0 / 6561.0;
-const A54: f64 = -212.0 / 729.0;
-const A61: f64 = 9017.0 / 3168.0;
-const A62: f64 = -355.0 / 33.0;
-const A63: f64 = 46732.0 / 5247.0;
-const A64: f64 = 49.0 / 176.0;
-const A65: f64 = -5103.0 / 18656.0;
-// 5th-order weights (also the 7th stage's row: FSAL).
-const B1: f64 = 35.0 / 384.0;
-const B3: f64 = 500.0 / 1113.0;
-const B4: f64 = 125.0 / 192.0;
-const B5: f64 = -2187.0 / 6784.0;
-const B6: f64 = 11.0 / 84.0;
-// Error weights e = b(5th) − b*(4th), b* = (5179/57600, 0, 7571/16695, 393/640, −92097/339200, 187/2100, 1/40).
-const E1: f64 = 71.0 / 57600.0;
-const E3: f64 = -71.0 / 16695.0;
-const E4: f64 = 71.0 / 1920.0;
-const E5: f64 = -17253.0 / 339200.0;
-const E6: f64 = 22.0 / 525.0;
-const E7: f64 = -1.0 / 40.0;
+/// Dormand–Prince 5(4) tableau, stages 2 to 6: stage `i` is evaluated at `t + c_i·h` and
+/// `y + h·Σ_j a_ij·k_j`, one `a_ij` per earlier stage.
+const STAGES: [(f64, &[f64]); 5] = [
+    (1.0 / 5.0, &[1.0 / 5.0]),
+    (3.0 / 10.0, &[3.0 / 40.0, 9.0 / 40.0]),
+    (4.0 / 5.0, &[44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0]),
+    (
+        8.0 / 9.0,
+        &[
+            19372.0 / 6561.0,
+            -25360.0 / 2187.0,
+            64448.0 / 6561.0,
+            -212.0 / 729.0,
+        ],
+    ),
+    (
+        1.0,
+        &[
+            9017.0 / 3168.0,
+            -355.0 / 33.0,
+            46732.0 / 5247.0,
+            49.0 / 176.0,
+            -5103.0 / 18656.0,
+        ],
+    ),
+];
+/// 5th-order weights `(stage index from 0, b_j)`, zero weights left out (also the 7th stage's row:
+/// FSAL).
+const B: [(usize, f64); 5] = [
+    (0, 35.0 / 384.0),
+    (2, 500.0 / 1113.0),
+    (3, 125.0 / 192.0),
+    (4, -2187.0 / 6784.0),
+    (5, 11.0 / 84.0),
+];
+/// Error weights `e = b(5th) − b*(4th)`, b* = (5179/57600, 0, 7571/16695, 393/640, −92097/339200,
+/// 187/2100, 1/40), as `(stage index from 0, e_j)`.
+const E: [(usize, f64); 6] = [
+    (0, 71.0 / 57600.0),
+    (2, -71.0 / 16695.0),
+    (3, 71.0 / 1920.0),
+    (4, -17253.0 / 339200.0),
+    (5, 22.0 / 525.0),
+    (6, -1.0 / 40.0),
+];
 
-/// `y + h·Σ c_j k_j` componentwise.
-pub(super) fn combine<const N: usize>(
+/// `y + h·Σ c_j k_j` componentwise, the terms summed in the order given.
+pub(super) fn combine<'a, const N: usize>(
     y: &[f64; N],
     h: f64,
-    terms: &[(f64, &[f64; N])],
+    terms: impl Iterator<Item = (f64, &'a [f64; N])> + Clone,
 ) -> [f64; N] {
     let mut out = *y;
     for (i, o) in out.iter_mut().enumerate() {
-        let s: f64 = terms.iter().map(|(c, k)| c * k[i]).sum();
+        let s: f64 = terms.clone().map(|(c, k)| c * k[i]).sum();
         *o += h * s;
     }
     out
@@ -74,48 +86,15 @@ pub fn dopri5_step<const N: usize, F>(
 where
     F: FnMut(f64, &[f64; N]) -> [f64; N],
 {
-    let k2 = f(t + C2 * h, &combine(y, h, &[(A21, k1)]));
-    let k3 = f(t + C3 * h, &combine(y, h, &[(A31, k1), (A32, &k2)]));
-    let k4 = f(
-        t + C4 * h,
-        &combine(y, h, &[(A41, k1), (A42, &k2), (A43, &k3)]),
-    );
-    let k5 = f(
-        t + C5 * h,
-        &combine(y, h, &[(A51, k1), (A52, &k2), (A53, &k3), (A54, &k4)]),
-    );
-    let k6 = f(
-        t + h,
-        &combine(
-            y,
-            h,
-            &[(A61, k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)],
-        ),
-    );
-    let y_new = combine(
-        y,
-        h,
-        &[(B1, k1), (B3, &k3), (B4, &k4), (B5, &k5), (B6, &k6)],
-    );
-    let k7 = f(t + h, &y_new);
-    let zero = [0.0; N];
-    let err = combine(
-        &zero,
-        h,
-        &[
-            (E1, k1),
-            (E3, &k3),
-            (E4, &k4),
-            (E5, &k5),
-            (E6, &k6),
-            (E7, &k7),
-        ],
-    );
-    Step {
-        y_new,
-        err,
-        k: [*k1, k2, k3, k4, k5, k6, k7],
+    let mut k = [*k1; 7];
+    for (i, (c, row)) in STAGES.iter().enumerate() {
+        let yi = combine(y, h, row.iter().zip(&k).map(|(a, kj)| (*a, kj)));
+        k[i + 1] = f(t + c * h, &yi);
     }
+    let y_new = combine(y, h, B.iter().map(|&(j, b)| (b, &k[j])));
+    k[6] = f(t + h, &y_new);
+    let err = combine(&[0.0; N], h, E.iter().map(|&(j, e)| (e, &k[j])));
+    Step { y_new, err, k }
 }
 
 // Continuous extension of Matlab's `ntrp45` (Shampine 1986): y(t + s·h) = y + h·Σ_j k_j·(BI_j · [s, s², s³, s⁴]).

@@ -20,6 +20,7 @@ mod dopri5;
 pub mod limit_surface;
 pub mod montana;
 pub mod montana_paths;
+pub mod motions;
 pub mod rk45;
 pub mod rolling_ode;
 pub mod scene;

@@ -20,9 +20,9 @@
 //! β = π/2 and 3π/2 (the ±y axes). Each map cell keeps the worst error over the azimuths and the
 //! fraction of azimuths whose result was flagged.
 
+use crate::backend::{dispatch, Backend, MathBackend};
 use nalgebra::{UnitQuaternion, Vector3};
 use softfinger_core::decompose::{decompose, Method};
-use crate::backend::{dispatch, Backend, MathBackend};
 use softfinger_core::{Flags, Math, Quat};
 use std::f64::consts::{FRAC_PI_2, PI};
 

@@ -62,11 +62,7 @@ pub struct DriftRun {
 
 /// Run `steps` steps of the motion through the core with `method` and backend `M`. `progress` is
 /// advanced by the number of steps done (in chunks).
-pub fn run<M: MathBackend>(
-    method: Method,
-    steps: u64,
-    progress: Option<&ProgressBar>,
-) -> DriftRun {
+pub fn run<M: MathBackend>(method: Method, steps: u64, progress: Option<&ProgressBar>) -> DriftRun {
     let dt = 1.0 / RATE_HZ;
     let to32 = |q: &UnitQuaternion<f64>| Quat::new(q.w as f32, q.i as f32, q.j as f32, q.k as f32);
     let down = Vector3::new(0.0, 0.0, -RADIUS_M);

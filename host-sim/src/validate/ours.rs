@@ -10,8 +10,8 @@ use std::hint::black_box;
 
 use super::timing::Case;
 
-pub use crate::backend::Backend;
 use crate::backend::dispatch;
+pub use crate::backend::Backend;
 
 /// One of our variants: a decomposition method with a math backend.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
