@@ -51,15 +51,9 @@ pub struct Args {
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,
-    /// Write the decoded telemetry records as CSV.
-    #[arg(long)]
-    pub telemetry_csv: Option<PathBuf>,
-    /// Chart the telemetry's rendered force (SVG).
-    #[arg(long)]
-    pub chart: Option<PathBuf>,
-    /// Write the telemetry's wrist orientations as `host-sim replay` input.
-    #[arg(long)]
-    pub replay_csv: Option<PathBuf>,
+    /// What to write from the decoded telemetry.
+    #[command(flatten)]
+    pub views: TelemetryViews,
     /// Keep the raw defmt log the board wrote.
     #[arg(long)]
     pub defmt_raw: Option<PathBuf>,
@@ -100,6 +94,36 @@ pub struct Args {
     pub timeout_s: u64,
 }
 
+/// The files written from decoded telemetry, each when asked for.
+#[derive(Debug, Default, clap::Args)]
+pub struct TelemetryViews {
+    /// Write the decoded telemetry records as CSV.
+    #[arg(long)]
+    pub telemetry_csv: Option<PathBuf>,
+    /// Chart the telemetry's rendered force (SVG).
+    #[arg(long)]
+    pub chart: Option<PathBuf>,
+    /// Write the telemetry's wrist orientations as `host-sim replay` input.
+    #[arg(long)]
+    pub replay_csv: Option<PathBuf>,
+}
+
+impl TelemetryViews {
+    /// Write the asked-for files from the telemetry `rows` (ticks at `rate_hz`).
+    fn write(&self, rows: &[Vec<(String, String)>], rate_hz: u32) -> Result<(), PilError> {
+        if let Some(path) = &self.telemetry_csv {
+            telemetry::write_csv(path, rows, rate_hz)?;
+        }
+        if let Some(path) = &self.chart {
+            views::force_chart(path, rows, rate_hz)?;
+        }
+        if let Some(path) = &self.replay_csv {
+            views::replay_csv(path, rows, rate_hz)?;
+        }
+        Ok(())
+    }
+}
+
 /// `host-sim pil-decode`: a raw defmt log (e.g. RTT bytes captured from the STM32 build) decoded
 /// against its ELF.
 #[derive(Debug, clap::Args)]
@@ -110,15 +134,9 @@ pub struct DecodeArgs {
     /// The raw log: rzCOBS-encoded defmt frames.
     #[arg(long)]
     pub log: PathBuf,
-    /// Write the telemetry records as CSV.
-    #[arg(long)]
-    pub telemetry_csv: Option<PathBuf>,
-    /// Chart the telemetry's rendered force (SVG).
-    #[arg(long)]
-    pub chart: Option<PathBuf>,
-    /// Write the telemetry's wrist orientations as `host-sim replay` input.
-    #[arg(long)]
-    pub replay_csv: Option<PathBuf>,
+    /// What to write from the decoded telemetry.
+    #[command(flatten)]
+    pub views: TelemetryViews,
     /// The control rate the records' ticks count at, Hz (for the t_s column).
     #[arg(long, default_value_t = 10_000)]
     pub rate_hz: u32,
@@ -138,38 +156,16 @@ pub fn decode_main(args: &DecodeArgs) -> Result<(), PilError> {
         println!("{:<5} {}", f.level, f.message);
     }
     let rows = telemetry::telemetry_rows(&log);
-    if let Some(path) = &args.telemetry_csv {
-        telemetry::write_csv(path, &rows, args.rate_hz)?;
+    args.views.write(&rows, args.rate_hz)?;
+    if let Some(path) = &args.views.telemetry_csv {
         eprintln!(
             "wrote {} telemetry records to {}",
             rows.len(),
             path.display()
         );
     }
-    write_views(
-        args.chart.as_deref(),
-        args.replay_csv.as_deref(),
-        &rows,
-        args.rate_hz,
-    )?;
     if log.malformed > 0 {
         return Err(PilError::Malformed(log.malformed));
-    }
-    Ok(())
-}
-
-/// The chart and the replay input, when asked for.
-fn write_views(
-    chart: Option<&Path>,
-    replay: Option<&Path>,
-    rows: &[Vec<(String, String)>],
-    rate_hz: u32,
-) -> Result<(), PilError> {
-    if let Some(path) = chart {
-        views::force_chart(path, rows, rate_hz)?;
-    }
-    if let Some(path) = replay {
-        views::replay_csv(path, rows, rate_hz)?;
     }
     Ok(())
 }
@@ -363,15 +359,7 @@ pub fn main(args: &Args) -> Result<(), PilError> {
     };
     let log = telemetry::decode(&read(&args.elf)?, &raw)?;
     let rows = telemetry::telemetry_rows(&log);
-    if let Some(path) = &args.telemetry_csv {
-        telemetry::write_csv(path, &rows, s.rate_hz())?;
-    }
-    write_views(
-        args.chart.as_deref(),
-        args.replay_csv.as_deref(),
-        &rows,
-        s.rate_hz(),
-    )?;
+    args.views.write(&rows, s.rate_hz())?;
     let summary = summarize(&scene, &s, &trace, &reference, &log, &rows);
     if args.json {
         println!(
