@@ -88,6 +88,11 @@ fn feed<const TX: usize>(s: &mut LinkSession<TX>, q: &mut Queue, bytes: &[u8]) {
     }
 }
 
+/// Request the state stream at every `divisor`-th tick (0 stops it), with sequence number `seq`.
+fn set_stream<const TX: usize>(s: &mut LinkSession<TX>, q: &mut Queue, seq: u16, divisor: u16) {
+    feed(s, q, &request(seq, Request::SetStream { divisor }));
+}
+
 /// Every frame the device queued for the host, decoded.
 fn sent<const TX: usize>(s: &mut LinkSession<TX>) -> Vec<DeviceMsg> {
     let mut dec = FrameDecoder::new();
@@ -541,26 +546,8 @@ fn bad_frames_are_counted_by_kind_answered_and_the_link_stays_usable() {
 #[test]
 fn the_stream_follows_the_divisor_and_refuses_one_below_the_minimum() {
     let (mut s, mut q) = (session::<4096>(), queue());
-    feed(
-        &mut s,
-        &mut q,
-        &request(
-            1,
-            Request::SetStream {
-                divisor: MIN_DIVISOR - 1,
-            },
-        ),
-    );
-    feed(
-        &mut s,
-        &mut q,
-        &request(
-            2,
-            Request::SetStream {
-                divisor: 2 * MIN_DIVISOR,
-            },
-        ),
-    );
+    set_stream(&mut s, &mut q, 1, MIN_DIVISOR - 1);
+    set_stream(&mut s, &mut q, 2, 2 * MIN_DIVISOR);
     // The tick streams the multiples of the divisor: 0, 10, 20.
     for i in 0..3 {
         s.stream(&point(i * 2 * u32::from(MIN_DIVISOR)));
@@ -597,11 +584,7 @@ fn the_stream_follows_the_divisor_and_refuses_one_below_the_minimum() {
     assert_eq!(st.force_n, [0.1, -2.5, 12.0]);
     assert_eq!(st.dropped, 0);
     // Divisor 0 stops it.
-    feed(
-        &mut s,
-        &mut q,
-        &request(3, Request::SetStream { divisor: 0 }),
-    );
+    set_stream(&mut s, &mut q, 3, 0);
     s.stream(&point(30));
     assert_eq!(
         sent(&mut s),
@@ -683,16 +666,7 @@ fn the_tick_streams_the_multiples_of_the_divisor_with_the_timing_between() {
 #[test]
 fn points_the_tick_could_not_queue_are_counted_as_dropped() {
     let (mut s, mut q) = (session::<4096>(), queue());
-    feed(
-        &mut s,
-        &mut q,
-        &request(
-            1,
-            Request::SetStream {
-                divisor: MIN_DIVISOR,
-            },
-        ),
-    );
+    set_stream(&mut s, &mut q, 1, MIN_DIVISOR);
     let d = u32::from(MIN_DIVISOR);
     // Points 0, 5, then 20: the tick lost 10 and 15.
     for t in [0, d, 4 * d] {
@@ -712,16 +686,7 @@ fn points_the_tick_could_not_queue_are_counted_as_dropped() {
 fn a_host_that_stops_reading_loses_samples_counted_never_blocks() {
     // Room for about two state frames.
     let (mut s, mut q) = (session::<200>(), queue());
-    feed(
-        &mut s,
-        &mut q,
-        &request(
-            1,
-            Request::SetStream {
-                divisor: MIN_DIVISOR,
-            },
-        ),
-    );
+    set_stream(&mut s, &mut q, 1, MIN_DIVISOR);
     assert_eq!(sent(&mut s).len(), 1);
     let d = u32::from(MIN_DIVISOR);
     for i in 0..10 {
