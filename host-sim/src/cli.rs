@@ -46,6 +46,36 @@ pub enum Command {
     LimitSurface(crate::limit_surface_cmd::Args),
 }
 
+/// Parse `argv` as the command line `P`; on failure clap has printed its message and the exit
+/// code is returned: 0 for `--help` and `--version`, 2 for a usage error.
+pub fn parse_or_exit_code<P, I, T>(argv: I) -> Result<P, u8>
+where
+    P: Parser,
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    P::try_parse_from(argv).map_err(|e| {
+        let _ = e.print();
+        if e.use_stderr() {
+            2
+        } else {
+            0
+        }
+    })
+}
+
+/// The exit code of a command's result: 0, or 2 with the error printed on stderr as one line
+/// `PROGRAM: ERROR`.
+pub fn exit_code<E: std::fmt::Display>(program: &str, result: Result<(), E>) -> u8 {
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("{program}: {e}");
+            2
+        }
+    }
+}
+
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
 /// (clap's own usage errors also exit 2). Errors are printed on stderr as one line.
 pub fn run<I, T>(argv: I) -> u8
@@ -53,12 +83,9 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
-    let cli = match Cli::try_parse_from(argv) {
+    let cli: Cli = match parse_or_exit_code(argv) {
         Ok(c) => c,
-        Err(e) => {
-            let _ = e.print();
-            return if e.use_stderr() { 2 } else { 0 };
-        }
+        Err(code) => return code,
     };
     let result: Result<(), Box<dyn std::error::Error>> = match cli.command {
         Some(Command::Run(args)) => crate::run::main(&args).map_err(Into::into),
@@ -77,11 +104,5 @@ where
         Some(Command::Serve(args)) => crate::serve::main(&args).map_err(Into::into),
         None => crate::run::main(&crate::run::Args::default()).map_err(Into::into),
     };
-    match result {
-        Ok(()) => 0,
-        Err(e) => {
-            eprintln!("host-sim: {e}");
-            2
-        }
-    }
+    exit_code("host-sim", result)
 }
