@@ -202,18 +202,7 @@ fn bad_frames(c: &mut Client, r: &mut LinkReport) -> Result<(), LinkError> {
 
 /// Models before homing: refused by the pipeline's validation, with their codes.
 fn refused_models(c: &mut Client, r: &mut LinkReport) -> Result<(), LinkError> {
-    let initial_seq = LocalModel {
-        seq: 0,
-        shape: SurfaceShape::Plane,
-        position_m: [0.0, 0.0, -0.175],
-        orientation: [1.0, 0.0, 0.0, 0.0],
-        stiffness_n_per_m: 2000.0,
-        damping_n_s_per_m: 2.0,
-        mu_s: 0.8,
-        mu_k: 0.6,
-        spin_stiffness_nm_per_rad: 0.01,
-        max_age_ms: 0,
-    };
+    let initial_seq = super::link_model::model(0, SurfaceShape::Plane, [0.0, 0.0, -0.175]);
     let seq = c.request(Request::SetLocalModel(initial_seq))?;
     let stale = c.ack(seq)?;
     let seq = c.request(Request::SetLocalModel(LocalModel {

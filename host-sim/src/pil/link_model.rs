@@ -69,7 +69,7 @@ fn zero_after_timeout_s() -> f32 {
 const SAMPLES: usize = 40;
 
 /// A model of the default material, never stale.
-fn model(seq: u32, shape: SurfaceShape, position_m: [f32; 3]) -> LocalModel {
+pub(super) fn model(seq: u32, shape: SurfaceShape, position_m: [f32; 3]) -> LocalModel {
     LocalModel {
         seq,
         shape,

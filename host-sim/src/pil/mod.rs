@@ -229,12 +229,7 @@ fn run_board(
     if !args.elf.is_file() {
         return Err(PilError::NoElf(args.elf.clone()));
     }
-    let elf = args
-        .elf
-        .canonicalize()
-        .map_err(FileError::on(&args.elf, "cannot resolve"))?;
-    let dir = work_dir()?;
-    let limit = Duration::from_secs(args.timeout_s);
+    let (elf, dir, limit) = emulator_setup(args)?;
     let result = (|| {
         let mut emu = qemu::Emulator::start(&args.qemu, &elf, &dir, limit)?;
         let served = session::run(&mut emu, plant.clone(), s);
@@ -253,6 +248,20 @@ fn run_board(
         }
         Ok((trace, read(&dir.join(qemu::DEFMT_LOG))?))
     })();
+    clean_up(result, dir)
+}
+
+/// The ELF's absolute path, a fresh work directory and QEMU's wall-clock limit, for one run.
+fn emulator_setup(args: &Args) -> Result<(PathBuf, PathBuf, Duration), PilError> {
+    let elf = args
+        .elf
+        .canonicalize()
+        .map_err(FileError::on(&args.elf, "cannot resolve"))?;
+    Ok((elf, work_dir()?, Duration::from_secs(args.timeout_s)))
+}
+
+/// `result` of a run in `dir`: the directory removed on success, kept and named on failure.
+fn clean_up<T>(result: Result<T, PilError>, dir: PathBuf) -> Result<T, PilError> {
     match result {
         Ok(r) => {
             let _ = std::fs::remove_dir_all(&dir);
@@ -290,20 +299,9 @@ fn link_main(args: &Args) -> Result<(), PilError> {
     let (scene, contact) = load_scene(&args.scene)?;
     let s = settings(args, &scene)?;
     let plant = closed_loop::plant(&scene, &contact)?;
-    let elf = args
-        .elf
-        .canonicalize()
-        .map_err(FileError::on(&args.elf, "cannot resolve"))?;
-    let dir = work_dir()?;
-    let limit = Duration::from_secs(args.timeout_s);
-    let (trace, report) =
-        link_check::run(&args.qemu, &elf, &dir, limit, plant, &s).map_err(|e| {
-            PilError::WorkDirKept {
-                source: Box::new(e),
-                dir: dir.clone(),
-            }
-        })?;
-    let _ = std::fs::remove_dir_all(&dir);
+    let (elf, dir, limit) = emulator_setup(args)?;
+    let run = link_check::run(&args.qemu, &elf, &dir, limit, plant, &s);
+    let (trace, report) = clean_up(run, dir)?;
     if args.json {
         println!(
             "{}",
