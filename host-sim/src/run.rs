@@ -15,12 +15,10 @@ use softfinger_core::{Fast, Flags, Math};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::closed_loop::ClosedLoopError;
+use crate::closed_loop::{ClosedLoopError, SetupError};
 use crate::error::{ChartError, FileError};
 use crate::limit_path::LimitPathError;
-use crate::plant::PlantError;
 use crate::scene::SceneError;
-use softfinger_core::pipeline::PipelineError;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -37,7 +35,7 @@ pub enum RunError {
         /// Scene name.
         scene: String,
         /// The stage and its reason.
-        source: SceneStage,
+        source: SetupError,
     },
     /// The progress bar's template was rejected.
     #[error("progress bar: {0}")]
@@ -52,22 +50,6 @@ pub enum RunError {
     #[error(transparent)]
     LimitPath(#[from] LimitPathError),
 }
-
-/// The stage of a scene's run that failed.
-#[derive(Debug, thiserror::Error)]
-pub enum SceneStage {
-    /// The pipeline refused its configuration.
-    #[error("pipeline configuration: {0}")]
-    Pipeline(PipelineError),
-    /// The plant refused its parameters.
-    #[error("plant: {0}")]
-    Plant(PlantError),
-    /// The operator's session (homing, arming) failed.
-    #[error("{0}")]
-    Session(ClosedLoopError),
-}
-
-crate::error::error_into_string!(RunError);
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct Args {
@@ -209,11 +191,9 @@ fn run_with<M: Math, S: Surface>(
         scene: scene.name.clone(),
         source,
     };
-    let mut pipe: Pipeline<M, S> =
-        Pipeline::new(config).map_err(|e| in_scene(SceneStage::Pipeline(e)))?;
-    let mut plant =
-        closed_loop::plant(&scene, &config.contact).map_err(|e| in_scene(SceneStage::Plant(e)))?;
-    let prepared = prepare(&mut pipe, &mut plant).map_err(|e| in_scene(SceneStage::Session(e)))?;
+    let mut pipe: Pipeline<M, S> = Pipeline::new(config).map_err(|e| in_scene(e.into()))?;
+    let mut plant = closed_loop::plant(&scene, &config.contact).map_err(|e| in_scene(e.into()))?;
+    let prepared = prepare(&mut pipe, &mut plant).map_err(|e| in_scene(e.into()))?;
     let dt = 1.0 / f64::from(config.timing.control_hz);
     let full_scale = config.timing.pwm_period_counts() as u16;
     let mut rows = Vec::with_capacity(ticks as usize);
