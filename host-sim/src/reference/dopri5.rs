@@ -2,61 +2,56 @@
 //! continuous extension (Matlab's `ntrp45`) and a fixed-step integration used to check the
 //! method's order. The adaptive integrator built on them is [`super::rk45::Rk45`].
 
-/// Dormand–Prince 5(4) tableau, stages 2 to 6: stage `i` is evaluated at `t + c_i·h` and
-/// `y + h·Σ_j a_ij·k_j`, one `a_ij` per earlier stage.
-const STAGES: [(f64, &[f64]); 5] = [
-    (1.0 / 5.0, &[1.0 / 5.0]),
-    (3.0 / 10.0, &[3.0 / 40.0, 9.0 / 40.0]),
-    (4.0 / 5.0, &[44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0]),
-    (
-        8.0 / 9.0,
-        &[
-            19372.0 / 6561.0,
-            -25360.0 / 2187.0,
-            64448.0 / 6561.0,
-            -212.0 / 729.0,
-        ],
-    ),
-    (
-        1.0,
-        &[
-            9017.0 / 3168.0,
-            -355.0 / 33.0,
-            46732.0 / 5247.0,
-            49.0 / 176.0,
-            -5103.0 / 18656.0,
-        ],
-    ),
+// Dormand–Prince 5(4) tableau (stage 6 at c = 1; the 7th stage is the next step's first: FSAL).
+/// Nodes `c_2 … c_5`.
+const C: [f64; 4] = [1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0];
+/// Rows 2 to 6 of `A` (one coefficient per earlier stage).
+const A2: [f64; 1] = [1.0 / 5.0];
+const A3: [f64; 2] = [3.0 / 40.0, 9.0 / 40.0];
+const A4: [f64; 3] = [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0];
+const A5: [f64; 4] = [
+    19372.0 / 6561.0,
+    -25360.0 / 2187.0,
+    64448.0 / 6561.0,
+    -212.0 / 729.0,
 ];
-/// 5th-order weights `(stage index from 0, b_j)`, zero weights left out (also the 7th stage's row:
-/// FSAL).
-const B: [(usize, f64); 5] = [
-    (0, 35.0 / 384.0),
-    (2, 500.0 / 1113.0),
-    (3, 125.0 / 192.0),
-    (4, -2187.0 / 6784.0),
-    (5, 11.0 / 84.0),
+const A6: [f64; 5] = [
+    9017.0 / 3168.0,
+    -355.0 / 33.0,
+    46732.0 / 5247.0,
+    49.0 / 176.0,
+    -5103.0 / 18656.0,
 ];
-/// Error weights `e = b(5th) − b*(4th)`, b* = (5179/57600, 0, 7571/16695, 393/640, −92097/339200,
-/// 187/2100, 1/40), as `(stage index from 0, e_j)`.
-const E: [(usize, f64); 6] = [
-    (0, 71.0 / 57600.0),
-    (2, -71.0 / 16695.0),
-    (3, 71.0 / 1920.0),
-    (4, -17253.0 / 339200.0),
-    (5, 22.0 / 525.0),
-    (6, -1.0 / 40.0),
+/// 5th-order weights `b_1 … b_6` (`b_2 = 0`; also the 7th stage's row: FSAL).
+const B: [f64; 6] = [
+    35.0 / 384.0,
+    0.0,
+    500.0 / 1113.0,
+    125.0 / 192.0,
+    -2187.0 / 6784.0,
+    11.0 / 84.0,
+];
+/// Error weights `e = b(5th) − b*(4th)`, `e_2 = 0`, with b* = (5179/57600, 0, 7571/16695, 393/640,
+/// −92097/339200, 187/2100, 1/40).
+const E: [f64; 7] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
 ];
 
-/// `y + h·Σ c_j k_j` componentwise, the terms summed in the order given.
-pub(super) fn combine<'a, const N: usize>(
+/// `y + h·Σ c_j k_j` componentwise.
+pub(super) fn combine<const N: usize>(
     y: &[f64; N],
     h: f64,
-    terms: impl Iterator<Item = (f64, &'a [f64; N])> + Clone,
+    terms: &[(f64, &[f64; N])],
 ) -> [f64; N] {
     let mut out = *y;
     for (i, o) in out.iter_mut().enumerate() {
-        let s: f64 = terms.clone().map(|(c, k)| c * k[i]).sum();
+        let s: f64 = terms.iter().map(|(c, k)| c * k[i]).sum();
         *o += h * s;
     }
     out
@@ -86,15 +81,64 @@ pub fn dopri5_step<const N: usize, F>(
 where
     F: FnMut(f64, &[f64; N]) -> [f64; N],
 {
-    let mut k = [*k1; 7];
-    for (i, (c, row)) in STAGES.iter().enumerate() {
-        let yi = combine(y, h, row.iter().zip(&k).map(|(a, kj)| (*a, kj)));
-        k[i + 1] = f(t + c * h, &yi);
+    let k2 = f(t + C[0] * h, &combine(y, h, &[(A2[0], k1)]));
+    let k3 = f(t + C[1] * h, &combine(y, h, &[(A3[0], k1), (A3[1], &k2)]));
+    let k4 = f(
+        t + C[2] * h,
+        &combine(y, h, &[(A4[0], k1), (A4[1], &k2), (A4[2], &k3)]),
+    );
+    let k5 = f(
+        t + C[3] * h,
+        &combine(
+            y,
+            h,
+            &[(A5[0], k1), (A5[1], &k2), (A5[2], &k3), (A5[3], &k4)],
+        ),
+    );
+    let k6 = f(
+        t + h,
+        &combine(
+            y,
+            h,
+            &[
+                (A6[0], k1),
+                (A6[1], &k2),
+                (A6[2], &k3),
+                (A6[3], &k4),
+                (A6[4], &k5),
+            ],
+        ),
+    );
+    let y_new = combine(
+        y,
+        h,
+        &[
+            (B[0], k1),
+            (B[2], &k3),
+            (B[3], &k4),
+            (B[4], &k5),
+            (B[5], &k6),
+        ],
+    );
+    let k7 = f(t + h, &y_new);
+    let zero = [0.0; N];
+    let err = combine(
+        &zero,
+        h,
+        &[
+            (E[0], k1),
+            (E[2], &k3),
+            (E[3], &k4),
+            (E[4], &k5),
+            (E[5], &k6),
+            (E[6], &k7),
+        ],
+    );
+    Step {
+        y_new,
+        err,
+        k: [*k1, k2, k3, k4, k5, k6, k7],
     }
-    let y_new = combine(y, h, B.iter().map(|&(j, b)| (b, &k[j])));
-    k[6] = f(t + h, &y_new);
-    let err = combine(&[0.0; N], h, E.iter().map(|&(j, e)| (e, &k[j])));
-    Step { y_new, err, k }
 }
 
 // Continuous extension of Matlab's `ntrp45` (Shampine 1986): y(t + s·h) = y + h·Σ_j k_j·(BI_j · [s, s², s³, s⁴]).

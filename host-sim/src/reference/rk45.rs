@@ -198,7 +198,7 @@ impl<const N: usize> Rk45<N> {
         }
         .min(span)
         .min(self.opts.h_max);
-        let y1 = combine(y0, h0, std::iter::once((1.0, f0)));
+        let y1 = combine(y0, h0, &[(1.0, f0)]);
         let f1 = f(t0 + h0, &y1);
         self.stats.f_evals += 1;
         let mut diff = [0.0; N];
