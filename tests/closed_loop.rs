@@ -2,7 +2,7 @@
 //! counts and bridge commands) homes, arms, stays bounded and does what the script asks: touch,
 //! roll, twist, slide, lift off.
 
-use host_sim::run::{simulate_scene, summarize, Args};
+use host_sim::run::{simulate_scene, summarize, Args, RunResult, Summary};
 use softfinger_core::contact::state::ContactState;
 
 #[test]
@@ -53,16 +53,52 @@ fn default_scene_is_bounded_and_visits_every_state() {
     assert_eq!(last.force_n, [0.0; 3]);
 }
 
-#[test]
-fn sphere_scene_is_bounded() {
+/// Run a built-in scene and check what every scene must hold: no non-finite value, no latched
+/// fault, never above the contact model's 12 N limit. The run and its summary.
+fn run_bounded(scene: &str) -> (RunResult, Summary) {
     let res = simulate_scene(&Args {
-        scene: "finger-on-sphere".into(),
+        scene: scene.into(),
         ..Args::default()
     })
     .unwrap();
     let s = summarize(&res.rows, 1.0 / res.scene.rate_hz);
-    assert_eq!(s.non_finite_values, 0);
-    assert!(s.max_force_n <= 12.0 + 1e-3);
+    assert_eq!(s.non_finite_values, 0, "{scene}");
+    assert_eq!(s.latched_fault_ticks, 0, "{scene}");
+    assert!(
+        s.max_force_n <= 12.0 + 1e-3,
+        "{scene}: max force {}",
+        s.max_force_n
+    );
+    (res, s)
+}
+
+/// A scene that rolls without chatter: mostly rolling (over 2.5 s), a handful of transitions.
+fn assert_rolls_steadily(s: &Summary) {
+    assert!(s.time_in_state_s[1] > 2.5, "{:?}", s.time_in_state_s);
+    assert!(s.transitions <= 10, "{} transitions", s.transitions);
+}
+
+/// The contact point on the object at the end of the roll against its closed form `expected`:
+/// within each `(axis, bound m)`, and exactly 0 on `still_axis`.
+fn assert_end_of_roll(
+    res: &RunResult,
+    expected: [f64; 3],
+    bounds: [(usize, f64); 2],
+    still_axis: usize,
+) {
+    let p = end_of_roll(res);
+    for (k, bound) in bounds {
+        assert!(
+            (p[k] - expected[k]).abs() < bound,
+            "end of roll {p:?}, closed form {expected:?}"
+        );
+    }
+    assert_eq!(p[still_axis], 0.0, "end of roll {p:?}");
+}
+
+#[test]
+fn sphere_scene_is_bounded() {
+    let (_, s) = run_bounded("finger-on-sphere");
     assert!(s.time_in_state_s[1] > 2.5, "{:?}", s.time_in_state_s);
 }
 
@@ -87,60 +123,28 @@ fn rolled_normal_angle(r: f64, big_r: f64, concave: bool) -> f64 {
 
 #[test]
 fn bowl_scene_is_bounded_and_rolls_up_the_wall() {
-    let res = simulate_scene(&Args {
-        scene: "finger-in-bowl".into(),
-        ..Args::default()
-    })
-    .unwrap();
-    let s = summarize(&res.rows, 1.0 / res.scene.rate_hz);
-    assert_eq!(s.non_finite_values, 0);
-    assert_eq!(s.latched_fault_ticks, 0);
-    assert!(s.max_force_n <= 12.0 + 1e-3, "max force {}", s.max_force_n);
-    assert!(s.time_in_state_s[1] > 2.5, "{:?}", s.time_in_state_s);
-    assert!(s.transitions <= 10, "{} transitions", s.transitions);
+    let (res, s) = run_bounded("finger-in-bowl");
+    assert_rolls_steadily(&s);
     // End of the roll: the contact at (R sin β, 0, −R cos β), β = 0.3·r/(R − r) = 0.075 rad.
     // Measured 8.2 µm off in x and 0.62 µm in z (the wrist's quantisation and the press
     // settling); bounds 3×: 25 µm and 1.9 µm. The roll stays in the x-z plane: y measured exactly 0.
     let big_r = 0.05;
     let beta = rolled_normal_angle(0.01, big_r, true);
-    let p = end_of_roll(&res);
     let expected = [big_r * beta.sin(), 0.0, -big_r * beta.cos()];
-    for (k, bound) in [(0, 25e-6), (2, 1.9e-6)] {
-        assert!(
-            (p[k] - expected[k]).abs() < bound,
-            "end of roll {p:?}, closed form {expected:?}"
-        );
-    }
-    assert_eq!(p[1], 0.0, "end of roll {p:?}");
+    assert_end_of_roll(&res, expected, [(0, 25e-6), (2, 1.9e-6)], 1);
 }
 
 #[test]
 fn cylinder_scene_is_bounded_and_rolls_around_the_axis() {
-    let res = simulate_scene(&Args {
-        scene: "finger-on-cylinder".into(),
-        ..Args::default()
-    })
-    .unwrap();
-    let s = summarize(&res.rows, 1.0 / res.scene.rate_hz);
-    assert_eq!(s.non_finite_values, 0);
-    assert_eq!(s.latched_fault_ticks, 0);
-    assert!(s.max_force_n <= 12.0 + 1e-3, "max force {}", s.max_force_n);
-    assert!(s.time_in_state_s[1] > 2.5, "{:?}", s.time_in_state_s);
-    assert!(s.transitions <= 10, "{} transitions", s.transitions);
+    let (res, s) = run_bounded("finger-on-cylinder");
+    assert_rolls_steadily(&s);
     // Rolled across the axis (heading +y): the contact at (0, R sin α, R cos α),
     // α = 0.3·r/(R + r) = 0.05 rad, and none along the axis. Measured 5.5 µm off in y and
     // 0.28 µm in z; bounds 3×: 17 µm and 0.83 µm. Along the axis (x): measured exactly 0.
     let big_r = 0.05;
     let alpha = rolled_normal_angle(0.01, big_r, false);
-    let p = end_of_roll(&res);
     let expected = [0.0, big_r * alpha.sin(), big_r * alpha.cos()];
-    for (k, bound) in [(1, 17e-6), (2, 0.83e-6)] {
-        assert!(
-            (p[k] - expected[k]).abs() < bound,
-            "end of roll {p:?}, closed form {expected:?}"
-        );
-    }
-    assert_eq!(p[0], 0.0, "end of roll {p:?}");
+    assert_end_of_roll(&res, expected, [(1, 17e-6), (2, 0.83e-6)], 0);
 }
 
 /// The hand pushes the pressed fingertip 20 mm sideways while twisting it 0.5 rad: the rendered
@@ -149,15 +153,7 @@ fn cylinder_scene_is_bounded_and_rolls_around_the_axis() {
 #[test]
 fn slide_twist_scene_reaches_the_limit_surface_and_stays_within_it() {
     use host_sim::limit_path::{load_path, summarize as load_summary, write_for_run};
-    let res = simulate_scene(&Args {
-        scene: "finger-slide-twist".into(),
-        ..Args::default()
-    })
-    .unwrap();
-    let s = summarize(&res.rows, 1.0 / res.scene.rate_hz);
-    assert_eq!(s.non_finite_values, 0);
-    assert_eq!(s.latched_fault_ticks, 0);
-    assert!(s.max_force_n <= 12.0 + 1e-3, "max force {}", s.max_force_n);
+    let (res, _) = run_bounded("finger-slide-twist");
     let params = host_sim::closed_loop::contact_params(&res.scene).unwrap();
     let l = load_summary(&load_path(&res.rows, &params));
     let h = params.state_params().tol.hysteresis as f64;

@@ -60,6 +60,7 @@ fn a_held_finger_does_not_creep_in_closed_loop() {
 /// 12's 0.65 µm/s and 4.7e-4 N at 0.05 µm/s (libm, measured over 20 s): both caught.
 #[test]
 fn a_held_finger_renders_no_mean_tangential_force_growth() {
+    use host_sim::backend::Backend;
     use host_sim::hold_quantisation::{measure, HoldSetup};
     use softfinger_core::Micromath;
     const ONE_COUNT_N: f64 = 0.01274;
@@ -73,13 +74,13 @@ fn a_held_finger_renders_no_mean_tangential_force_growth() {
     // micromath 2.48e-6 N, Fast 2.63e-5 N. The slowest drift below makes 4.7e-4 N, above all three.
     let libm = measure::<Libm>(setup(0.0)).unwrap();
     for (name, still, change_bound_n) in [
-        ("libm", libm, 5.2e-9),
+        (Backend::Libm, libm, 5.2e-9),
         (
-            "micromath",
+            Backend::Micromath,
             measure::<Micromath>(setup(0.0)).unwrap(),
             7.4e-6,
         ),
-        ("fast", measure::<Fast>(setup(0.0)).unwrap(), 7.9e-5),
+        (Backend::Fast, measure::<Fast>(setup(0.0)).unwrap(), 7.9e-5),
     ] {
         eprintln!("{name} still: {still:?}");
         assert_eq!(still.anchor_walk_m, 0.0, "{name}: {still:?}");

@@ -188,7 +188,9 @@ fn bad_inputs_are_rejected_with_the_line_and_leave_nothing() {
             1,
             "case {name}: only the input remains, found {leftovers:?}"
         );
-        let err = host_sim::replay::read_samples(&input).unwrap_err();
+        let err = host_sim::replay::read_samples(&input)
+            .unwrap_err()
+            .to_string();
         assert!(
             err.contains(needle),
             "case {name}: '{err}' should name '{needle}'"

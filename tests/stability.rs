@@ -1,7 +1,7 @@
 //! `host-sim stability` end to end: a short run exits 0 and writes every chart and the summary.
 
 use std::fs;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn tmpdir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!(
@@ -10,6 +10,13 @@ fn tmpdir(name: &str) -> PathBuf {
     ));
     let _ = fs::remove_dir_all(&d);
     d
+}
+
+/// `host-sim stability --out DIR OPTIONS...`: the exit code.
+fn stability(dir: &Path, options: &[&str]) -> u8 {
+    let out = dir.to_str().unwrap();
+    let argv = ["host-sim", "stability", "--out", out];
+    host_sim::cli::run(argv.iter().chain(options))
 }
 
 /// The charts the command promises, each a non-trivial SVG document.
@@ -30,19 +37,18 @@ const CHARTS: [&str; 10] = [
 fn short_run_writes_every_chart_and_the_tables() {
     // The output folder does not exist yet: the command creates it.
     let dir = tmpdir("short").join("nested");
-    let code = host_sim::cli::run([
-        "host-sim",
-        "stability",
-        "--out",
-        dir.to_str().unwrap(),
-        "--drift-steps",
-        "10000",
-        "--haptic-seconds",
-        "2",
-        "--skip-closed-loop",
-        "--chatter-steps",
-        "20000",
-    ]);
+    let code = stability(
+        &dir,
+        &[
+            "--drift-steps",
+            "10000",
+            "--haptic-seconds",
+            "2",
+            "--skip-closed-loop",
+            "--chatter-steps",
+            "20000",
+        ],
+    );
     assert_eq!(code, 0);
     for name in CHARTS {
         let text = fs::read_to_string(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -65,14 +71,7 @@ fn short_run_writes_every_chart_and_the_tables() {
 #[test]
 fn bad_options_exit_2_and_write_nothing() {
     let dir = tmpdir("bad");
-    let code = host_sim::cli::run([
-        "host-sim",
-        "stability",
-        "--out",
-        dir.to_str().unwrap(),
-        "--drift-steps",
-        "0",
-    ]);
+    let code = stability(&dir, &["--drift-steps", "0"]);
     assert_eq!(code, 2);
     assert!(!dir.exists());
 }

@@ -107,7 +107,7 @@ fn json_output_has_our_rows_and_the_rk45_rows() {
     let names: Vec<&str> = rows.iter().map(|r| r["method"].as_str().unwrap()).collect();
     // Every method x backend of ours.
     for m in ["exact", "rpy", "paper-verbatim"] {
-        for b in ["libm", "fast", "micromath"] {
+        for b in host_sim::backend::Backend::ALL {
             assert!(
                 names.contains(&format!("{m}/{b}").as_str()),
                 "{m}/{b} in {names:?}"

@@ -46,6 +46,36 @@ pub enum Command {
     LimitSurface(crate::limit_surface_cmd::Args),
 }
 
+/// Parse `argv` as the command line `P`; on failure clap has printed its message and the exit
+/// code is returned: 0 for `--help` and `--version`, 2 for a usage error.
+pub fn parse_or_exit_code<P, I, T>(argv: I) -> Result<P, u8>
+where
+    P: Parser,
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    P::try_parse_from(argv).map_err(|e| {
+        let _ = e.print();
+        if e.use_stderr() {
+            2
+        } else {
+            0
+        }
+    })
+}
+
+/// The exit code of a command's result: 0, or 2 with the error printed on stderr as one line
+/// `PROGRAM: ERROR`.
+pub fn exit_code<E: std::fmt::Display>(program: &str, result: Result<(), E>) -> u8 {
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("{program}: {e}");
+            2
+        }
+    }
+}
+
 /// Parse `argv` and run. Returns the process exit code: 0 success, 2 bad input or failure
 /// (clap's own usage errors also exit 2). Errors are printed on stderr as one line.
 pub fn run<I, T>(argv: I) -> u8
@@ -53,33 +83,26 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
-    let cli = match Cli::try_parse_from(argv) {
+    let cli: Cli = match parse_or_exit_code(argv) {
         Ok(c) => c,
-        Err(e) => {
-            let _ = e.print();
-            return if e.use_stderr() { 2 } else { 0 };
-        }
+        Err(code) => return code,
     };
-    let result = match cli.command {
-        Some(Command::Run(args)) => crate::run::main(&args),
-        Some(Command::Replay(args)) => crate::replay::main(&args),
-        Some(Command::Faults(args)) => crate::faults::main(&args),
-        Some(Command::Soak(args)) => crate::faults::soak::main(&args),
-        Some(Command::Validate(args)) => crate::validate::main(&args),
-        Some(Command::Chart(args)) => crate::chart::main(&args),
-        Some(Command::Pil(args)) => crate::pil::main(&args),
-        Some(Command::PilDecode(args)) => crate::pil::decode_main(&args),
-        Some(Command::Creep(args)) => crate::creep::main(&args),
-        Some(Command::LimitSurface(args)) => crate::limit_surface_cmd::main(&args),
-        Some(Command::Stability(args)) => crate::stability::main(&args),
-        Some(Command::Serve(args)) => crate::serve::main(&args),
-        None => crate::run::main(&crate::run::Args::default()),
-    };
-    match result {
-        Ok(()) => 0,
-        Err(e) => {
-            eprintln!("host-sim: {e}");
-            2
+    let result: Result<(), Box<dyn std::error::Error>> = match cli.command {
+        Some(Command::Run(args)) => crate::run::main(&args).map_err(Into::into),
+        Some(Command::Replay(args)) => crate::replay::main(&args).map_err(Into::into),
+        Some(Command::Faults(args)) => crate::faults::main(&args).map_err(Into::into),
+        Some(Command::Soak(args)) => crate::faults::soak::main(&args).map_err(Into::into),
+        Some(Command::Validate(args)) => crate::validate::main(&args).map_err(Into::into),
+        Some(Command::Chart(args)) => crate::chart::main(&args).map_err(Into::into),
+        Some(Command::Pil(args)) => crate::pil::main(&args).map_err(Into::into),
+        Some(Command::PilDecode(args)) => crate::pil::decode_main(&args).map_err(Into::into),
+        Some(Command::Creep(args)) => crate::creep::main(&args).map_err(Into::into),
+        Some(Command::LimitSurface(args)) => {
+            crate::limit_surface_cmd::main(&args).map_err(Into::into)
         }
-    }
+        Some(Command::Stability(args)) => crate::stability::main(&args).map_err(Into::into),
+        Some(Command::Serve(args)) => crate::serve::main(&args).map_err(Into::into),
+        None => crate::run::main(&crate::run::Args::default()).map_err(Into::into),
+    };
+    exit_code("host-sim", result)
 }

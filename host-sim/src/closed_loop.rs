@@ -8,17 +8,92 @@
 //! go (the arms find their stops), the hand takes the handle, `Arm`; the scene's script starts then.
 
 use crate::plant::{HandScript, Plant, PlantError, PlantParams, TouchScript};
-use crate::scene::{Scene, SurfaceSpec};
-use softfinger_core::contact::params::ContactParams;
+use crate::scene::{Scene, SceneProblem, SurfaceSpec};
+use softfinger_core::contact::params::{ContactParams, ParamError};
 use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::control::controller::Scene as PipelineScene;
 use softfinger_core::control::pipeline::{
-    BoardTiming, Command, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
+    BoardTiming, Command, CommandError, Mode, Pipeline, PipelineConfig, PipelineError,
+    PipelineOutput, RawInput, TimingError,
 };
 use softfinger_core::device::delta::DeltaGeometry;
 use softfinger_core::device::OMEGA_LIKE;
 use softfinger_core::{Math, Vec3};
 use std::time::{Duration, Instant};
+
+/// Why a scene could not be set up or its operator session failed.
+#[derive(Debug, thiserror::Error)]
+pub enum ClosedLoopError {
+    /// The scene names an unknown method.
+    #[error(transparent)]
+    Scene(#[from] SceneProblem),
+    /// The scene's contact parameters were rejected.
+    #[error("scene '{scene}': contact parameters: {source}")]
+    Contact {
+        /// Scene name.
+        scene: String,
+        /// The rejected field.
+        source: ParamError,
+    },
+    /// A control rate that is not an integer number of Hz in 1..=10⁶.
+    #[error("rate_hz {0}: the board runs integer rates")]
+    Rate(f64),
+    /// No board timing with the PWM the rate needs.
+    #[error("rate_hz {rate_hz}: no board timing with {pwm_hz} Hz PWM from a {timer_clock_hz} Hz timer clock ({source})")]
+    Timing {
+        /// Control rate, Hz.
+        rate_hz: f64,
+        /// PWM rate tried, Hz.
+        pwm_hz: u32,
+        /// Timer clock, Hz.
+        timer_clock_hz: u32,
+        /// The timing check's reason.
+        source: TimingError,
+    },
+    /// A bowl no larger than the fingertip.
+    #[error("scene '{scene}': a bowl of radius {radius_m} m cannot hold a fingertip of radius {fingertip_m} m")]
+    BowlTooSmall {
+        /// Scene name.
+        scene: String,
+        /// Bowl radius, m.
+        radius_m: f64,
+        /// Fingertip radius, m.
+        fingertip_m: f64,
+    },
+    /// The pipeline faulted before the scene started (the latched flag bits).
+    #[error("faulted during the session: latched flags {0:#010x}")]
+    Faulted(u32),
+    /// The pipeline refused an operator command.
+    #[error("{command} refused: {source}")]
+    Refused {
+        /// The command's name.
+        command: &'static str,
+        /// The pipeline's reason.
+        source: CommandError,
+    },
+    /// Homing did not finish in the given time, s.
+    #[error("not homed after {0} s")]
+    NotHomed(f64),
+}
+
+crate::error::error_into_string!(ClosedLoopError);
+
+/// Why a closed loop (plant, pipeline, operator session) could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum SetupError {
+    /// The plant refused its parameters or script.
+    #[error("plant: {0}")]
+    Plant(#[from] PlantError),
+    /// The pipeline refused its configuration.
+    #[error("pipeline: {0}")]
+    Pipeline(#[from] PipelineError),
+    /// The passivity stage refused its configuration.
+    #[error("passivity: {0}")]
+    Passivity(ParamError),
+    /// The scene's configuration or the operator's session failed.
+    #[error(transparent)]
+    Session(#[from] ClosedLoopError),
+}
 
 /// Height (base frame, m) of the first contact point in every built-in scene (the plane, the top
 /// of the sphere or the cylinder, the bottom of the bowl): 10 mm below the workspace centre, so a
@@ -28,7 +103,7 @@ pub fn surface_top_z_m() -> f64 {
 }
 
 /// The scene's contact parameters: the defaults with the scene's overrides.
-pub fn contact_params(scene: &Scene) -> Result<ContactParams, String> {
+pub fn contact_params(scene: &Scene) -> Result<ContactParams, ClosedLoopError> {
     let c = &scene.contact;
     let d = ContactParams::DEFAULT;
     let p = ContactParams {
@@ -43,8 +118,10 @@ pub fn contact_params(scene: &Scene) -> Result<ContactParams, String> {
         spin_stiffness: c.spin_stiffness.unwrap_or(d.spin_stiffness),
         ..d
     };
-    p.validate()
-        .map_err(|e| format!("scene '{}': contact parameters: {e}", scene.name))?;
+    p.validate().map_err(|source| ClosedLoopError::Contact {
+        scene: scene.name.clone(),
+        source,
+    })?;
     Ok(p)
 }
 
@@ -79,10 +156,10 @@ pub fn plant(scene: &Scene, contact: &ContactParams) -> Result<Plant, PlantError
 /// The board timing for a control rate: the firmware's (`BoardTiming::STM32G474_10KHZ`: 170 MHz
 /// timer clock, 40 kHz PWM) at that rate, or PWM at the control rate above 40 kHz. Rates whose PWM
 /// is not an integer multiple are refused.
-pub fn board_timing(rate_hz: f64) -> Result<BoardTiming, String> {
+pub fn board_timing(rate_hz: f64) -> Result<BoardTiming, ClosedLoopError> {
     let control = rate_hz.round();
     if !(control == rate_hz && (1.0..=1e6).contains(&control)) {
-        return Err(format!("rate_hz {rate_hz}: the board runs integer rates"));
+        return Err(ClosedLoopError::Rate(rate_hz));
     }
     let control = control as u32;
     let base = BoardTiming::STM32G474_10KHZ;
@@ -91,11 +168,11 @@ pub fn board_timing(rate_hz: f64) -> Result<BoardTiming, String> {
         pwm_hz: base.pwm_hz.max(control),
         ..base
     };
-    t.validate().map_err(|e| {
-        format!(
-            "rate_hz {rate_hz}: no board timing with {} Hz PWM from a {} Hz timer clock ({e:?})",
-            t.pwm_hz, t.timer_clock_hz
-        )
+    t.validate().map_err(|source| ClosedLoopError::Timing {
+        rate_hz,
+        pwm_hz: t.pwm_hz,
+        timer_clock_hz: t.timer_clock_hz,
+        source,
     })?;
     Ok(t)
 }
@@ -105,7 +182,7 @@ fn config_for<S: Surface>(
     contact: ContactParams,
     surface: S,
     origin: Vec3,
-) -> Result<PipelineConfig<S>, String> {
+) -> Result<PipelineConfig<S>, ClosedLoopError> {
     Ok(PipelineConfig {
         device: OMEGA_LIKE,
         timing: board_timing(scene.rate_hz)?,
@@ -120,7 +197,7 @@ fn config_for<S: Surface>(
 pub fn plane_config(
     scene: &Scene,
     contact: ContactParams,
-) -> Result<PipelineConfig<Plane>, String> {
+) -> Result<PipelineConfig<Plane>, ClosedLoopError> {
     let origin = Vec3::new(0.0, 0.0, surface_top_z_m() as f32);
     config_for(scene, contact, Plane::default(), origin)
 }
@@ -131,7 +208,7 @@ pub fn sphere_config(
     scene: &Scene,
     contact: ContactParams,
     radius_m: f64,
-) -> Result<PipelineConfig<Sphere>, String> {
+) -> Result<PipelineConfig<Sphere>, ClosedLoopError> {
     let origin = Vec3::new(0.0, 0.0, (surface_top_z_m() - radius_m) as f32);
     config_for(scene, contact, Sphere::new(radius_m as f32), origin)
 }
@@ -142,13 +219,14 @@ pub fn bowl_config(
     scene: &Scene,
     contact: ContactParams,
     radius_m: f64,
-) -> Result<PipelineConfig<Bowl>, String> {
+) -> Result<PipelineConfig<Bowl>, ClosedLoopError> {
     let r = contact.fingertip_radius_m as f64;
     if radius_m <= r {
-        return Err(format!(
-            "scene '{}': a bowl of radius {radius_m} m cannot hold a fingertip of radius {r} m",
-            scene.name
-        ));
+        return Err(ClosedLoopError::BowlTooSmall {
+            scene: scene.name.clone(),
+            radius_m,
+            fingertip_m: r,
+        });
     }
     let origin = Vec3::new(0.0, 0.0, (surface_top_z_m() + radius_m) as f32);
     config_for(scene, contact, Bowl::new(radius_m as f32), origin)
@@ -160,7 +238,7 @@ pub fn cylinder_config(
     scene: &Scene,
     contact: ContactParams,
     radius_m: f64,
-) -> Result<PipelineConfig<Cylinder>, String> {
+) -> Result<PipelineConfig<Cylinder>, ClosedLoopError> {
     let origin = Vec3::new(0.0, 0.0, (surface_top_z_m() - radius_m) as f32);
     config_for(scene, contact, Cylinder::new(radius_m as f32), origin)
 }
@@ -216,13 +294,13 @@ fn hold<M: Math, S: PipelineScene>(
     plant: &mut Plant,
     n: u64,
     done: impl Fn(&PipelineOutput) -> bool,
-) -> Result<(u64, Option<PipelineOutput>), String> {
+) -> Result<(u64, Option<PipelineOutput>), ClosedLoopError> {
     let mut last = None;
     for k in 1..=n {
         plant.restart_script();
         let (_, out, _) = step(pipe, plant, |_| {});
         if out.mode == Mode::Faulted {
-            return Err(format!("faulted during the session: {:?}", out.latched));
+            return Err(ClosedLoopError::Faulted(out.latched.0));
         }
         last = Some(out);
         if done(&out) {
@@ -238,19 +316,22 @@ fn hold<M: Math, S: PipelineScene>(
 pub fn prepare<M: Math, S: PipelineScene>(
     pipe: &mut Pipeline<M, S>,
     plant: &mut Plant,
-) -> Result<Prepared, String> {
+) -> Result<Prepared, ClosedLoopError> {
     let dt = 1.0 / f64::from(pipe.config().timing.control_hz);
     let ticks = |s: f64| (s / dt).round() as u64;
     plant.release_hand();
     let (powered, _) = hold(pipe, plant, ticks(POWER_UP_S), |_| false)?;
     pipe.command(Command::Home)
-        .map_err(|e| format!("Home refused: {e:?}"))?;
+        .map_err(|source| ClosedLoopError::Refused {
+            command: "Home",
+            source,
+        })?;
     let (homing, last) = hold(pipe, plant, ticks(HOMING_WAIT_S), |o| {
         o.mode == Mode::Disarmed
     })?;
     let out = match last {
         Some(o) if o.mode == Mode::Disarmed => o,
-        _ => return Err(format!("not homed after {HOMING_WAIT_S} s")),
+        _ => return Err(ClosedLoopError::NotHomed(HOMING_WAIT_S)),
     };
     let truth = plant.counts();
     let homing_error_counts =
@@ -258,7 +339,10 @@ pub fn prepare<M: Math, S: PipelineScene>(
     plant.grasp_hand();
     let (settled, _) = hold(pipe, plant, ticks(SETTLE_S), |_| false)?;
     pipe.command(Command::Arm)
-        .map_err(|e| format!("Arm refused: {e:?}"))?;
+        .map_err(|source| ClosedLoopError::Refused {
+            command: "Arm",
+            source,
+        })?;
     plant.restart_script();
     Ok(Prepared {
         homed_at_s: (powered + homing) as f64 * dt,
@@ -297,7 +381,7 @@ mod tests {
         let scene = Scene::load("finger-in-bowl").unwrap();
         let contact = contact_params(&scene).unwrap();
         let r = contact.fingertip_radius_m as f64;
-        let e = bowl_config(&scene, contact, r).unwrap_err();
+        let e = bowl_config(&scene, contact, r).unwrap_err().to_string();
         assert!(e.contains("cannot hold"), "{e}");
         let ok = bowl_config(&scene, contact, r * 1.001).unwrap();
         // The bowl's centre is its radius above the first contact, up to the f32 rounding of the

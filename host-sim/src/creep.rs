@@ -18,7 +18,8 @@
 //!   first and last windows
 //!   and its change, the count changes and the anchor's walk.
 
-use crate::closed_loop;
+use crate::backend::{dispatch, Backend};
+use crate::closed_loop::{self, SetupError};
 use crate::hold_quantisation::{self, HoldSetup};
 use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
 use softfinger_core::contact::decompose::Method;
@@ -29,9 +30,8 @@ use softfinger_core::contact::surface::{Plane, Surface};
 use softfinger_core::contact::{ContactInput, ContactModel};
 use softfinger_core::control::pipeline::{BoardTiming, Pipeline, PipelineConfig};
 use softfinger_core::device::delta::DeltaGeometry;
-use softfinger_core::device::DeviceParams;
-use softfinger_core::device::OMEGA_LIKE;
-use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Vec3};
+use softfinger_core::device::{DeviceParams, OMEGA_LIKE};
+use softfinger_core::{Libm, Math, Quat, Vec3};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -158,7 +158,7 @@ pub struct HoldForces {
 
 /// Closed loop: press 1 mm with the wrist at [`rest_orientation`]'s angles and hold `hold_s`, once
 /// still and once with one wrist count dithering every tick.
-pub fn closed_loop_hold<M: Math>(method: Method, hold_s: f64) -> Result<HoldForces, String> {
+pub fn closed_loop_hold<M: Math>(method: Method, hold_s: f64) -> Result<HoldForces, SetupError> {
     let contact = ContactParams {
         method,
         ..ContactParams::DEFAULT
@@ -182,7 +182,7 @@ fn hold_run<M: Math>(
     contact: ContactParams,
     hold_s: f64,
     dither: bool,
-) -> Result<(f64, f64, f64), String> {
+) -> Result<(f64, f64, f64), SetupError> {
     let (mut ctrl, mut plant) = hold_scene::<M>(contact, hold_s, 0.0)?;
     let rate = f64::from(ctrl.config().timing.control_hz);
     let ticks = ((0.5 + hold_s) * rate) as u64;
@@ -239,7 +239,7 @@ pub fn hold_scene<M: Math>(
     contact: ContactParams,
     hold_s: f64,
     drift_m_per_s: f64,
-) -> Result<(Pipeline<M, Plane>, Plant), String> {
+) -> Result<(Pipeline<M, Plane>, Plant), SetupError> {
     let top = closed_loop::surface_top_z_m();
     let c = DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
     let wrist = [0.3, -0.2, 0.1];
@@ -266,8 +266,7 @@ pub fn hold_scene<M: Math>(
             wrist_rad: wrist,
         },
     );
-    let mut plant = Plant::new(OMEGA_LIKE.params, PlantParams::OMEGA_LIKE, script)
-        .map_err(|e| format!("plant: {e:?}"))?;
+    let mut plant = Plant::new(OMEGA_LIKE.params, PlantParams::OMEGA_LIKE, script)?;
     let config = PipelineConfig {
         device: OMEGA_LIKE,
         timing: BoardTiming::STM32G474_10KHZ,
@@ -276,71 +275,85 @@ pub fn hold_scene<M: Math>(
         object_origin_m: Vec3::new(0.0, 0.0, top as f32),
         log_rate_hz: softfinger_core::control::telemetry::DEFAULT_LOG_RATE_HZ,
     };
-    let mut ctrl: Pipeline<M, Plane> =
-        Pipeline::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
+    let mut ctrl: Pipeline<M, Plane> = Pipeline::new(config)?;
     // The operator's session first (home, grasp, arm); the script starts when armed.
     closed_loop::prepare(&mut ctrl, &mut plant)?;
     Ok((ctrl, plant))
 }
 
-fn per_backend(args: &Args, method: Method) -> Result<(), String> {
-    macro_rules! row {
-        ($m:ty) => {{
-            let n = (args.seconds * args.rate_hz) as u64;
-            let q = rest_orientation();
-            let c = wrist_count_rad();
-            let twist = q * Quat::from_axis_angle::<Libm>(Vec3::Z, c);
-            let tilt = q * Quat::from_axis_angle::<Libm>(Vec3::X, c);
-            let same = replay_cycle::<$m>(method, &[q], n);
-            let dt = replay_cycle::<$m>(method, &[q, tilt], n);
-            let dz = replay_cycle::<$m>(method, &[q, twist], n);
-            let (walk, f_t) = held_contact::<$m>(method, args.held_ticks);
-            let cl = if args.hold_s > 0.0 {
-                let h = closed_loop_hold::<$m>(method, args.hold_s)?;
-                format!(
-                    "still {:.3e} N (change {:.3e} N, anchor walk {:.3e} N), dither pair mean {:.3e} N (anchor walk {:.3e} N), one count {:.3e} N",
-                    h.still_max_n, h.still_growth_n, h.still_anchor_walk_n, h.dither_pair_max_n, h.dither_anchor_walk_n, h.one_count_n
-                )
-            } else {
-                "skipped".to_string()
-            };
-            println!(
-                "{:<15} {:<9} identical {:.3e} m {:.3e} rad | tilt dither {:.3e} m | twist dither {:.3e} rad | held anchor {:.3e} m f_t {:.3e} N | closed loop {}",
-                method.name(),
-                <$m as Math>::NAME,
-                same.point_m,
-                same.spin_rad,
-                dt.point_m,
-                dz.spin_rad,
-                walk,
-                f_t,
-                cl
-            );
-        }};
-    }
-    row!(Libm);
-    row!(Micromath);
-    row!(Fast);
+/// The backends in the order the command prints them.
+const PRINT_ORDER: [Backend; 3] = [Backend::Libm, Backend::Micromath, Backend::Fast];
+
+/// One printed row: every creep measurement of `method` on backend `M`.
+fn backend_row<M: Math>(args: &Args, method: Method) -> Result<(), CreepError> {
+    let n = (args.seconds * args.rate_hz) as u64;
+    let q = rest_orientation();
+    let c = wrist_count_rad();
+    let twist = q * Quat::from_axis_angle::<Libm>(Vec3::Z, c);
+    let tilt = q * Quat::from_axis_angle::<Libm>(Vec3::X, c);
+    let same = replay_cycle::<M>(method, &[q], n);
+    let dt = replay_cycle::<M>(method, &[q, tilt], n);
+    let dz = replay_cycle::<M>(method, &[q, twist], n);
+    let (walk, f_t) = held_contact::<M>(method, args.held_ticks);
+    let cl = if args.hold_s > 0.0 {
+        let h = closed_loop_hold::<M>(method, args.hold_s)?;
+        format!(
+            "still {:.3e} N (change {:.3e} N, anchor walk {:.3e} N), dither pair mean {:.3e} N (anchor walk {:.3e} N), one count {:.3e} N",
+            h.still_max_n, h.still_growth_n, h.still_anchor_walk_n, h.dither_pair_max_n, h.dither_anchor_walk_n, h.one_count_n
+        )
+    } else {
+        "skipped".to_string()
+    };
+    println!(
+        "{:<15} {:<9} identical {:.3e} m {:.3e} rad | tilt dither {:.3e} m | twist dither {:.3e} rad | held anchor {:.3e} m f_t {:.3e} N | closed loop {}",
+        method.name(),
+        M::NAME,
+        same.point_m,
+        same.spin_rad,
+        dt.point_m,
+        dz.spin_rad,
+        walk,
+        f_t,
+        cl
+    );
     Ok(())
 }
 
-pub fn main(args: &Args) -> Result<(), String> {
+/// Why the creep command failed.
+#[derive(Debug, thiserror::Error)]
+pub enum CreepError {
+    /// An option out of range (its message names it).
+    #[error("{0}")]
+    Option(&'static str),
+    /// A closed-loop hold could not be set up.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    /// A hold measurement failed.
+    #[error(transparent)]
+    Hold(#[from] hold_quantisation::HoldError),
+}
+
+pub fn main(args: &Args) -> Result<(), CreepError> {
     if !(args.seconds.is_finite()
         && args.seconds > 0.0
         && args.rate_hz.is_finite()
         && args.rate_hz > 0.0)
     {
-        return Err("--seconds and --rate-hz must be positive numbers".into());
+        return Err(CreepError::Option(
+            "--seconds and --rate-hz must be positive numbers",
+        ));
     }
     if !(args.hold_s.is_finite() && args.hold_s >= 0.0) {
-        return Err("--hold-s must be a non-negative number".into());
+        return Err(CreepError::Option("--hold-s must be a non-negative number"));
     }
     println!(
         "creep at rest: {} s at {} Hz (replay), {} held ticks, {} s closed-loop hold",
         args.seconds, args.rate_hz, args.held_ticks, args.hold_s
     );
     for m in Method::ALL {
-        per_backend(args, m)?;
+        for b in PRINT_ORDER {
+            dispatch!(b, M => backend_row::<M>(args, m))?;
+        }
     }
     if args.hold_s > 2.0 {
         // The hold through the encoders (exact method, libm): with and without the passivity
@@ -352,12 +365,9 @@ pub fn main(args: &Args) -> Result<(), String> {
                 drift_m_per_s: drift,
                 window_s: (args.hold_s / 6.0).min(10.0),
             };
-            for (name, p) in [
-                ("libm", hold_quantisation::measure::<Libm>(setup)?),
-                ("micromath", hold_quantisation::measure::<Micromath>(setup)?),
-                ("fast", hold_quantisation::measure::<Fast>(setup)?),
-            ] {
-                println!("{name:<9} {}", hold_quantisation::line(&setup, &p));
+            for b in PRINT_ORDER {
+                let p = dispatch!(b, M => hold_quantisation::measure::<M>(setup))?;
+                println!("{b:<9} {}", hold_quantisation::line(&setup, &p));
             }
         }
     }

@@ -16,7 +16,7 @@
 //!
 //! Units: N, m, s; forces in the device base frame (tangential = x, y on the plane scene).
 
-use crate::closed_loop;
+use crate::closed_loop::{self, SetupError};
 use crate::creep::hold_scene;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::surface::Surface;
@@ -60,13 +60,27 @@ pub struct HoldProfile {
     pub final_energy_j: f64,
 }
 
+/// Why a hold could not be measured.
+#[derive(Debug, thiserror::Error)]
+pub enum HoldError {
+    /// The hold and window durations are inconsistent or not finite.
+    #[error("hold: need hold_s > 1 + 2·window_s, all finite")]
+    Setup,
+    /// No sample fell in the first or the last window.
+    #[error("hold: nothing measured")]
+    NothingMeasured,
+    /// The closed loop could not be set up.
+    #[error(transparent)]
+    Loop(#[from] SetupError),
+}
+
 /// Runs one hold (the exact method, the default contact parameters).
-pub fn measure<M: Math>(setup: HoldSetup) -> Result<HoldProfile, String> {
+pub fn measure<M: Math>(setup: HoldSetup) -> Result<HoldProfile, HoldError> {
     let ok = |v: f64| v.is_finite() && v > 0.0;
     if !(ok(setup.hold_s) && ok(setup.window_s) && setup.drift_m_per_s.is_finite())
         || 2.0 * setup.window_s > setup.hold_s - 1.0
     {
-        return Err("hold: need hold_s > 1 + 2·window_s, all finite".into());
+        return Err(HoldError::Setup);
     }
     let contact = ContactParams::DEFAULT;
     let (mut ctrl, mut plant) = hold_scene::<M>(contact, setup.hold_s, setup.drift_m_per_s)?;
@@ -75,7 +89,7 @@ pub fn measure<M: Math>(setup: HoldSetup) -> Result<HoldProfile, String> {
             enabled: false,
             ..PassivityConfig::DEFAULT
         })
-        .map_err(|e| format!("passivity: {e:?}"))?;
+        .map_err(SetupError::Passivity)?;
     }
     let rate = f64::from(ctrl.config().timing.control_hz);
     let ticks = ((0.5 + setup.hold_s) * rate) as u64;
@@ -131,7 +145,7 @@ pub fn measure<M: Math>(setup: HoldSetup) -> Result<HoldProfile, String> {
         },
     );
     if forces.is_empty() || n_first == 0 || n_last == 0 {
-        return Err("hold: nothing measured".into());
+        return Err(HoldError::NothingMeasured);
     }
     forces.sort_by(f64::total_cmp);
     let n = forces.len();

@@ -2,10 +2,12 @@
 //! tests in `tests/` run them in-process.
 
 pub mod atomic_file;
+pub mod backend;
 pub mod chart;
 pub mod cli;
 pub mod closed_loop;
 pub mod creep;
+pub mod error;
 pub mod faults;
 pub mod hold_quantisation;
 pub mod limit_path;
@@ -14,6 +16,7 @@ pub mod pil;
 pub mod plant;
 pub mod reference;
 pub mod replay;
+pub mod rng;
 pub mod run;
 pub mod scene;
 pub mod serve;

@@ -16,6 +16,8 @@ use crate::chart::style::{
     draw_axes, draw_legend, draw_line, draw_markers, drawing_err, render_svg, state_color, Shape,
     FONT,
 };
+use crate::closed_loop::ClosedLoopError;
+use crate::error::ChartError;
 use crate::reference::limit_surface::curve;
 use crate::run::{Row, RunResult};
 use plotters::coord::CoordTranslate;
@@ -25,6 +27,17 @@ use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::spin::torsion_limit;
 use softfinger_core::contact::state::ContactState;
 use std::path::{Path, PathBuf};
+
+/// Why the load path of a run could not be charted.
+#[derive(Debug, thiserror::Error)]
+pub enum LimitPathError {
+    /// The scene's contact parameters were rejected.
+    #[error(transparent)]
+    Scene(#[from] ClosedLoopError),
+    /// The chart could not be drawn or written.
+    #[error(transparent)]
+    Chart(#[from] ChartError),
+}
 
 /// One touching tick's load, normalised by the model's static limits at its normal force.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -131,11 +144,11 @@ pub fn chart(
     title: &str,
     load: &[LoadPoint],
     p: &ContactParams,
-) -> Result<(), String> {
+) -> Result<(), ChartError> {
     let (f_lo, f_hi) = load.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), q| {
         (lo.min(q.f_n), hi.max(q.f_n))
     });
-    render_svg(path, (960, 680), |root| {
+    Ok(render_svg(path, (960, 680), |root| {
         let mut ch = ChartBuilder::on(root)
             .caption(title, (FONT, 18))
             .margin(14)
@@ -148,7 +161,7 @@ pub fn chart(
             "|f_t| / (μ_s·f_N)  [-]   (1 = static friction cone)",
             "|τn| / τ_max,s(f_N)  [-]   (τ_max,s = 3π/16·μ_s·f_N·a(f_N))",
         )?;
-        draw_surfaces(&mut ch, p)?;
+        draw_surfaces(&mut ch, p).map_err(|e| e.0)?;
         for state in [ContactState::Rolling, ContactState::Sliding] {
             let color = state_color(state).mix(0.8).filled();
             let label = format!("rendered, {}", state.name());
@@ -176,14 +189,14 @@ pub fn chart(
             .map_err(drawing_err)?;
         }
         Ok(())
-    })
+    })?)
 }
 
 /// The model's static, slip-threshold and kinetic limit surfaces and the Hertzian reference curve.
 fn draw_surfaces<'a, 'b: 'a, CT>(
     ch: &mut ChartContext<'a, SVGBackend<'b>, CT>,
     p: &ContactParams,
-) -> Result<(), String>
+) -> Result<(), ChartError>
 where
     CT: CoordTranslate<From = (f64, f64)>,
 {
@@ -237,7 +250,7 @@ fn path_points(load: &[LoadPoint], state: ContactState) -> Vec<(f64, f64)> {
 pub fn write_for_run(
     dir: &Path,
     res: &RunResult,
-) -> Result<Option<(PathBuf, LoadSummary)>, String> {
+) -> Result<Option<(PathBuf, LoadSummary)>, LimitPathError> {
     if res.scene.script.twist_while_sliding != Some(true) {
         return Ok(None);
     }

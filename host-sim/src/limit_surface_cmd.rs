@@ -3,9 +3,24 @@
 //! the ellipse's radial error at each point, and the worst error; `--svg` charts both curves.
 
 use crate::chart::style::{draw_axes, draw_legend, draw_line, drawing_err, render_svg, FONT};
+use crate::error::{ChartError, JsonError};
 use crate::reference::limit_surface::{curve, ellipse_error_range, LimitPoint};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
+
+/// Why the limit-surface command failed.
+#[derive(Debug, thiserror::Error)]
+pub enum LimitSurfaceError {
+    /// `--points` or `--cells` out of range.
+    #[error("--points must be >= 2 and --cells between 10 and 5000")]
+    Options,
+    /// The chart could not be drawn or written.
+    #[error(transparent)]
+    Chart(#[from] ChartError),
+    /// The JSON could not be serialised.
+    #[error(transparent)]
+    Json(#[from] JsonError),
+}
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -62,19 +77,19 @@ pub fn chart(path: &Path, c: &[LimitPoint]) -> Result<(), String> {
 }
 
 /// The curve and the worst errors, rendered as the command prints them.
-pub fn render(args: &Args) -> Result<String, String> {
+pub fn render(args: &Args) -> Result<String, LimitSurfaceError> {
     if args.points < 2 || args.cells < 10 || args.cells > 5000 {
-        return Err("--points must be >= 2 and --cells between 10 and 5000".into());
+        return Err(LimitSurfaceError::Options);
     }
     let c = curve(args.points, args.cells, 2 * args.cells);
     let (lo, hi) = ellipse_error_range(&c);
     if let Some(path) = &args.svg {
-        chart(path, &c)?;
+        chart(path, &c).map_err(ChartError)?;
     }
     if args.json {
         let doc =
             serde_json::json!({ "curve": c, "ellipse_error_min": lo, "ellipse_error_max": hi });
-        return serde_json::to_string_pretty(&doc).map_err(|e| format!("JSON output: {e}"));
+        return Ok(serde_json::to_string_pretty(&doc).map_err(JsonError)?);
     }
     let mut out = String::from(
         "Hertzian limit surface (f64 integration) vs the ellipse (|f|/(mu fN))^2 + (tau/tau_max)^2 = 1\n\
@@ -95,7 +110,7 @@ pub fn render(args: &Args) -> Result<String, String> {
     Ok(out)
 }
 
-pub fn main(args: &Args) -> Result<(), String> {
+pub fn main(args: &Args) -> Result<(), LimitSurfaceError> {
     println!("{}", render(args)?);
     Ok(())
 }

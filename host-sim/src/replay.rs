@@ -25,6 +25,7 @@
 //! Bad input: a one-line error naming the line on stderr, exit code 2, and no output file.
 
 use crate::atomic_file::AtomicFile;
+use crate::error::FileError;
 use softfinger_core::contact::decompose::Method;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::rolling::Rolling;
@@ -77,9 +78,107 @@ pub struct Args {
     pub object_radius_m: f64,
 }
 
-fn parse_method(s: &str) -> Result<Method, String> {
-    Method::from_name(s)
-        .ok_or_else(|| format!("unknown method '{s}' (expected exact, rpy or paper-verbatim)"))
+fn parse_method(s: &str) -> Result<Method, ReplayError> {
+    Method::from_name(s).ok_or_else(|| ReplayError::UnknownMethod(s.to_string()))
+}
+
+/// Why a replay failed. Input errors name the file and the line.
+#[derive(Debug, thiserror::Error)]
+pub enum ReplayError {
+    /// `--method` names no decomposition method.
+    #[error("unknown method '{0}' (expected exact, rpy or paper-verbatim)")]
+    UnknownMethod(String),
+    /// The input file is malformed.
+    #[error("{}{}: {problem}", path.display(), line.map(|l| format!(" line {l}")).unwrap_or_default())]
+    Input {
+        /// The input file.
+        path: PathBuf,
+        /// 1-based line, when the problem is on one line.
+        line: Option<u64>,
+        /// What is wrong.
+        problem: InputProblem,
+    },
+    /// A command-line option is out of range.
+    #[error("{0}")]
+    Option(OptionProblem),
+    /// The replay produced a non-finite value at this time, s (a bug; nothing is written).
+    #[error("internal error: non-finite output at t = {0} s (nothing written)")]
+    NonFiniteOutput(f64),
+    /// A file could not be opened or written.
+    #[error(transparent)]
+    File(#[from] FileError),
+}
+
+/// What is wrong with an input file.
+#[derive(Debug, thiserror::Error)]
+pub enum InputProblem {
+    /// The CSV reader failed.
+    #[error("unreadable CSV: {0}")]
+    Csv(csv::Error),
+    /// The first line is not [`INPUT_HEADER`].
+    #[error("header must be '{}', found '{found}'", INPUT_HEADER.join(","))]
+    Header {
+        /// The header found.
+        found: String,
+    },
+    /// A row without 5 fields.
+    #[error("expected 5 fields (t_s,qw,qx,qy,qz), found {0}")]
+    FieldCount(usize),
+    /// A field that does not parse as a number.
+    #[error("field '{field}' is not a number: '{text}'")]
+    NotNumber {
+        /// Column name.
+        field: &'static str,
+        /// The text found.
+        text: String,
+    },
+    /// A field that is NaN or infinite.
+    #[error("field '{field}' is not finite: '{text}'")]
+    NotFinite {
+        /// Column name.
+        field: &'static str,
+        /// The text found.
+        text: String,
+    },
+    /// All four quaternion components zero.
+    #[error("zero quaternion")]
+    ZeroQuaternion,
+    /// A quaternion norm further from 1 than [`NORM_TOLERANCE`].
+    #[error("quaternion norm {0:.6} is off unity by more than {NORM_TOLERANCE}")]
+    Norm(f64),
+    /// A time before the previous row's.
+    #[error("time goes back ({t} after {previous})")]
+    TimeGoesBack {
+        /// This row's time, s.
+        t: f64,
+        /// The previous row's time, s.
+        previous: f64,
+    },
+    /// A header and no rows.
+    #[error("no samples (a header and at least one row are needed)")]
+    NoSamples,
+}
+
+/// A command-line option out of range.
+#[derive(Debug, thiserror::Error)]
+pub enum OptionProblem {
+    /// `--radius-m` not positive.
+    #[error("--radius-m must be a positive number, got {0}")]
+    Radius(f64),
+    /// `--normal-force-n` negative.
+    #[error("--normal-force-n must be a non-negative number, got {0}")]
+    NormalForce(f64),
+    /// `--object-radius-m` not positive.
+    #[error("--object-radius-m must be a positive number, got {0}")]
+    ObjectRadius(f64),
+    /// A bowl no larger than the fingertip.
+    #[error("--object-radius-m ({object}) must be larger than --radius-m ({finger}) for a bowl")]
+    BowlTooSmall {
+        /// Object radius, m.
+        object: f64,
+        /// Fingertip radius, m.
+        finger: f64,
+    },
 }
 
 /// One parsed input row.
@@ -90,9 +189,13 @@ pub struct Sample {
 }
 
 /// Read and check the whole input. Errors name the file and the line.
-pub fn read_samples(path: &std::path::Path) -> Result<Vec<Sample>, String> {
-    let name = path.display();
-    let file = std::fs::File::open(path).map_err(|e| format!("{name}: cannot open: {e}"))?;
+pub fn read_samples(path: &std::path::Path) -> Result<Vec<Sample>, ReplayError> {
+    let file = std::fs::File::open(path).map_err(FileError::on(path, "cannot open"))?;
+    let bad = |line: Option<u64>, problem| ReplayError::Input {
+        path: path.to_path_buf(),
+        line,
+        problem,
+    };
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
@@ -103,53 +206,62 @@ pub fn read_samples(path: &std::path::Path) -> Result<Vec<Sample>, String> {
     for (i, rec) in rdr.records().enumerate() {
         let rec = rec.map_err(|e| {
             let line = e.position().map(|p| p.line()).unwrap_or(i as u64 + 1);
-            format!("{name} line {line}: unreadable CSV: {e}")
+            bad(Some(line), InputProblem::Csv(e))
         })?;
         let line = rec.position().map(|p| p.line()).unwrap_or(i as u64 + 1);
         if i == 0 {
             let got: Vec<&str> = rec.iter().collect();
             if got != INPUT_HEADER {
-                return Err(format!(
-                    "{name} line {line}: header must be '{}', found '{}'",
-                    INPUT_HEADER.join(","),
-                    got.join(",")
+                return Err(bad(
+                    Some(line),
+                    InputProblem::Header {
+                        found: got.join(","),
+                    },
                 ));
             }
             continue;
         }
         if rec.len() != 5 {
-            return Err(format!(
-                "{name} line {line}: expected 5 fields (t_s,qw,qx,qy,qz), found {}",
-                rec.len()
-            ));
+            return Err(bad(Some(line), InputProblem::FieldCount(rec.len())));
         }
         let mut v = [0.0f64; 5];
         for (k, field) in rec.iter().enumerate() {
+            let text = || field.to_string();
+            let field_name = INPUT_HEADER[k];
             let x: f64 = field.parse().map_err(|_| {
-                format!(
-                    "{name} line {line}: field '{}' is not a number: '{field}'",
-                    INPUT_HEADER[k]
+                bad(
+                    Some(line),
+                    InputProblem::NotNumber {
+                        field: field_name,
+                        text: text(),
+                    },
                 )
             })?;
             if !x.is_finite() {
-                return Err(format!(
-                    "{name} line {line}: field '{}' is not finite: '{field}'",
-                    INPUT_HEADER[k]
+                return Err(bad(
+                    Some(line),
+                    InputProblem::NotFinite {
+                        field: field_name,
+                        text: text(),
+                    },
                 ));
             }
             v[k] = x;
         }
         let norm = (v[1] * v[1] + v[2] * v[2] + v[3] * v[3] + v[4] * v[4]).sqrt();
         if norm == 0.0 {
-            return Err(format!("{name} line {line}: zero quaternion"));
+            return Err(bad(Some(line), InputProblem::ZeroQuaternion));
         }
         if (norm - 1.0).abs() > NORM_TOLERANCE {
-            return Err(format!("{name} line {line}: quaternion norm {norm:.6} is off unity by more than {NORM_TOLERANCE}"));
+            return Err(bad(Some(line), InputProblem::Norm(norm)));
         }
         if v[0] < prev_t {
-            return Err(format!(
-                "{name} line {line}: time goes back ({} after {prev_t})",
-                v[0]
+            return Err(bad(
+                Some(line),
+                InputProblem::TimeGoesBack {
+                    t: v[0],
+                    previous: prev_t,
+                },
             ));
         }
         prev_t = v[0];
@@ -159,9 +271,7 @@ pub fn read_samples(path: &std::path::Path) -> Result<Vec<Sample>, String> {
         });
     }
     if samples.is_empty() {
-        return Err(format!(
-            "{name}: no samples (a header and at least one row are needed)"
-        ));
+        return Err(bad(None, InputProblem::NoSamples));
     }
     Ok(samples)
 }
@@ -231,18 +341,16 @@ pub fn replay_on<S: Surface>(
 }
 
 /// Check the radii and run the replay on the surface `args` asks for.
-fn replay_args(args: &Args, samples: &[Sample]) -> Result<Vec<Row>, String> {
+fn replay_args(args: &Args, samples: &[Sample]) -> Result<Vec<Row>, ReplayError> {
     let big = args.object_radius_m;
     if !(big.is_finite() && big > 0.0) {
-        return Err(format!(
-            "--object-radius-m must be a positive number, got {big}"
-        ));
+        return Err(ReplayError::Option(OptionProblem::ObjectRadius(big)));
     }
     if args.surface == SurfaceKind::Bowl && big <= args.radius_m {
-        return Err(format!(
-            "--object-radius-m ({big}) must be larger than --radius-m ({}) for a bowl",
-            args.radius_m
-        ));
+        return Err(ReplayError::Option(OptionProblem::BowlTooSmall {
+            object: big,
+            finger: args.radius_m,
+        }));
     }
     let (r, f, m) = (
         args.radius_m as f32,
@@ -258,26 +366,22 @@ fn replay_args(args: &Args, samples: &[Sample]) -> Result<Vec<Row>, String> {
     })
 }
 
-pub fn main(args: &Args) -> Result<(), String> {
+pub fn main(args: &Args) -> Result<(), ReplayError> {
     if !(args.radius_m.is_finite() && args.radius_m > 0.0) {
-        return Err(format!(
-            "--radius-m must be a positive number, got {}",
-            args.radius_m
-        ));
+        return Err(ReplayError::Option(OptionProblem::Radius(args.radius_m)));
     }
     if !(args.normal_force_n.is_finite() && args.normal_force_n >= 0.0) {
-        return Err(format!(
-            "--normal-force-n must be a non-negative number, got {}",
-            args.normal_force_n
-        ));
+        return Err(ReplayError::Option(OptionProblem::NormalForce(
+            args.normal_force_n,
+        )));
     }
     let samples = read_samples(&args.input)?;
     let rows = replay_args(args, &samples)?;
     let out = args.out.display();
     let mut file =
-        AtomicFile::create(&args.out).map_err(|e| format!("{out}: cannot create: {e}"))?;
+        AtomicFile::create(&args.out).map_err(FileError::on(&args.out, "cannot create"))?;
     let w = file.writer();
-    let io = |e: std::io::Error| format!("{out}: write failed: {e}");
+    let io = |e| FileError::on(&args.out, "write failed")(e);
     writeln!(w, "{OUTPUT_HEADER}").map_err(io)?;
     for r in &rows {
         let vals = [
@@ -293,10 +397,7 @@ pub fn main(args: &Args) -> Result<(), String> {
             r.object[2],
         ];
         if vals.iter().any(|v| !v.is_finite()) {
-            return Err(format!(
-                "internal error: non-finite output at t = {} s (nothing written)",
-                r.t_s
-            ));
+            return Err(ReplayError::NonFiniteOutput(r.t_s));
         }
         writeln!(
             w,
@@ -320,7 +421,7 @@ pub fn main(args: &Args) -> Result<(), String> {
         .map_err(io)?;
     }
     file.commit()
-        .map_err(|e| format!("{out}: cannot publish: {e}"))?;
+        .map_err(FileError::on(&args.out, "cannot publish"))?;
     eprintln!(
         "host-sim replay: {} rows, method {}, surface {:?}, written to {out}",
         rows.len(),

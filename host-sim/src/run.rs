@@ -6,14 +6,48 @@
 //! from the arming on.
 
 use crate::atomic_file::AtomicFile;
-use crate::closed_loop::{self, prepare, simulate, Prepared};
-use crate::scene::{Scene, SurfaceSpec};
+use crate::closed_loop::{self, prepare, simulate, ClosedLoopError, Prepared, SetupError};
+use crate::scene::{Scene, SceneError, SurfaceSpec};
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::contact::surface::Surface;
 use softfinger_core::control::pipeline::{Pipeline, PipelineConfig};
 use softfinger_core::{Fast, Flags, Math};
 use std::io::Write;
 use std::path::{Path, PathBuf};
+
+use crate::error::{ChartError, FileError};
+use crate::limit_path::LimitPathError;
+
+/// Why a run failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The scene could not be loaded.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The scene's configuration was rejected before the run.
+    #[error(transparent)]
+    Setup(#[from] ClosedLoopError),
+    /// A stage of the run of the named scene failed.
+    #[error("scene '{scene}': {source}")]
+    InScene {
+        /// Scene name.
+        scene: String,
+        /// The stage and its reason.
+        source: SetupError,
+    },
+    /// The progress bar's template was rejected.
+    #[error("progress bar: {0}")]
+    Progress(indicatif::style::TemplateError),
+    /// An output file could not be written.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// A chart could not be drawn or written.
+    #[error(transparent)]
+    Chart(#[from] ChartError),
+    /// The limit-surface chart of the run failed.
+    #[error(transparent)]
+    LimitPath(#[from] LimitPathError),
+}
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct Args {
@@ -152,20 +186,21 @@ fn run_with<M: Math, S: Surface>(
     scene: Scene,
     config: PipelineConfig<S>,
     ticks: u64,
-) -> Result<RunResult, String> {
-    let mut pipe: Pipeline<M, S> = Pipeline::new(config)
-        .map_err(|e| format!("scene '{}': pipeline configuration: {e:?}", scene.name))?;
-    let mut plant = closed_loop::plant(&scene, &config.contact)
-        .map_err(|e| format!("scene '{}': plant: {e:?}", scene.name))?;
-    let prepared =
-        prepare(&mut pipe, &mut plant).map_err(|e| format!("scene '{}': {e}", scene.name))?;
+) -> Result<RunResult, RunError> {
+    let in_scene = |source| RunError::InScene {
+        scene: scene.name.clone(),
+        source,
+    };
+    let mut pipe: Pipeline<M, S> = Pipeline::new(config).map_err(|e| in_scene(e.into()))?;
+    let mut plant = closed_loop::plant(&scene, &config.contact).map_err(|e| in_scene(e.into()))?;
+    let prepared = prepare(&mut pipe, &mut plant).map_err(|e| in_scene(e.into()))?;
     let dt = 1.0 / f64::from(config.timing.control_hz);
     let full_scale = config.timing.pwm_period_counts() as u16;
     let mut rows = Vec::with_capacity(ticks as usize);
     let bar = indicatif::ProgressBar::new(ticks);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ticks")
-            .map_err(|e| e.to_string())?,
+            .map_err(RunError::Progress)?,
     );
     bar.set_message(format!("run {}", scene.name));
     let spent = simulate(
@@ -207,7 +242,7 @@ fn run_with<M: Math, S: Surface>(
 }
 
 /// Run a scene (no files written).
-pub fn simulate_scene(args: &Args) -> Result<RunResult, String> {
+pub fn simulate_scene(args: &Args) -> Result<RunResult, RunError> {
     let mut scene = Scene::load(&args.scene)?;
     if let Some(r) = args.rate_hz {
         scene.rate_hz = r;
@@ -238,11 +273,10 @@ pub fn simulate_scene(args: &Args) -> Result<RunResult, String> {
     }
 }
 
-fn write_csv(path: &Path, rows: &[Row]) -> Result<(), String> {
-    let name = path.display();
-    let mut f = AtomicFile::create(path).map_err(|e| format!("{name}: {e}"))?;
+fn write_csv(path: &Path, rows: &[Row]) -> Result<(), FileError> {
+    let mut f = AtomicFile::create(path).map_err(FileError::on(path, "cannot create"))?;
     let w = f.writer();
-    let io = |e: std::io::Error| format!("{name}: {e}");
+    let io = |e| FileError::on(path, "write failed")(e);
     writeln!(w, "t_s,phase,state,flags,probe_x_m,probe_y_m,probe_z_m,force_x_n,force_y_n,force_z_n,tau_n_nm,spin_rad,object_x_m,object_y_m,object_z_m,finger_x_m,finger_y_m,finger_z_m,duty0,duty1,duty2,hand_fx_n,hand_fy_n,hand_fz_n").map_err(io)?;
     for r in rows {
         let v = |a: [f32; 3]| format!("{},{},{}", a[0], a[1], a[2]);
@@ -266,7 +300,7 @@ fn write_csv(path: &Path, rows: &[Row]) -> Result<(), String> {
         )
         .map_err(io)?;
     }
-    f.commit().map_err(|e| format!("{name}: {e}"))
+    f.commit().map_err(FileError::on(path, "cannot publish"))
 }
 
 /// The summary lines the command prints (and `index.html` shows).
@@ -332,19 +366,20 @@ fn summary_lines(
     lines
 }
 
-pub fn main(args: &Args) -> Result<(), String> {
+pub fn main(args: &Args) -> Result<(), RunError> {
     let res = simulate_scene(args)?;
     let s = summarize(&res.rows, 1.0 / res.scene.rate_hz);
-    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    std::fs::create_dir_all(&args.out).map_err(FileError::on(&args.out, "cannot create"))?;
     let csv = args.out.join("run.csv");
     write_csv(&csv, &res.rows)?;
     let mut files = vec![csv];
-    files.extend(crate::chart::run_charts::write(&args.out, &res)?);
+    files.extend(crate::chart::run_charts::write(&args.out, &res).map_err(ChartError)?);
     let limit = crate::limit_path::write_for_run(&args.out, &res)?;
     let lines = summary_lines(&res, &s, limit.as_ref().map(|l| &l.1));
     files.extend(limit.map(|l| l.0));
     let title = format!("host-sim run: {}", res.scene.name);
-    let index = crate::chart::index_page::write(&args.out, &title, &lines.join("\n"), &files)?;
+    let index = crate::chart::index_page::write(&args.out, &title, &lines.join("\n"), &files)
+        .map_err(ChartError)?;
     files.push(index);
     for l in &lines {
         println!("{l}");
@@ -365,7 +400,7 @@ mod tests {
             rate_hz: Some(100.0),
             ..Args::default()
         };
-        let e = simulate_scene(&a).unwrap_err();
+        let e = simulate_scene(&a).unwrap_err().to_string();
         assert!(e.contains("rate_hz"), "{e}");
     }
 }

@@ -7,6 +7,8 @@ use serde::Deserialize;
 use softfinger_core::contact::decompose::Method;
 use std::path::Path;
 
+use crate::error::FileError;
+
 /// The built-in scenes: (name, TOML text). The first is the default.
 pub const BUILT_IN: [(&str, &str); 5] = [
     (
@@ -128,9 +130,74 @@ fn default_duration() -> f64 {
     4.3
 }
 
+/// Why a scene could not be loaded. Messages name the file (or built-in) and, for syntax, the line.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The TOML does not parse or does not match the scene's fields.
+    #[error("{origin}{}: {message}", line.map(|l| format!(" line {l}")).unwrap_or_default())]
+    Syntax {
+        /// The file or built-in name.
+        origin: String,
+        /// 1-based line, when known.
+        line: Option<usize>,
+        /// The parser's message.
+        message: String,
+    },
+    /// The scene parses but a value is out of range.
+    #[error("{origin}: {problem}")]
+    Invalid {
+        /// The file or built-in name.
+        origin: String,
+        /// What is wrong.
+        problem: SceneProblem,
+    },
+    /// Neither a built-in name nor an existing file.
+    #[error(
+        "no built-in scene or file named '{name}' (built-ins: {})",
+        built_in_names()
+    )]
+    NotFound {
+        /// The name or path asked for.
+        name: String,
+    },
+    /// The file exists but cannot be read.
+    #[error(transparent)]
+    Read(#[from] FileError),
+}
+
+/// A value of a parsed scene that is out of range.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SceneProblem {
+    /// `method` names no decomposition method.
+    #[error("unknown method '{0}' (exact, rpy, paper-verbatim)")]
+    UnknownMethod(String),
+    /// `rate_hz` outside 1000..40000.
+    #[error("rate_hz must be within 1000..40000, got {0}")]
+    Rate(f64),
+    /// `duration_s` outside (0, 3600].
+    #[error("duration_s must be within (0, 3600], got {0}")]
+    Duration(f64),
+    /// `surface.radius_m` not positive.
+    #[error("surface.radius_m must be positive, got {0}")]
+    Radius(f64),
+    /// `script.heading_rad` beyond ±2π.
+    #[error("script.heading_rad must be within ±2π, got {0}")]
+    Heading(f64),
+}
+
+fn built_in_names() -> String {
+    BUILT_IN
+        .iter()
+        .map(|(n, _)| *n)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+crate::error::error_into_string!(SceneError);
+
 impl Scene {
     /// Parse TOML text; `origin` names the source in errors (which carry the line).
-    pub fn parse(text: &str, origin: &str) -> Result<Scene, String> {
+    pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
         let scene: Scene = toml::from_str(text).map_err(|e| {
             // An unknown key's span covers its whole table; point at the key's own line instead.
             let unknown_key_line = e
@@ -149,30 +216,31 @@ impl Scene {
                 e.span()
                     .map(|s| text[..s.start.min(text.len())].lines().count().max(1))
             });
-            match line {
-                Some(l) => format!("{origin} line {l}: {}", e.message()),
-                None => format!("{origin}: {}", e.message()),
+            SceneError::Syntax {
+                origin: origin.to_string(),
+                line,
+                message: e.message().to_string(),
             }
         })?;
-        scene.check().map_err(|e| format!("{origin}: {e}"))?;
+        scene.check().map_err(|problem| SceneError::Invalid {
+            origin: origin.to_string(),
+            problem,
+        })?;
         Ok(scene)
     }
 
     /// A built-in scene by name, or a file path.
-    pub fn load(name_or_path: &str) -> Result<Scene, String> {
+    pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
         if let Some((name, text)) = BUILT_IN.iter().find(|(n, _)| *n == name_or_path) {
             return Scene::parse(text, name);
         }
         let path = Path::new(name_or_path);
         if !path.exists() {
-            let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
-            return Err(format!(
-                "no built-in scene or file named '{name_or_path}' (built-ins: {})",
-                names.join(", ")
-            ));
+            return Err(SceneError::NotFound {
+                name: name_or_path.to_string(),
+            });
         }
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let text = std::fs::read_to_string(path).map_err(FileError::on(path, "cannot read"))?;
         Scene::parse(&text, &path.display().to_string())
     }
 
@@ -182,13 +250,9 @@ impl Scene {
     }
 
     /// The decomposition method.
-    pub fn method(&self) -> Result<Method, String> {
-        Method::from_name(&self.method).ok_or_else(|| {
-            format!(
-                "unknown method '{}' (exact, rpy, paper-verbatim)",
-                self.method
-            )
-        })
+    pub fn method(&self) -> Result<Method, SceneProblem> {
+        Method::from_name(&self.method)
+            .ok_or_else(|| SceneProblem::UnknownMethod(self.method.clone()))
     }
 
     /// The scene as TOML text (every field the command line can override, and the rest), for
@@ -238,28 +302,22 @@ impl Scene {
         t
     }
 
-    fn check(&self) -> Result<(), String> {
+    fn check(&self) -> Result<(), SceneProblem> {
         self.method()?;
         if !(self.rate_hz.is_finite() && (1_000.0..=40_000.0).contains(&self.rate_hz)) {
-            return Err(format!(
-                "rate_hz must be within 1000..40000, got {}",
-                self.rate_hz
-            ));
+            return Err(SceneProblem::Rate(self.rate_hz));
         }
         if !(self.duration_s.is_finite() && self.duration_s > 0.0 && self.duration_s <= 3600.0) {
-            return Err(format!(
-                "duration_s must be within (0, 3600], got {}",
-                self.duration_s
-            ));
+            return Err(SceneProblem::Duration(self.duration_s));
         }
         if let Some(radius_m) = self.surface.radius_m() {
             if !(radius_m.is_finite() && radius_m > 0.0) {
-                return Err(format!("surface.radius_m must be positive, got {radius_m}"));
+                return Err(SceneProblem::Radius(radius_m));
             }
         }
         if let Some(h) = self.script.heading_rad {
             if !(h.is_finite() && h.abs() <= std::f64::consts::TAU) {
-                return Err(format!("script.heading_rad must be within ±2π, got {h}"));
+                return Err(SceneProblem::Heading(h));
             }
         }
         Ok(())
@@ -295,7 +353,7 @@ mod tests {
             assert_eq!(s.surface.radius_m(), Some(0.03));
             for bad in ["0.0", "-0.01", "nan"] {
                 let t = format!("name = \"x\"\n[surface]\nkind = \"{kind}\"\nradius_m = {bad}\n");
-                let e = Scene::parse(&t, "r.toml").unwrap_err();
+                let e = Scene::parse(&t, "r.toml").unwrap_err().to_string();
                 assert!(e.contains("radius_m"), "{kind} {bad}: {e}");
             }
             let missing = format!("name = \"x\"\n[surface]\nkind = \"{kind}\"\n");
@@ -311,7 +369,10 @@ mod tests {
             )
         };
         assert!(heading("6.283").is_ok());
-        assert!(heading("6.284").unwrap_err().contains("heading_rad"));
+        assert!(heading("6.284")
+            .unwrap_err()
+            .to_string()
+            .contains("heading_rad"));
         assert!(heading("-6.284").is_err());
     }
 
@@ -326,19 +387,21 @@ mod tests {
     #[test]
     fn errors_name_the_line() {
         let text = "name = \"x\"\n[surface]\nkind = \"cube\"\n";
-        let e = Scene::parse(text, "bad.toml").unwrap_err();
+        let e = Scene::parse(text, "bad.toml").unwrap_err().to_string();
         assert!(e.contains("bad.toml line 3"), "{e}");
         let e = Scene::parse(
             "name = \"x\"\nrate_hz = 5\n[surface]\nkind = \"plane\"\n",
             "r.toml",
         )
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("rate_hz"), "{e}");
         let e = Scene::parse(
             "name = \"x\"\nbogus = 1\n[surface]\nkind = \"plane\"\n",
             "u.toml",
         )
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("line 2"), "{e}");
     }
 }

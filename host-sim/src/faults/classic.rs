@@ -16,6 +16,7 @@ use super::scenarios::{
     judged, latch_failures, no_inject, no_latch, Ctx, Judged, Scenario, Setup, K_INJECT, RATE_HZ,
 };
 use crate::plant::{HandScript, Phase, TouchScript, Waypoint};
+use crate::rng::SplitMix64;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::control::output_guard::LATCHING;
@@ -384,27 +385,8 @@ fn break_judge(t: &Trace, _: &ClosedLoop, c: &Ctx) -> Judged {
     judged(f, Some(K_INJECT), detect, String::new())
 }
 
-/// A small deterministic generator (xorshift32) for the sensor noise.
-#[derive(Clone, Copy, Debug)]
-struct XorShift(u32);
-
-impl XorShift {
-    fn next(&mut self) -> u32 {
-        let mut x = self.0;
-        x ^= x << 13;
-        x ^= x >> 17;
-        x ^= x << 5;
-        self.0 = x;
-        x
-    }
-    /// Uniform integer in [-k, k].
-    fn symmetric(&mut self, k: i32) -> i32 {
-        (self.next() % (2 * k as u32 + 1)) as i32 - k
-    }
-}
-
 fn noise_setup(c: &Ctx) -> Setup {
-    let mut rng = XorShift(0x2545_f491);
+    let mut rng = SplitMix64::new(0x2545_f491);
     Setup {
         inject: Box::new(move |_, r| {
             for x in r.counts.iter_mut() {

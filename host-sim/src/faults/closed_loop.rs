@@ -13,7 +13,7 @@
 //! plant.step_bridges(&out.bridges, &timing)   // compares act from the next PWM boundary
 //! ```
 
-use crate::closed_loop::{prepare, Prepared};
+use crate::closed_loop::{prepare, Prepared, SetupError};
 use crate::plant::{HandScript, Plant, PlantParams, TouchScript};
 use nalgebra::{Matrix3, Vector3};
 use softfinger_core::contact::state::ContactState;
@@ -112,10 +112,10 @@ impl ClosedLoop {
         config: PipelineConfig<Plane>,
         plant_params: PlantParams,
         script: HandScript,
-    ) -> Result<ClosedLoop, String> {
+    ) -> Result<ClosedLoop, SetupError> {
         let device = config.device.params;
-        let plant = Plant::new(device, plant_params, script).map_err(|e| format!("{e:?}"))?;
-        let pipe = Pipe::new(config).map_err(|e| format!("{e:?}"))?;
+        let plant = Plant::new(device, plant_params, script)?;
+        let pipe = Pipe::new(config)?;
         Ok(ClosedLoop {
             plant,
             pipe,
@@ -134,7 +134,7 @@ impl ClosedLoop {
         config: PipelineConfig<Plane>,
         plant_params: PlantParams,
         script: HandScript,
-    ) -> Result<ClosedLoop, String> {
+    ) -> Result<ClosedLoop, SetupError> {
         let mut lp = ClosedLoop::powered(config, plant_params, script)?;
         lp.prepared = Some(prepare(&mut lp.pipe, &mut lp.plant)?);
         Ok(lp)

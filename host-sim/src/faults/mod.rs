@@ -8,6 +8,7 @@ pub mod pipeline_cases;
 pub mod scenarios;
 pub mod soak;
 
+use crate::error::JsonError;
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -39,7 +40,7 @@ pub struct CampaignReport {
 }
 
 /// Run the campaign and summarise it.
-pub fn campaign_report() -> Result<CampaignReport, String> {
+pub fn campaign_report() -> Result<CampaignReport, FaultsError> {
     let results = scenarios::campaign()?;
     let limit = softfinger_core::contact::params::ContactParams::DEFAULT.max_force_n as f64;
     let injected = results.iter().filter(|(_, i)| *i).count();
@@ -62,18 +63,12 @@ fn opt(v: Option<u64>) -> String {
 }
 
 /// `host-sim faults`.
-pub fn main(args: &Args) -> Result<(), String> {
+pub fn main(args: &Args) -> Result<(), FaultsError> {
     let r = campaign_report()?;
-    let mut text = String::new();
     if args.json {
-        let _ = writeln!(
-            text,
-            "{}",
-            serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?
-        );
-        emit(&text);
-        return Ok(());
+        return emit_json(&r);
     }
+    let mut text = String::new();
     let _ = writeln!(
         text,
         "{:<26} {:>8} {:>7} {:>7} {:>7} {:>9} {:>9} {:>4}  states / detail",
@@ -112,6 +107,29 @@ pub fn main(args: &Args) -> Result<(), String> {
 }
 
 /// Write to stdout; a closed pipe (`| head`) is not an error worth a panic.
+/// Print `value` as pretty JSON and a newline on stdout.
+pub(crate) fn emit_json(value: &impl Serialize) -> Result<(), FaultsError> {
+    let text = serde_json::to_string_pretty(value).map_err(JsonError)?;
+    emit(&format!("{text}\n"));
+    Ok(())
+}
+
+/// Why a fault campaign or soak could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum FaultsError {
+    /// A scenario's closed loop could not be set up.
+    #[error("{scenario}: {source}")]
+    Setup {
+        /// Scenario name.
+        scenario: &'static str,
+        /// The setup's reason.
+        source: crate::closed_loop::SetupError,
+    },
+    /// The JSON could not be serialised.
+    #[error(transparent)]
+    Json(#[from] JsonError),
+}
+
 pub(crate) fn emit(text: &str) {
     use std::io::Write;
     let _ = std::io::stdout().write_all(text.as_bytes());

@@ -15,7 +15,9 @@
 //! NaN, and the bridges never drive the wrong way (plant truth).
 
 use super::closed_loop::{scene_config, ClosedLoop, Pipe, Trace};
+use super::FaultsError;
 use super::{classic, pipeline_cases};
+use crate::closed_loop::SetupError;
 use crate::plant::{HandScript, Plant, PlantParams, TouchScript};
 use serde::Serialize;
 use softfinger_core::contact::surface::Plane;
@@ -180,7 +182,7 @@ pub struct Scenario {
     pub judge: fn(&Trace, &ClosedLoop, &Ctx) -> Judged,
 }
 
-fn run(s: Setup) -> Result<(Trace, ClosedLoop), String> {
+fn run(s: Setup) -> Result<(Trace, ClosedLoop), SetupError> {
     let mut lp = match s.start {
         Start::Armed => ClosedLoop::new(s.config, s.plant, s.script)?,
         Start::PowerUp => ClosedLoop::powered(s.config, s.plant, s.script)?,
@@ -278,10 +280,13 @@ pub fn no_latch(trace: &Trace) -> Vec<String> {
 }
 
 /// Run one scenario and judge it. `Err` only if it could not be set up.
-pub fn run_scenario(s: &Scenario, ctx: &Ctx) -> Result<Outcome, String> {
+pub fn run_scenario(s: &Scenario, ctx: &Ctx) -> Result<Outcome, FaultsError> {
     let setup = (s.setup)(ctx);
     let ticks = setup.ticks;
-    let (trace, lp) = run(setup).map_err(|e| format!("{}: {e}", s.name))?;
+    let (trace, lp) = run(setup).map_err(|source| FaultsError::Setup {
+        scenario: s.name,
+        source,
+    })?;
     let mut j = (s.judge)(&trace, &lp, ctx);
     let common = common_failures(&trace, ctx);
     if !common.is_empty() {
@@ -321,7 +326,7 @@ pub fn table() -> Vec<&'static Scenario> {
 }
 
 /// Run every scenario: (outcome, injected). `Err` only if a scenario could not be set up.
-pub fn campaign() -> Result<Vec<(Outcome, bool)>, String> {
+pub fn campaign() -> Result<Vec<(Outcome, bool)>, FaultsError> {
     let ctx = Ctx::new();
     table()
         .into_iter()

@@ -14,6 +14,7 @@
 //! `cargo run --release -p host-sim -- soak --ticks 100000000 --json`.
 
 use super::closed_loop::{scene_config, ClosedLoop};
+use super::FaultsError;
 use crate::plant::{Phase, PlantParams, TouchScript, Waypoint};
 use serde::Serialize;
 use softfinger_core::contact::state::ContactState;
@@ -63,7 +64,7 @@ struct Repetition {
 }
 
 /// Run the soak for `ticks` controller ticks.
-pub fn soak(ticks: u64) -> Result<SoakReport, String> {
+pub fn soak(ticks: u64) -> Result<SoakReport, FaultsError> {
     let touch = TouchScript::default();
     let script = touch.script();
     let start = script.sample(0.0);
@@ -78,7 +79,12 @@ pub fn soak(ticks: u64) -> Result<SoakReport, String> {
     );
     let config = scene_config(&touch);
     let limit = config.contact.max_force_n as f64;
-    let mut lp = ClosedLoop::new(config, PlantParams::OMEGA_LIKE, script)?;
+    let mut lp = ClosedLoop::new(config, PlantParams::OMEGA_LIKE, script).map_err(|source| {
+        FaultsError::Setup {
+            scenario: "soak",
+            source,
+        }
+    })?;
     let per_rep = (period_s / lp.dt_s).round() as u64;
     let roll_end = (1.8 / lp.dt_s).round() as u64;
 
@@ -165,35 +171,30 @@ pub fn soak(ticks: u64) -> Result<SoakReport, String> {
 }
 
 /// `host-sim soak`.
-pub fn main(args: &Args) -> Result<(), String> {
+pub fn main(args: &Args) -> Result<(), FaultsError> {
     let r = soak(args.ticks)?;
-    let mut text = String::new();
     if args.json {
-        let _ = writeln!(
-            text,
-            "{}",
-            serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?
-        );
-    } else {
-        let _ = writeln!(
-            text,
-            "soak: {} ticks ({} repetitions of {} ticks) in {:.1} s = {:.0} ticks/s",
-            r.ticks, r.repetitions, r.ticks_per_repetition, r.wall_s, r.ticks_per_s
-        );
-        let _ = writeln!(
-            text,
-
-            "max force: rendered {:.3} N, motors {:.3} N (limit {} N); NaN outputs {}; faulted ticks {}",
-            r.max_rendered_force_n, r.max_plant_force_n, r.force_limit_n, r.nan_outputs, r.latched_ticks
-        );
-        let _ = writeln!(
-            text,
-
-            "drift vs repetition 2: {} timeline mismatches, max transition shift {} ticks, max end-of-roll contact point drift {:.3e} m",
-            r.timeline_mismatches, r.max_transition_shift_ticks, r.max_contact_point_drift_m
-        );
-        let _ = writeln!(text, "reference timeline: {:?}", r.reference_timeline);
+        return super::emit_json(&r);
     }
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "soak: {} ticks ({} repetitions of {} ticks) in {:.1} s = {:.0} ticks/s",
+        r.ticks, r.repetitions, r.ticks_per_repetition, r.wall_s, r.ticks_per_s
+    );
+    let _ = writeln!(
+        text,
+
+        "max force: rendered {:.3} N, motors {:.3} N (limit {} N); NaN outputs {}; faulted ticks {}",
+        r.max_rendered_force_n, r.max_plant_force_n, r.force_limit_n, r.nan_outputs, r.latched_ticks
+    );
+    let _ = writeln!(
+        text,
+
+        "drift vs repetition 2: {} timeline mismatches, max transition shift {} ticks, max end-of-roll contact point drift {:.3e} m",
+        r.timeline_mismatches, r.max_transition_shift_ticks, r.max_contact_point_drift_m
+    );
+    let _ = writeln!(text, "reference timeline: {:?}", r.reference_timeline);
     super::emit(&text);
     Ok(())
 }

@@ -10,14 +10,14 @@
 //! operator is ignored) and the link's timing depends on the host, so this run is not compared
 //! with the in-process pipeline and its instruction counts are not budgeted.
 
-use super::link_client::{Client, ANSWER_TIMEOUT};
+use super::link_client::{frame, Client, LinkError, ANSWER_TIMEOUT};
 use super::qemu;
 use super::session;
+use super::PilError;
 use softfinger_protocol::frame::encode_frame_with_version;
 use softfinger_protocol::{
-    encode_frame, AckResult, DeviceMsg, ErrorCode, FrameErrorKind, HostMsg, LinkCounters,
-    LocalModel, Mode, Request, StateSample, SurfaceKind, SurfaceShape, MAX_FRAME_LEN,
-    PROTOCOL_VERSION,
+    AckResult, DeviceMsg, ErrorCode, FrameErrorKind, HostMsg, LinkCounters, LocalModel, Mode,
+    Request, StateSample, SurfaceKind, SurfaceShape, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -53,33 +53,32 @@ impl LinkReport {
     }
 }
 
+/// A ping request with sequence number `seq`.
+fn ping(seq: u16) -> HostMsg {
+    HostMsg::Request {
+        seq,
+        req: Request::Ping,
+    }
+}
+
 /// A frame with its CRC broken (one body byte changed; still valid COBS).
-fn wrong_crc_frame() -> Result<Vec<u8>, String> {
-    let mut buf = [0u8; MAX_FRAME_LEN];
-    let n = encode_frame(
-        &HostMsg::Request {
-            seq: 900,
-            req: Request::Ping,
-        },
-        &mut buf,
-    )
-    .map_err(|e| format!("{e:?}"))?;
-    let mut f = buf[..n].to_vec();
+fn wrong_crc_frame() -> Result<Vec<u8>, LinkError> {
+    let mut f = frame(&ping(900))?;
     // Byte 3 is inside the body and not zero; flipping bit 6 keeps it non-zero.
     f[3] ^= 0x40;
     Ok(f)
 }
 
 /// The frame error the device answers next.
-fn frame_error(c: &mut Client) -> Result<FrameErrorKind, String> {
+fn frame_error(c: &mut Client) -> Result<FrameErrorKind, LinkError> {
     match c.next(ANSWER_TIMEOUT)? {
         DeviceMsg::FrameError { kind, .. } => Ok(kind),
-        other => Err(format!("expected a frame error, got {other:?}")),
+        other => Err(LinkError::unexpected("a frame error", &other)),
     }
 }
 
 /// The conversation; each step's outcome goes into `r`.
-fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), String> {
+fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), LinkError> {
     let min_divisor = handshake(c, rate_hz, r)?;
     start_stream(c, min_divisor, r)?;
     bad_frames(c, r)?;
@@ -93,7 +92,7 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Stri
 }
 
 /// Hello and device info; returns the device's minimum stream divisor.
-fn handshake(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<u16, String> {
+fn handshake(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<u16, LinkError> {
     c.send(&HostMsg::Hello {
         min_version: 1,
         max_version: PROTOCOL_VERSION,
@@ -128,12 +127,12 @@ fn handshake(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<u16, St
             r.check("device info", ok, format!("{info:?}"));
             Ok(info.min_stream_divisor)
         }
-        other => Err(format!("expected device info, got {other:?}")),
+        other => Err(LinkError::unexpected("device info", &other)),
     }
 }
 
 /// A stream one below the minimum divisor (refused), then at the minimum (started).
-fn start_stream(c: &mut Client, min_divisor: u16, r: &mut LinkReport) -> Result<(), String> {
+fn start_stream(c: &mut Client, min_divisor: u16, r: &mut LinkReport) -> Result<(), LinkError> {
     let seq = c.request(Request::SetStream {
         divisor: min_divisor - 1,
     })?;
@@ -152,34 +151,19 @@ fn start_stream(c: &mut Client, min_divisor: u16, r: &mut LinkReport) -> Result<
 }
 
 /// Bad frames: each answered with its kind, the link usable after each, each counted.
-fn bad_frames(c: &mut Client, r: &mut LinkReport) -> Result<(), String> {
+fn bad_frames(c: &mut Client, r: &mut LinkReport) -> Result<(), LinkError> {
     let mut kinds = Vec::new();
     c.send_raw(&[0x05, 0x11, 0x00])?;
     kinds.push(frame_error(c)?);
     c.send_raw(&wrong_crc_frame()?)?;
     kinds.push(frame_error(c)?);
-    let mut buf = [0u8; MAX_FRAME_LEN];
-    let n = encode_frame(
-        &HostMsg::Request {
-            seq: 901,
-            req: Request::Ping,
-        },
-        &mut buf,
-    )
-    .map_err(|e| format!("{e:?}"))?;
-    let mut truncated = buf[..n / 2].to_vec();
+    let whole = frame(&ping(901))?;
+    let mut truncated = whole[..whole.len() / 2].to_vec();
     truncated.push(0);
     c.send_raw(&truncated)?;
     kinds.push(frame_error(c)?);
-    let n = encode_frame_with_version(
-        &HostMsg::Request {
-            seq: 902,
-            req: Request::Ping,
-        },
-        9,
-        &mut buf,
-    )
-    .map_err(|e| format!("{e:?}"))?;
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let n = encode_frame_with_version(&ping(902), 9, &mut buf).map_err(|_| LinkError::TooLarge)?;
     c.send_raw(&buf[..n])?;
     kinds.push(frame_error(c)?);
     r.check(
@@ -211,25 +195,14 @@ fn bad_frames(c: &mut Client, r: &mut LinkReport) -> Result<(), String> {
                 && counters.rx_cobs + counters.rx_crc + counters.rx_decode == 3,
             format!("{counters:?}"),
         ),
-        other => return Err(format!("expected counters, got {other:?}")),
+        other => return Err(LinkError::unexpected("counters", &other)),
     }
     Ok(())
 }
 
 /// Models before homing: refused by the pipeline's validation, with their codes.
-fn refused_models(c: &mut Client, r: &mut LinkReport) -> Result<(), String> {
-    let initial_seq = LocalModel {
-        seq: 0,
-        shape: SurfaceShape::Plane,
-        position_m: [0.0, 0.0, -0.175],
-        orientation: [1.0, 0.0, 0.0, 0.0],
-        stiffness_n_per_m: 2000.0,
-        damping_n_s_per_m: 2.0,
-        mu_s: 0.8,
-        mu_k: 0.6,
-        spin_stiffness_nm_per_rad: 0.01,
-        max_age_ms: 0,
-    };
+fn refused_models(c: &mut Client, r: &mut LinkReport) -> Result<(), LinkError> {
+    let initial_seq = super::link_model::model(0, SurfaceShape::Plane, [0.0, 0.0, -0.175]);
     let seq = c.request(Request::SetLocalModel(initial_seq))?;
     let stale = c.ack(seq)?;
     let seq = c.request(Request::SetLocalModel(LocalModel {
@@ -249,7 +222,11 @@ fn refused_models(c: &mut Client, r: &mut LinkReport) -> Result<(), String> {
 
 /// Arming before homing (refused), home, arm, then a few samples while armed (the force ramps
 /// in over 0.5 s); returns the first armed state.
-fn home_and_arm(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<StateSample, String> {
+fn home_and_arm(
+    c: &mut Client,
+    rate_hz: u32,
+    r: &mut LinkReport,
+) -> Result<StateSample, LinkError> {
     let seq = c.request(Request::Arm)?;
     let early = c.ack(seq)?;
     r.check(
@@ -361,7 +338,7 @@ fn check_mode_order(c: &Client, r: &mut LinkReport) {
 }
 
 /// The device's counters at the end: no new errors, at least `states` frames sent.
-fn final_counters(c: &mut Client, states: usize, r: &mut LinkReport) -> Result<(), String> {
+fn final_counters(c: &mut Client, states: usize, r: &mut LinkReport) -> Result<(), LinkError> {
     let seq = c.request(Request::GetCounters)?;
     match c.next(ANSWER_TIMEOUT)? {
         DeviceMsg::Counters { seq: s, counters } if s == seq => {
@@ -372,7 +349,7 @@ fn final_counters(c: &mut Client, states: usize, r: &mut LinkReport) -> Result<(
             );
             r.counters = Some(counters);
         }
-        other => return Err(format!("expected counters, got {other:?}")),
+        other => return Err(LinkError::unexpected("counters", &other)),
     }
     Ok(())
 }
@@ -385,7 +362,7 @@ pub fn run(
     limit: Duration,
     plant: crate::plant::Plant,
     s: &session::Settings,
-) -> Result<(session::Trace, LinkReport), String> {
+) -> Result<(session::Trace, LinkReport), PilError> {
     let sock = dir.join(UART_SOCKET);
     let serial = format!("unix:{},server=on,wait=off", sock.display());
     let mut emu = qemu::Emulator::start_with_serial(qemu_exe, elf, dir, limit, &serial)?;
@@ -401,7 +378,7 @@ pub fn run(
                 r
             });
             if let Err(e) = result {
-                report.check("conversation completed", false, e);
+                report.check("conversation completed", false, e.to_string());
             }
             stop.store(true, Ordering::Relaxed);
             report
@@ -413,7 +390,7 @@ pub fn run(
     });
     let status = emu.finish();
     let trace = trace?;
-    let report = report.map_err(|_| "the link client panicked".to_string())?;
+    let report = report.map_err(|_| PilError::ClientPanicked)?;
     status?;
     Ok((trace, report))
 }

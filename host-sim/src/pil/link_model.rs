@@ -14,7 +14,7 @@
 //!    watchdog off and re-arming clears it.
 
 use super::link_check::LinkReport;
-use super::link_client::Client;
+use super::link_client::{Client, LinkError};
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::local_model::RendererConfig;
 use softfinger_core::Flags;
@@ -69,7 +69,7 @@ fn zero_after_timeout_s() -> f32 {
 const SAMPLES: usize = 40;
 
 /// A model of the default material, never stale.
-fn model(seq: u32, shape: SurfaceShape, position_m: [f32; 3]) -> LocalModel {
+pub(super) fn model(seq: u32, shape: SurfaceShape, position_m: [f32; 3]) -> LocalModel {
     LocalModel {
         seq,
         shape,
@@ -90,7 +90,7 @@ fn switch_to(
     c: &mut Client,
     m: LocalModel,
     settle_ticks: u64,
-) -> Result<(AckResult, Vec<StateSample>), String> {
+) -> Result<(AckResult, Vec<StateSample>), LinkError> {
     let seq = c.request(Request::SetLocalModel(m))?;
     let ack = c.ack(seq)?;
     let seen = c.states.len();
@@ -123,7 +123,7 @@ pub(super) fn check(
     rate_hz: u32,
     divisor: u16,
     r: &mut LinkReport,
-) -> Result<(), String> {
+) -> Result<(), LinkError> {
     let stream = u64::from(divisor);
     // The blend of a switch, then one stream period.
     let settle = ticks_at(rate_hz, RendererConfig::DEFAULT.blend_s) + stream;
@@ -145,9 +145,9 @@ fn timed_out(s: &StateSample) -> bool {
 }
 
 /// Check 1: a sphere out of the probe's reach renders no contact and zero force.
-fn sphere_out_of_reach(c: &mut Client, settle: u64, r: &mut LinkReport) -> Result<(), String> {
+fn sphere_out_of_reach(c: &mut Client, settle: u64, r: &mut LinkReport) -> Result<(), LinkError> {
     let radius = CONTACT.fingertip_radius_m;
-    let p = c.states.last().ok_or("no state yet")?.probe_m;
+    let p = c.states.last().ok_or(LinkError::NoState)?.probe_m;
     let centre = [p[0], p[1], p[2] - (SPHERE_R_M + radius + SPHERE_GAP_M)];
     let sphere = model(
         1,
@@ -181,9 +181,9 @@ fn sphere_out_of_reach(c: &mut Client, settle: u64, r: &mut LinkReport) -> Resul
 
 /// Check 2: a plane pressing into the fingertip is named by the stream, its contact point under
 /// the probe, and its force the spring-damper law on the streamed probe state.
-fn raised_plane(c: &mut Client, settle: u64, r: &mut LinkReport) -> Result<(), String> {
+fn raised_plane(c: &mut Client, settle: u64, r: &mut LinkReport) -> Result<(), LinkError> {
     let radius = CONTACT.fingertip_radius_m;
-    let z = c.states.last().ok_or("no state yet")?.probe_m[2];
+    let z = c.states.last().ok_or(LinkError::NoState)?.probe_m[2];
     let top = z - radius + PLANE_PRESS_M;
     let plane = model(2, SurfaceShape::Plane, [0.0, 0.0, top]);
     let (ack, after) = switch_to(c, plane, settle)?;
@@ -247,20 +247,20 @@ fn watchdog_fed(
     rate_hz: u32,
     stream: u64,
     r: &mut LinkReport,
-) -> Result<AckResult, String> {
+) -> Result<AckResult, LinkError> {
     let seq = c.request(Request::SetWatchdog {
         timeout_ms: WATCHDOG_MS,
     })?;
     let ack = c.ack(seq)?;
     // Pings back to back (each answered) for three timeouts of board time: every valid frame
     // feeds the watchdog, so it must not fire.
-    let fed_from = c.states.last().ok_or("no state yet")?.tick + stream;
+    let fed_from = c.states.last().ok_or(LinkError::NoState)?.tick + stream;
     let fed_until = fed_from + 3 * ticks_at(rate_hz, f32::from(WATCHDOG_MS) * 1e-3);
     let mut pings = 0u32;
     while c.states.last().is_none_or(|s| s.tick < fed_until) {
         let seq = c.request(Request::Ping)?;
         if c.ack(seq)? != AckResult::Ok {
-            return Err("a ping was refused".into());
+            return Err(LinkError::PingRefused);
         }
         pings += 1;
     }
@@ -288,16 +288,16 @@ fn watchdog_silence(
     rate_hz: u32,
     ack: AckResult,
     r: &mut LinkReport,
-) -> Result<(), String> {
+) -> Result<(), LinkError> {
     // Silence from here: wait for the timeout, then for the fade to end.
-    let before = c.states.last().ok_or("no state yet")?.tick;
+    let before = c.states.last().ok_or(LinkError::NoState)?.tick;
     c.wait_for(|s| s.iter().any(timed_out))?;
     let t1 = c
         .states
         .iter()
         .find(|s| timed_out(s))
         .map(|s| s.tick)
-        .ok_or("no timeout")?;
+        .ok_or(LinkError::NoTimeout)?;
     let faded = t1 + ticks_at(rate_hz, zero_after_timeout_s());
     c.wait_for(|s| s.iter().filter(|x| x.tick >= faded).count() >= 3)?;
     let later: Vec<&StateSample> = c.states.iter().filter(|s| s.tick >= t1).collect();
@@ -333,7 +333,7 @@ fn watchdog_silence(
 }
 
 /// Check 3, last part: watchdog off, re-armed: the latch clears and the force returns.
-fn watchdog_off_and_rearm(c: &mut Client, r: &mut LinkReport) -> Result<(), String> {
+fn watchdog_off_and_rearm(c: &mut Client, r: &mut LinkReport) -> Result<(), LinkError> {
     // Watchdog off (itself a message), then re-arm: the latch clears and the force comes back.
     let seq = c.request(Request::SetWatchdog { timeout_ms: 0 })?;
     let off = c.ack(seq)?;

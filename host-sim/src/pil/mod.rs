@@ -5,6 +5,7 @@
 //!
 //! `scripts/pil` builds the firmware and this tool and runs it; see that script for the options.
 
+mod error;
 pub mod faults;
 pub mod link_check;
 mod link_client;
@@ -20,8 +21,11 @@ pub mod views;
 pub mod wire;
 
 use crate::closed_loop;
+use crate::error::{FileError, JsonError};
 use crate::scene::{Scene, SurfaceSpec};
+pub use error::PilError;
 use faults::Fault;
+pub use link_client::LinkError;
 use report::{FaultReport, Summary, REPORT_KEYS};
 use softfinger_core::contact::params::ContactParams;
 use std::path::{Path, PathBuf};
@@ -47,15 +51,9 @@ pub struct Args {
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,
-    /// Write the decoded telemetry records as CSV.
-    #[arg(long)]
-    pub telemetry_csv: Option<PathBuf>,
-    /// Chart the telemetry's rendered force (SVG).
-    #[arg(long)]
-    pub chart: Option<PathBuf>,
-    /// Write the telemetry's wrist orientations as `host-sim replay` input.
-    #[arg(long)]
-    pub replay_csv: Option<PathBuf>,
+    /// What to write from the decoded telemetry.
+    #[command(flatten)]
+    pub views: TelemetryViews,
     /// Keep the raw defmt log the board wrote.
     #[arg(long)]
     pub defmt_raw: Option<PathBuf>,
@@ -96,6 +94,36 @@ pub struct Args {
     pub timeout_s: u64,
 }
 
+/// The files written from decoded telemetry, each when asked for.
+#[derive(Debug, Default, clap::Args)]
+pub struct TelemetryViews {
+    /// Write the decoded telemetry records as CSV.
+    #[arg(long)]
+    pub telemetry_csv: Option<PathBuf>,
+    /// Chart the telemetry's rendered force (SVG).
+    #[arg(long)]
+    pub chart: Option<PathBuf>,
+    /// Write the telemetry's wrist orientations as `host-sim replay` input.
+    #[arg(long)]
+    pub replay_csv: Option<PathBuf>,
+}
+
+impl TelemetryViews {
+    /// Write the asked-for files from the telemetry `rows` (ticks at `rate_hz`).
+    fn write(&self, rows: &[Vec<(String, String)>], rate_hz: u32) -> Result<(), PilError> {
+        if let Some(path) = &self.telemetry_csv {
+            telemetry::write_csv(path, rows, rate_hz)?;
+        }
+        if let Some(path) = &self.chart {
+            views::force_chart(path, rows, rate_hz)?;
+        }
+        if let Some(path) = &self.replay_csv {
+            views::replay_csv(path, rows, rate_hz)?;
+        }
+        Ok(())
+    }
+}
+
 /// `host-sim pil-decode`: a raw defmt log (e.g. RTT bytes captured from the STM32 build) decoded
 /// against its ELF.
 #[derive(Debug, clap::Args)]
@@ -106,92 +134,60 @@ pub struct DecodeArgs {
     /// The raw log: rzCOBS-encoded defmt frames.
     #[arg(long)]
     pub log: PathBuf,
-    /// Write the telemetry records as CSV.
-    #[arg(long)]
-    pub telemetry_csv: Option<PathBuf>,
-    /// Chart the telemetry's rendered force (SVG).
-    #[arg(long)]
-    pub chart: Option<PathBuf>,
-    /// Write the telemetry's wrist orientations as `host-sim replay` input.
-    #[arg(long)]
-    pub replay_csv: Option<PathBuf>,
+    /// What to write from the decoded telemetry.
+    #[command(flatten)]
+    pub views: TelemetryViews,
     /// The control rate the records' ticks count at, Hz (for the t_s column).
     #[arg(long, default_value_t = 10_000)]
     pub rate_hz: u32,
 }
 
-fn read(path: &Path) -> Result<Vec<u8>, String> {
-    std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))
+fn read(path: &Path) -> Result<Vec<u8>, FileError> {
+    std::fs::read(path).map_err(FileError::on(path, "cannot read"))
 }
 
 /// `host-sim pil-decode`.
-pub fn decode_main(args: &DecodeArgs) -> Result<(), String> {
+pub fn decode_main(args: &DecodeArgs) -> Result<(), PilError> {
     if args.rate_hz == 0 {
-        return Err("--rate-hz must be positive".into());
+        return Err(PilError::DecodeRate);
     }
     let log = telemetry::decode(&read(&args.elf)?, &read(&args.log)?)?;
     for f in &log.frames {
         println!("{:<5} {}", f.level, f.message);
     }
     let rows = telemetry::telemetry_rows(&log);
-    if let Some(path) = &args.telemetry_csv {
-        telemetry::write_csv(path, &rows, args.rate_hz)?;
+    args.views.write(&rows, args.rate_hz)?;
+    if let Some(path) = &args.views.telemetry_csv {
         eprintln!(
             "wrote {} telemetry records to {}",
             rows.len(),
             path.display()
         );
     }
-    write_views(
-        args.chart.as_deref(),
-        args.replay_csv.as_deref(),
-        &rows,
-        args.rate_hz,
-    )?;
     if log.malformed > 0 {
-        return Err(format!("{} malformed frames in the log", log.malformed));
-    }
-    Ok(())
-}
-
-/// The chart and the replay input, when asked for.
-fn write_views(
-    chart: Option<&Path>,
-    replay: Option<&Path>,
-    rows: &[Vec<(String, String)>],
-    rate_hz: u32,
-) -> Result<(), String> {
-    if let Some(path) = chart {
-        views::force_chart(path, rows, rate_hz)?;
-    }
-    if let Some(path) = replay {
-        views::replay_csv(path, rows, rate_hz)?;
+        return Err(PilError::Malformed(log.malformed));
     }
     Ok(())
 }
 
 /// The run's settings from the arguments and the scene.
-fn settings(args: &Args, scene: &Scene) -> Result<session::Settings, String> {
+fn settings(args: &Args, scene: &Scene) -> Result<session::Settings, PilError> {
     let rate_hz = args.rate_hz.unwrap_or(scene.rate_hz as u32);
     if !(1_000..=20_000).contains(&rate_hz) || 25_000_000 % rate_hz != 0 {
-        return Err(format!(
-            "--rate-hz {rate_hz}: must be within 1000..=20000 and divide 25 MHz"
-        ));
+        return Err(PilError::Rate(rate_hz));
     }
     let timing = closed_loop::board_timing(f64::from(rate_hz))?;
     let duration_s = args.duration_s.unwrap_or(scene.duration_s);
     if !(duration_s.is_finite() && duration_s > 0.0 && duration_s <= MAX_DURATION_S) {
-        return Err(format!(
-            "--duration-s {duration_s}: must be within (0, {MAX_DURATION_S}]"
-        ));
+        return Err(PilError::Duration(duration_s));
     }
     if args.fault != Fault::None
         && !(args.fault_at_s.is_finite() && (0.0..duration_s).contains(&args.fault_at_s))
     {
-        return Err(format!(
-            "--fault-at-s {}: must be within the scene (0..{duration_s} s)",
-            args.fault_at_s
-        ));
+        return Err(PilError::FaultAt {
+            at_s: args.fault_at_s,
+            duration_s,
+        });
     }
     Ok(session::Settings {
         timing,
@@ -202,31 +198,25 @@ fn settings(args: &Args, scene: &Scene) -> Result<session::Settings, String> {
 }
 
 /// The scene, checked against what the firmware renders.
-fn load_scene(name: &str) -> Result<(Scene, ContactParams), String> {
+fn load_scene(name: &str) -> Result<(Scene, ContactParams), PilError> {
     let scene = Scene::load(name)?;
     if scene.surface != SurfaceSpec::Plane {
-        return Err(format!(
-            "scene '{}': the firmware renders a plane; this scene needs another surface",
-            scene.name
-        ));
+        return Err(PilError::NotPlane(scene.name));
     }
     let contact = closed_loop::contact_params(&scene)?;
     if contact != ContactParams::DEFAULT {
-        return Err(format!(
-            "scene '{}': the firmware renders the default contact parameters; this scene changes them",
-            scene.name
-        ));
+        return Err(PilError::NotDefaultContact(scene.name));
     }
     Ok((scene, contact))
 }
 
 /// A fresh, empty work directory for one run.
-fn work_dir() -> Result<PathBuf, String> {
+fn work_dir() -> Result<PathBuf, FileError> {
     let dir = std::env::temp_dir().join(format!("softfinger-pil-{}", std::process::id()));
     if dir.exists() {
-        std::fs::remove_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::remove_dir_all(&dir).map_err(FileError::on(&dir, "cannot remove"))?;
     }
-    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    std::fs::create_dir_all(&dir).map_err(FileError::on(&dir, "cannot create"))?;
     Ok(dir)
 }
 
@@ -235,20 +225,11 @@ fn run_board(
     args: &Args,
     plant: &crate::plant::Plant,
     s: &session::Settings,
-) -> Result<(session::Trace, Vec<u8>), String> {
+) -> Result<(session::Trace, Vec<u8>), PilError> {
     if !args.elf.is_file() {
-        return Err(format!(
-            "{}: no firmware ELF (build it with scripts/pil, or cargo build --release \
-             --no-default-features --features mps2-an386 in firmware/)",
-            args.elf.display()
-        ));
+        return Err(PilError::NoElf(args.elf.clone()));
     }
-    let elf = args
-        .elf
-        .canonicalize()
-        .map_err(|e| format!("{}: {e}", args.elf.display()))?;
-    let dir = work_dir()?;
-    let limit = Duration::from_secs(args.timeout_s);
+    let (elf, dir, limit) = emulator_setup(args)?;
     let result = (|| {
         let mut emu = qemu::Emulator::start(&args.qemu, &elf, &dir, limit)?;
         let served = session::run(&mut emu, plant.clone(), s);
@@ -256,23 +237,40 @@ fn run_board(
         let trace = served?;
         let status = status?;
         if !trace.done || !status.success() {
-            return Err(format!(
-                "the board did not finish the run (QEMU {status}, {} samples served){}{}",
-                trace.samples,
-                std::fs::read_to_string(dir.join("qemu.stderr"))
+            return Err(PilError::Unfinished {
+                status,
+                samples: trace.samples,
+                qemu: std::fs::read_to_string(dir.join("qemu.stderr"))
                     .map(|e| format!("; QEMU: {}", e.trim()))
                     .unwrap_or_default(),
-                last_log_lines(&args.elf, &dir.join(qemu::DEFMT_LOG))
-            ));
+                log: last_log_lines(&args.elf, &dir.join(qemu::DEFMT_LOG)),
+            });
         }
         Ok((trace, read(&dir.join(qemu::DEFMT_LOG))?))
     })();
+    clean_up(result, dir)
+}
+
+/// The ELF's absolute path, a fresh work directory and QEMU's wall-clock limit, for one run.
+fn emulator_setup(args: &Args) -> Result<(PathBuf, PathBuf, Duration), PilError> {
+    let elf = args
+        .elf
+        .canonicalize()
+        .map_err(FileError::on(&args.elf, "cannot resolve"))?;
+    Ok((elf, work_dir()?, Duration::from_secs(args.timeout_s)))
+}
+
+/// `result` of a run in `dir`: the directory removed on success, kept and named on failure.
+fn clean_up<T>(result: Result<T, PilError>, dir: PathBuf) -> Result<T, PilError> {
     match result {
         Ok(r) => {
             let _ = std::fs::remove_dir_all(&dir);
             Ok(r)
         }
-        Err(e) => Err(format!("{e} (work directory kept: {})", dir.display())),
+        Err(e) => Err(PilError::WorkDirKept {
+            source: Box::new(e),
+            dir,
+        }),
     }
 }
 
@@ -297,23 +295,17 @@ fn last_log_lines(elf: &Path, raw: &Path) -> String {
 }
 
 /// `host-sim pil --link-check`: the host link on the emulated board; the report on stdout.
-fn link_main(args: &Args) -> Result<(), String> {
+fn link_main(args: &Args) -> Result<(), PilError> {
     let (scene, contact) = load_scene(&args.scene)?;
     let s = settings(args, &scene)?;
-    let plant = closed_loop::plant(&scene, &contact).map_err(|e| format!("plant: {e:?}"))?;
-    let elf = args
-        .elf
-        .canonicalize()
-        .map_err(|e| format!("{}: {e}", args.elf.display()))?;
-    let dir = work_dir()?;
-    let limit = Duration::from_secs(args.timeout_s);
-    let (trace, report) = link_check::run(&args.qemu, &elf, &dir, limit, plant, &s)
-        .map_err(|e| format!("{e} (work directory kept: {})", dir.display()))?;
-    let _ = std::fs::remove_dir_all(&dir);
+    let plant = closed_loop::plant(&scene, &contact)?;
+    let (elf, dir, limit) = emulator_setup(args)?;
+    let run = link_check::run(&args.qemu, &elf, &dir, limit, plant, &s);
+    let (trace, report) = clean_up(run, dir)?;
     if args.json {
         println!(
             "{}",
-            serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?
+            serde_json::to_string_pretty(&report).map_err(JsonError)?
         );
     } else {
         for (what, ok, detail) in &report.checks {
@@ -325,28 +317,28 @@ fn link_main(args: &Args) -> Result<(), String> {
         );
     }
     if !trace.done {
-        return Err("the board did not finish the run".into());
+        return Err(PilError::NotFinished);
     }
     if !report.passed() || report.rx_errors_here != 0 {
-        return Err("host link check failed".into());
+        return Err(PilError::LinkCheckFailed);
     }
     Ok(())
 }
 
 /// `host-sim pil`.
-pub fn main(args: &Args) -> Result<(), String> {
+pub fn main(args: &Args) -> Result<(), PilError> {
     if args.link_check {
         return link_main(args);
     }
     let (scene, contact) = load_scene(&args.scene)?;
     let s = settings(args, &scene)?;
-    let plant = closed_loop::plant(&scene, &contact).map_err(|e| format!("plant: {e:?}"))?;
+    let plant = closed_loop::plant(&scene, &contact)?;
     let (trace, raw) = run_board(args, &plant, &s)?;
     if let Some(path) = &args.defmt_raw {
-        std::fs::write(path, &raw).map_err(|e| format!("{}: {e}", path.display()))?;
+        std::fs::write(path, &raw).map_err(FileError::on(path, "cannot write"))?;
     }
     if trace.homing_timed_out {
-        return Err("the board did not finish homing in time".into());
+        return Err(PilError::HomingTimedOut);
     }
     let scene = Scene {
         rate_hz: f64::from(s.rate_hz()),
@@ -365,20 +357,12 @@ pub fn main(args: &Args) -> Result<(), String> {
     };
     let log = telemetry::decode(&read(&args.elf)?, &raw)?;
     let rows = telemetry::telemetry_rows(&log);
-    if let Some(path) = &args.telemetry_csv {
-        telemetry::write_csv(path, &rows, s.rate_hz())?;
-    }
-    write_views(
-        args.chart.as_deref(),
-        args.replay_csv.as_deref(),
-        &rows,
-        s.rate_hz(),
-    )?;
+    args.views.write(&rows, s.rate_hz())?;
     let summary = summarize(&scene, &s, &trace, &reference, &log, &rows);
     if args.json {
         println!(
             "{}",
-            serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?
+            serde_json::to_string_pretty(&summary).map_err(JsonError)?
         );
     } else {
         summary.print();

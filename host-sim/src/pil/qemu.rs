@@ -8,6 +8,7 @@
 //! so a host blocked on a read always wakes.
 
 use super::wire::{KIND_EXITED, MSG_LEN};
+use crate::error::FileError;
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -33,34 +34,92 @@ pub struct Emulator {
     from_board: File,
     to_board: File,
     monitor: Option<JoinHandle<()>>,
-    status: Arc<Mutex<Option<Result<ExitStatus, String>>>>,
+    status: Arc<Mutex<Option<Result<ExitStatus, Stopped>>>>,
     stderr: PathBuf,
 }
 
-fn mkfifo(path: &Path) -> Result<(), String> {
+/// Why the emulator could not be started, talked to, or did not end normally.
+#[derive(Debug, thiserror::Error)]
+pub enum EmulatorError {
+    /// `mkfifo` could not be run.
+    #[error("cannot run mkfifo: {0}")]
+    Mkfifo(std::io::Error),
+    /// `mkfifo` refused the path.
+    #[error("mkfifo {} failed", .0.display())]
+    MkfifoFailed(PathBuf),
+    /// A FIFO or log file could not be opened or created.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// QEMU could not be started.
+    #[error("cannot start {qemu}: {source}")]
+    Start {
+        /// The QEMU executable.
+        qemu: String,
+        /// The operating system's reason.
+        source: std::io::Error,
+    },
+    /// Reading the plant link failed.
+    #[error("plant link read: {0}")]
+    LinkRead(std::io::Error),
+    /// Writing the plant link failed.
+    #[error("plant link write: {0}")]
+    LinkWrite(std::io::Error),
+    /// The monitor thread panicked.
+    #[error("monitor failed")]
+    Monitor,
+    /// QEMU was stopped or could not be waited for (with its stderr, if any).
+    #[error("{reason}{}", stderr_note(stderr))]
+    Stopped {
+        /// Why.
+        reason: Stopped,
+        /// QEMU's stderr.
+        stderr: String,
+    },
+    /// The monitor recorded no status (with QEMU's stderr, if any).
+    #[error("QEMU status unknown{}", stderr_note(.0))]
+    Unknown(String),
+}
+
+/// Why the monitor stopped QEMU or lost it.
+#[derive(Debug, thiserror::Error)]
+pub enum Stopped {
+    /// The wall-clock limit, s, was reached.
+    #[error("QEMU stopped after the {0} s wall-clock limit")]
+    TimeLimit(u64),
+    /// Waiting for the child failed.
+    #[error("waiting for QEMU: {0}")]
+    Wait(std::io::Error),
+}
+
+fn mkfifo(path: &Path) -> Result<(), EmulatorError> {
     let ok = Command::new("mkfifo")
         .arg(path)
         .status()
-        .map_err(|e| format!("cannot run mkfifo: {e}"))?
+        .map_err(EmulatorError::Mkfifo)?
         .success();
     if ok {
         Ok(())
     } else {
-        Err(format!("mkfifo {} failed", path.display()))
+        Err(EmulatorError::MkfifoFailed(path.to_path_buf()))
     }
 }
 
-fn open_rw(path: &Path) -> Result<File, String> {
+fn open_rw(path: &Path) -> Result<File, FileError> {
     OpenOptions::new()
         .read(true)
         .write(true)
         .open(path)
-        .map_err(|e| format!("{}: {e}", path.display()))
+        .map_err(FileError::on(path, "cannot open"))
 }
 
 impl Emulator {
     /// Create the FIFOs in `dir` (which must exist and be empty) and start QEMU on `elf`.
-    pub fn start(qemu: &str, elf: &Path, dir: &Path, limit: Duration) -> Result<Emulator, String> {
+    pub fn start(
+        qemu: &str,
+        elf: &Path,
+        dir: &Path,
+        limit: Duration,
+    ) -> Result<Emulator, EmulatorError> {
         Emulator::start_with_serial(qemu, elf, dir, limit, "none")
     }
 
@@ -72,10 +131,11 @@ impl Emulator {
         dir: &Path,
         limit: Duration,
         serial: &str,
-    ) -> Result<Emulator, String> {
+    ) -> Result<Emulator, EmulatorError> {
         mkfifo(&dir.join(TO_PLANT))?;
         mkfifo(&dir.join(FROM_PLANT))?;
-        File::create(dir.join(DEFMT_LOG)).map_err(|e| format!("{DEFMT_LOG}: {e}"))?;
+        let log = dir.join(DEFMT_LOG);
+        File::create(&log).map_err(FileError::on(&log, "cannot create"))?;
         let from_board = open_rw(&dir.join(TO_PLANT))?;
         let to_board = open_rw(&dir.join(FROM_PLANT))?;
         let stderr = dir.join("qemu.stderr");
@@ -89,13 +149,17 @@ impl Emulator {
             .current_dir(dir)
             .stdin(Stdio::null())
             .stdout(Stdio::null())
-            .stderr(File::create(&stderr).map_err(|e| format!("qemu.stderr: {e}"))?)
+            .stderr(File::create(&stderr).map_err(FileError::on(&stderr, "cannot create"))?)
             .spawn()
-            .map_err(|e| format!("cannot start {qemu}: {e}"))?;
+            .map_err(|source| EmulatorError::Start {
+                qemu: qemu.to_string(),
+                source,
+            })?;
         let status = Arc::new(Mutex::new(None));
+        let to_plant = dir.join(TO_PLANT);
         let wake = from_board
             .try_clone()
-            .map_err(|e| format!("{TO_PLANT}: {e}"))?;
+            .map_err(FileError::on(&to_plant, "cannot clone"))?;
         let monitor = {
             let status = Arc::clone(&status);
             std::thread::spawn(move || monitor(child, wake, limit, status))
@@ -110,32 +174,34 @@ impl Emulator {
     }
 
     /// The next message from the board (blocks).
-    pub fn receive(&mut self) -> Result<[u8; MSG_LEN], String> {
+    pub fn receive(&mut self) -> Result<[u8; MSG_LEN], EmulatorError> {
         let mut m = [0u8; MSG_LEN];
         self.from_board
             .read_exact(&mut m)
-            .map_err(|e| format!("plant link read: {e}"))?;
+            .map_err(EmulatorError::LinkRead)?;
         Ok(m)
     }
 
     /// Send one reply to the board.
-    pub fn reply(&mut self, r: &[u8]) -> Result<(), String> {
-        self.to_board
-            .write_all(r)
-            .map_err(|e| format!("plant link write: {e}"))
+    pub fn reply(&mut self, r: &[u8]) -> Result<(), EmulatorError> {
+        self.to_board.write_all(r).map_err(EmulatorError::LinkWrite)
     }
 
     /// Wait for QEMU to end; its exit status, or why it was stopped, with its stderr.
-    pub fn finish(mut self) -> Result<ExitStatus, String> {
+    pub fn finish(mut self) -> Result<ExitStatus, EmulatorError> {
         if let Some(m) = self.monitor.take() {
             let _ = m.join();
         }
-        let status = self.status.lock().map_err(|_| "monitor failed")?.take();
+        let status = self
+            .status
+            .lock()
+            .map_err(|_| EmulatorError::Monitor)?
+            .take();
         let stderr = std::fs::read_to_string(&self.stderr).unwrap_or_default();
         match status {
             Some(Ok(s)) => Ok(s),
-            Some(Err(e)) => Err(format!("{e}{}", stderr_note(&stderr))),
-            None => Err(format!("QEMU status unknown{}", stderr_note(&stderr))),
+            Some(Err(reason)) => Err(EmulatorError::Stopped { reason, stderr }),
+            None => Err(EmulatorError::Unknown(stderr)),
         }
     }
 }
@@ -153,7 +219,7 @@ fn monitor(
     mut child: Child,
     mut wake: File,
     limit: Duration,
-    status: Arc<Mutex<Option<Result<ExitStatus, String>>>>,
+    status: Arc<Mutex<Option<Result<ExitStatus, Stopped>>>>,
 ) {
     let start = Instant::now();
     let result = loop {
@@ -162,13 +228,10 @@ fn monitor(
             Ok(None) if start.elapsed() > limit => {
                 let _ = child.kill();
                 let _ = child.wait();
-                break Err(format!(
-                    "QEMU stopped after the {} s wall-clock limit",
-                    limit.as_secs()
-                ));
+                break Err(Stopped::TimeLimit(limit.as_secs()));
             }
             Ok(None) => std::thread::sleep(Duration::from_millis(20)),
-            Err(e) => break Err(format!("waiting for QEMU: {e}")),
+            Err(e) => break Err(Stopped::Wait(e)),
         }
     };
     if let Ok(mut s) = status.lock() {

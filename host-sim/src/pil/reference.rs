@@ -9,6 +9,7 @@
 
 use super::operator::Operator;
 use super::session::Settings;
+use super::PilError;
 use crate::plant::Plant;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
@@ -64,12 +65,12 @@ pub fn run<S: Scene>(
     plant: &Plant,
     config: PipelineConfig<S>,
     s: &Settings,
-) -> Result<RefRun, String> {
+) -> Result<RefRun, PilError> {
     let mut plant = plant.clone();
     let timing = config.timing;
     let planned = OutputTiming::planned(&timing);
     let load_after = planned.effect_counts / planned.pwm_counts.max(1);
-    let mut pipe = Pipeline::<Fast, S>::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
+    let mut pipe = Pipeline::<Fast, S>::new(config)?;
     plant.step_bridges(&BridgeCommands::OFF, &timing);
     let mut op = Operator::new(s.rate_hz());
     let mut prev_mode = Mode::Unhomed;
@@ -79,7 +80,7 @@ pub fn run<S: Scene>(
             break;
         }
         if op.homing_timed_out(k) {
-            return Err("in-process run: not homed in time".into());
+            return Err(PilError::ReferenceNotHomed);
         }
         let command = op.before_sample(k, prev_mode, &mut plant);
         let mut raw = RawInput {

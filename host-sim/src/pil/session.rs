@@ -21,6 +21,7 @@ use super::faults::Fault;
 use super::operator::{command_code, Operator};
 use super::qemu::Emulator;
 use super::wire::{self, Message};
+use super::PilError;
 use crate::plant::Plant;
 use softfinger_core::control::pipeline::output_timing::{OutputTiming, CCM_CYCLES_PER_INSTRUCTION};
 use softfinger_core::control::pipeline::{BoardTiming, BridgeCommands, Mode, RawInput};
@@ -196,7 +197,7 @@ impl Lockstep<'_> {
 }
 
 /// Serve the board until it says `Done` (or QEMU exits). Returns the trace.
-pub fn run(emu: &mut Emulator, plant: Plant, s: &Settings) -> Result<Trace, String> {
+pub fn run(emu: &mut Emulator, plant: Plant, s: &Settings) -> Result<Trace, PilError> {
     run_with_link(emu, plant, s, false, &AtomicBool::new(false))
 }
 
@@ -208,7 +209,7 @@ pub fn run_with_link(
     s: &Settings,
     host_link: bool,
     stop: &AtomicBool,
-) -> Result<Trace, String> {
+) -> Result<Trace, PilError> {
     let mut l = Lockstep {
         plant,
         s,
@@ -231,7 +232,7 @@ pub fn run_with_link(
                 l.base = at;
                 l.trace.resets.push(reset_cause);
             } else if booted {
-                return Err("the board rebooted without a watchdog NMI".into());
+                return Err(PilError::Rebooted);
             }
             // A fault is injected once: a rebooted board's test hook stays disarmed.
             let code = if booted { 0 } else { s.fault.board_code() };

@@ -6,6 +6,9 @@
 //! (`PipelineRecord { tick: 3, mode: Armed, state: Rolling, motor_counts: [..], .. }`), which
 //! [`flatten`] turns into named columns (`tick`, `mode`, `state`, `motor_counts_0`..).
 
+use super::PilError;
+use crate::atomic_file::AtomicFile;
+use crate::error::FileError;
 use defmt_decoder::{DecodeError, Table};
 
 /// One decoded frame.
@@ -25,10 +28,10 @@ pub struct Log {
 }
 
 /// Decode a raw defmt stream (rzCOBS frames as defmt-rtt or the emulated board write them).
-pub fn decode(elf: &[u8], raw: &[u8]) -> Result<Log, String> {
+pub fn decode(elf: &[u8], raw: &[u8]) -> Result<Log, PilError> {
     let table = Table::parse(elf)
-        .map_err(|e| format!("ELF: {e}"))?
-        .ok_or("the ELF has no defmt symbols (was it linked with -Tdefmt.x?)")?;
+        .map_err(|e| PilError::Elf(e.to_string()))?
+        .ok_or(PilError::NoDefmt)?;
     let mut decoder = table.new_stream_decoder();
     decoder.received(raw);
     let mut log = Log::default();
@@ -153,15 +156,14 @@ pub fn write_csv(
     path: &std::path::Path,
     rows: &[Vec<(String, String)>],
     rate_hz: u32,
-) -> Result<(), String> {
-    let io = |e: std::io::Error| format!("{}: {e}", path.display());
-    let mut file = crate::atomic_file::AtomicFile::create(path).map_err(io)?;
+) -> Result<(), FileError> {
+    let mut file = AtomicFile::create(path).map_err(FileError::on(path, "cannot create"))?;
+    let err = |e: csv::Error| FileError::on(path, "write failed")(e);
     let mut w = csv::Writer::from_writer(file.writer());
     let columns: Vec<&str> = rows
         .first()
         .map(|r| r.iter().map(|(c, _)| c.as_str()).collect())
         .unwrap_or_default();
-    let err = |e: csv::Error| format!("{}: {e}", path.display());
     let mut header = vec!["t_s"];
     header.extend(&columns);
     w.write_record(&header).map_err(err)?;
@@ -175,9 +177,9 @@ pub fn write_csv(
         record.extend(row.iter().map(|(_, v)| v.clone()));
         w.write_record(&record).map_err(err)?;
     }
-    w.flush().map_err(io)?;
+    w.flush().map_err(FileError::on(path, "write failed"))?;
     drop(w);
-    file.commit().map_err(io)
+    file.commit().map_err(FileError::on(path, "cannot publish"))
 }
 
 #[cfg(test)]

@@ -134,9 +134,13 @@ fn check_fails_just_above_the_budget_and_on_any_difference_or_overrun() {
     .unwrap();
     // 10 % over 1000 is the limit: 1100 passes, 1105 (the next 5-instruction step) fails.
     assert!(super::check(&summary(1100, 11), Some(&budget)).is_ok());
-    let e = super::check(&summary(1105, 11), Some(&budget)).unwrap_err();
+    let e = super::check(&summary(1105, 11), Some(&budget))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("max_tick_instructions 1105"), "{e}");
-    let e = super::check(&summary(1000, 12), Some(&budget)).unwrap_err();
+    let e = super::check(&summary(1000, 12), Some(&budget))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("max_start_latency_instructions"), "{e}");
     // A tick longer than its period fails without a budget.
     assert!(super::check(&summary(12_500, 5), None).is_ok());
@@ -145,15 +149,20 @@ fn check_fails_just_above_the_budget_and_on_any_difference_or_overrun() {
     s.identical_ticks = 9;
     assert!(super::check(&s, None)
         .unwrap_err()
+        .to_string()
         .contains("1 of 10 ticks differ"));
     let mut s = summary(1000, 5);
     s.overruns = 1;
-    assert!(super::check(&s, None).unwrap_err().contains("1 overruns"));
+    assert!(super::check(&s, None)
+        .unwrap_err()
+        .to_string()
+        .contains("1 overruns"));
     // A rate without a baseline is an error, not a pass.
     let mut s = summary(1000, 5);
     s.rate_hz = 20_000;
     assert!(super::check(&s, Some(&budget))
         .unwrap_err()
+        .to_string()
         .contains("no baseline"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -195,7 +204,7 @@ fn output_report_measures_the_delay_and_fails_a_late_load() {
     let mut s = summary(1000, 5);
     assert!(super::check(&s, None).is_ok());
     s.output = r;
-    let e = super::check(&s, None).unwrap_err();
+    let e = super::check(&s, None).unwrap_err().to_string();
     assert!(e.contains("1 of 2 ticks' compares"), "{e}");
     // No measured tick fails too.
     assert!(OutputReport::of(&Trace::default(), &b).failure().is_some());

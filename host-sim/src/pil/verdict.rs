@@ -5,6 +5,8 @@
 use super::faults::Fault;
 use super::report::Summary;
 use super::session;
+use super::PilError;
+use crate::error::FileError;
 use std::path::Path;
 
 /// Whether the fault was handled as the firmware must: outputs off at once (a hung tick: within
@@ -28,7 +30,7 @@ pub(super) fn judge(summary: &Summary, s: &session::Settings) -> bool {
 }
 
 /// `--check`: every failure in one error.
-pub(super) fn check(summary: &Summary, budget: Option<&Path>) -> Result<(), String> {
+pub(super) fn check(summary: &Summary, budget: Option<&Path>) -> Result<(), PilError> {
     let mut failures = Vec::new();
     if summary.overruns > 0 {
         failures.push(format!("{} overruns", summary.overruns));
@@ -57,15 +59,17 @@ pub(super) fn check(summary: &Summary, budget: Option<&Path>) -> Result<(), Stri
     if failures.is_empty() {
         Ok(())
     } else {
-        Err(format!("pil --check failed: {}", failures.join("; ")))
+        Err(PilError::Check(failures))
     }
 }
 
 /// Figures over the budget file's baselines by more than its tolerance.
-fn over_budget(summary: &Summary, path: &Path) -> Result<Vec<String>, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let v: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+fn over_budget(summary: &Summary, path: &Path) -> Result<Vec<String>, PilError> {
+    let text = std::fs::read_to_string(path).map_err(FileError::on(path, "cannot read"))?;
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|source| PilError::Budget {
+        path: path.to_path_buf(),
+        source,
+    })?;
     let tol = v["tolerance_percent"].as_f64().unwrap_or(10.0);
     let mut out = Vec::new();
     for (name, value) in [
@@ -77,10 +81,11 @@ fn over_budget(summary: &Summary, path: &Path) -> Result<Vec<String>, String> {
     ] {
         let rate = summary.rate_hz.to_string();
         let Some(base) = v["baseline"][&rate][name].as_f64() else {
-            return Err(format!(
-                "{}: no baseline for {name} at {rate} Hz",
-                path.display()
-            ));
+            return Err(PilError::NoBaseline {
+                path: path.to_path_buf(),
+                figure: name,
+                rate_hz: summary.rate_hz,
+            });
         };
         if f64::from(value) > base * (1.0 + tol / 100.0) {
             out.push(format!(

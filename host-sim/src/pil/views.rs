@@ -2,10 +2,11 @@
 //! orientations as `host-sim replay` input (`t_s,qw,qx,qy,qz`), so a log taken on the device (or
 //! the emulated board) is looked at and replayed on the PC.
 
+use crate::atomic_file::AtomicFile;
 use crate::chart::lines::{line_chart, Axes, Series, Style};
 use crate::chart::style::{linear_range, PALETTE};
-use softfinger_core::device::DeviceParams;
-use softfinger_core::device::OMEGA_LIKE;
+use crate::error::{ChartError, FileError};
+use softfinger_core::device::{DeviceParams, OMEGA_LIKE};
 use softfinger_core::Libm;
 use std::path::Path;
 
@@ -27,7 +28,7 @@ pub fn force_chart(
     path: &Path,
     rows: &[Vec<(String, String)>],
     rate_hz: u32,
-) -> Result<(), String> {
+) -> Result<(), ChartError> {
     let series: Vec<Series> = ["x", "y", "z"]
         .iter()
         .enumerate()
@@ -51,16 +52,19 @@ pub fn force_chart(
         y: linear_range(ys, 0.1, 0.3),
         ..Axes::default()
     };
-    line_chart(path, 900, 600, &[(axes, series)])
+    Ok(line_chart(path, 900, 600, &[(axes, series)])?)
 }
 
 /// The handle orientation of each record from its wrist counts (the device's wrist
 /// kinematics), as `host-sim replay` reads it.
-pub fn replay_csv(path: &Path, rows: &[Vec<(String, String)>], rate_hz: u32) -> Result<(), String> {
-    let io = |e: std::io::Error| format!("{}: {e}", path.display());
-    let mut file = crate::atomic_file::AtomicFile::create(path).map_err(io)?;
+pub fn replay_csv(
+    path: &Path,
+    rows: &[Vec<(String, String)>],
+    rate_hz: u32,
+) -> Result<(), FileError> {
+    let mut file = AtomicFile::create(path).map_err(FileError::on(path, "cannot create"))?;
     let mut w = csv::Writer::from_writer(file.writer());
-    let err = |e: csv::Error| format!("{}: {e}", path.display());
+    let err = |e: csv::Error| FileError::on(path, "write failed")(e);
     w.write_record(crate::replay::INPUT_HEADER).map_err(err)?;
     let device = OMEGA_LIKE.params;
     for r in rows {
@@ -78,7 +82,7 @@ pub fn replay_csv(path: &Path, rows: &[Vec<(String, String)>], rate_hz: u32) -> 
         ])
         .map_err(err)?;
     }
-    w.flush().map_err(io)?;
+    w.flush().map_err(FileError::on(path, "write failed"))?;
     drop(w);
-    file.commit().map_err(io)
+    file.commit().map_err(FileError::on(path, "cannot publish"))
 }

@@ -6,6 +6,7 @@
 //! `[0..12]` raw counts\[6\], `[12]` nFAULT asserted, `[13]` control bits, `[14]` operator command;
 //! to `Hello`: `[0..4]` control rate, `[4..8]` the fault the board's test hook injects when asked.
 
+use super::PilError;
 use softfinger_core::control::pipeline::{BridgeCommands, Mode};
 
 /// Bytes per message from the board.
@@ -92,7 +93,7 @@ fn u32_at(m: &[u8; MSG_LEN], i: usize) -> u32 {
 }
 
 /// Decode one message; an unknown kind is an error naming it.
-pub fn decode(m: &[u8; MSG_LEN]) -> Result<Stamped, String> {
+pub fn decode(m: &[u8; MSG_LEN]) -> Result<Stamped, PilError> {
     let bits = m[1];
     let key = u16_at(m, 2);
     let a = u32_at(m, 12);
@@ -109,7 +110,7 @@ pub fn decode(m: &[u8; MSG_LEN]) -> Result<Stamped, String> {
         5 => Message::Done,
         6 => Message::ResetPending { counts: a },
         KIND_EXITED => Message::Exited,
-        k => return Err(format!("plant link: unknown message kind {k}")),
+        k => return Err(PilError::UnknownKind(k)),
     };
     let mut t = [0u8; 8];
     t.copy_from_slice(&m[24..32]);
@@ -188,6 +189,6 @@ mod tests {
             Message::Sense { mode: Mode::Armed }
         );
         m[0] = 9;
-        assert!(decode(&m).unwrap_err().contains("kind 9"));
+        assert!(decode(&m).unwrap_err().to_string().contains("kind 9"));
     }
 }

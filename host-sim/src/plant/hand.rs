@@ -68,12 +68,22 @@ pub struct HandRef {
 }
 
 /// A rejected script.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum ScriptError {
     /// A waypoint coordinate is not finite (index of the segment; `None` for the start).
+    #[error("a coordinate of {} is not finite", waypoint_name(*.0))]
     NonFiniteWaypoint(Option<usize>),
     /// A segment's duration is not finite and positive.
+    #[error("the duration of segment {0} is not finite and positive")]
     BadDuration(usize),
+}
+
+/// "the start" or "the end of segment i", for [`ScriptError`]'s message.
+fn waypoint_name(segment: Option<usize>) -> String {
+    match segment {
+        None => "the start".to_string(),
+        Some(i) => format!("the end of segment {i}"),
+    }
 }
 
 /// A scripted hand motion.

@@ -53,12 +53,19 @@ use motor::Motor;
 use pwm::{BridgeStage, OutputLatch};
 
 /// Why a plant could not be built.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum PlantError {
+    /// The device definition was rejected.
+    #[error("device parameters: {0}")]
     Device(DeviceParamError),
+    /// A plant parameter was rejected.
+    #[error("plant parameters: {0}")]
     Params(PlantParamError),
+    /// The hand script was rejected.
+    #[error("hand script: {0}")]
     Script(ScriptError),
     /// The script's start position is out of the linkage's reach or outside the arm stops.
+    #[error("the script's start position is out of the linkage's reach or outside the arm stops")]
     StartOutOfReach,
 }
 

@@ -46,12 +46,19 @@ pub struct PlantParams {
 }
 
 /// A rejected plant parameter, naming the field.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum PlantParamError {
+    /// The named field is NaN or infinite.
+    #[error("{0} is not finite")]
     NonFinite(&'static str),
+    /// The named field is below zero.
+    #[error("{0} must not be negative")]
     Negative(&'static str),
+    /// The named field is zero or below.
+    #[error("{0} must be positive")]
     NotPositive(&'static str),
     /// `arm_limits_rad[0]` must be below `arm_limits_rad[1]`.
+    #[error("arm_limits_rad[0] must be below arm_limits_rad[1]")]
     ArmLimitsInverted,
 }
 

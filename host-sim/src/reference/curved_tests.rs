@@ -3,6 +3,7 @@
 //! exists, the closed form ([`super::closed_form`]: the bowl; the cylinder's two principal rolling
 //! directions). Figures: `cargo test -p host-sim reference::curved_tests -- --nocapture`.
 
+use super::motions::{cube_axes, motion};
 use super::rolling_ode::{self, Object};
 use super::*;
 use nalgebra::Vector3;
@@ -14,34 +15,6 @@ const TIGHT: ReferenceMethod = ReferenceMethod::Rk45 {
     atol: 1e-14,
 };
 
-/// The 26 cube directions ([`Vec3::CUBE_DIRECTIONS`]), normalised in f64.
-fn axes() -> Vec<Vector3<f64>> {
-    let f = |d: softfinger_core::Vec3| Vector3::new(d.x as f64, d.y as f64, d.z as f64).normalize();
-    softfinger_core::Vec3::CUBE_DIRECTIONS
-        .iter()
-        .map(|&d| f(d))
-        .collect()
-}
-
-/// `n` samples, each turning by `step` rad about `axis` (object frame), or about `axis` turned by a
-/// slowly changing offset when `wander`.
-fn motion(axis: &Vector3<f64>, step: f64, n: usize, wander: bool) -> Vec<UnitQuaternion<f64>> {
-    let mut q = UnitQuaternion::identity();
-    let mut qs = vec![q];
-    for k in 1..n {
-        let t = k as f64;
-        let a = if wander {
-            (axis + Vector3::new((0.3 * t).sin(), (0.2 * t).cos(), 0.5 * (0.1 * t).sin()) * 0.6)
-                .normalize()
-        } else {
-            *axis
-        };
-        q = UnitQuaternion::from_scaled_axis(a * step) * q;
-        qs.push(q);
-    }
-    qs
-}
-
 fn worst(a: &ReferencePaths, object: &[[f64; 3]], finger: &[[f64; 3]]) -> f64 {
     max_distance(&a.plane, object).max(max_distance(&a.sphere, finger))
 }
@@ -50,7 +23,7 @@ fn worst(a: &ReferencePaths, object: &[[f64; 3]], finger: &[[f64; 3]]) -> f64 {
 /// none) over the 26 axes, fixed and wandering, for one step size.
 fn worst_over_axes(ground: Ground, object: Object, step: f64, n: usize) -> (f64, f64) {
     let (mut cart, mut closed) = (0.0f64, 0.0f64);
-    for axis in axes() {
+    for axis in cube_axes() {
         for wander in [false, true] {
             let qs = motion(&axis, step, n, wander);
             let m = reference_paths_on(ground, TIGHT, &qs, 0.01, RHO).unwrap();

@@ -2,39 +2,46 @@
 //! continuous extension (Matlab's `ntrp45`) and a fixed-step integration used to check the
 //! method's order. The adaptive integrator built on them is [`super::rk45::Rk45`].
 
-// Dormand–Prince 5(4) tableau.
-const C2: f64 = 1.0 / 5.0;
-const C3: f64 = 3.0 / 10.0;
-const C4: f64 = 4.0 / 5.0;
-const C5: f64 = 8.0 / 9.0;
-const A21: f64 = 1.0 / 5.0;
-const A31: f64 = 3.0 / 40.0;
-const A32: f64 = 9.0 / 40.0;
-const A41: f64 = 44.0 / 45.0;
-const A42: f64 = -56.0 / 15.0;
-const A43: f64 = 32.0 / 9.0;
-const A51: f64 = 19372.0 / 6561.0;
-const A52: f64 = -25360.0 / 2187.0;
-const A53: f64 = 64448.0 / 6561.0;
-const A54: f64 = -212.0 / 729.0;
-const A61: f64 = 9017.0 / 3168.0;
-const A62: f64 = -355.0 / 33.0;
-const A63: f64 = 46732.0 / 5247.0;
-const A64: f64 = 49.0 / 176.0;
-const A65: f64 = -5103.0 / 18656.0;
-// 5th-order weights (also the 7th stage's row: FSAL).
-const B1: f64 = 35.0 / 384.0;
-const B3: f64 = 500.0 / 1113.0;
-const B4: f64 = 125.0 / 192.0;
-const B5: f64 = -2187.0 / 6784.0;
-const B6: f64 = 11.0 / 84.0;
-// Error weights e = b(5th) − b*(4th), b* = (5179/57600, 0, 7571/16695, 393/640, −92097/339200, 187/2100, 1/40).
-const E1: f64 = 71.0 / 57600.0;
-const E3: f64 = -71.0 / 16695.0;
-const E4: f64 = 71.0 / 1920.0;
-const E5: f64 = -17253.0 / 339200.0;
-const E6: f64 = 22.0 / 525.0;
-const E7: f64 = -1.0 / 40.0;
+// Dormand–Prince 5(4) tableau (stage 6 at c = 1; the 7th stage is the next step's first: FSAL).
+/// Nodes `c_2 … c_5`.
+const C: [f64; 4] = [1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0];
+/// Rows 2 to 6 of `A` (one coefficient per earlier stage).
+const A2: [f64; 1] = [1.0 / 5.0];
+const A3: [f64; 2] = [3.0 / 40.0, 9.0 / 40.0];
+const A4: [f64; 3] = [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0];
+const A5: [f64; 4] = [
+    19372.0 / 6561.0,
+    -25360.0 / 2187.0,
+    64448.0 / 6561.0,
+    -212.0 / 729.0,
+];
+const A6: [f64; 5] = [
+    9017.0 / 3168.0,
+    -355.0 / 33.0,
+    46732.0 / 5247.0,
+    49.0 / 176.0,
+    -5103.0 / 18656.0,
+];
+/// 5th-order weights `b_1 … b_6` (`b_2 = 0`; also the 7th stage's row: FSAL).
+const B: [f64; 6] = [
+    35.0 / 384.0,
+    0.0,
+    500.0 / 1113.0,
+    125.0 / 192.0,
+    -2187.0 / 6784.0,
+    11.0 / 84.0,
+];
+/// Error weights `e = b(5th) − b*(4th)`, `e_2 = 0`, with b* = (5179/57600, 0, 7571/16695, 393/640,
+/// −92097/339200, 187/2100, 1/40).
+const E: [f64; 7] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+];
 
 /// `y + h·Σ c_j k_j` componentwise.
 pub(super) fn combine<const N: usize>(
@@ -74,28 +81,44 @@ pub fn dopri5_step<const N: usize, F>(
 where
     F: FnMut(f64, &[f64; N]) -> [f64; N],
 {
-    let k2 = f(t + C2 * h, &combine(y, h, &[(A21, k1)]));
-    let k3 = f(t + C3 * h, &combine(y, h, &[(A31, k1), (A32, &k2)]));
+    let k2 = f(t + C[0] * h, &combine(y, h, &[(A2[0], k1)]));
+    let k3 = f(t + C[1] * h, &combine(y, h, &[(A3[0], k1), (A3[1], &k2)]));
     let k4 = f(
-        t + C4 * h,
-        &combine(y, h, &[(A41, k1), (A42, &k2), (A43, &k3)]),
+        t + C[2] * h,
+        &combine(y, h, &[(A4[0], k1), (A4[1], &k2), (A4[2], &k3)]),
     );
     let k5 = f(
-        t + C5 * h,
-        &combine(y, h, &[(A51, k1), (A52, &k2), (A53, &k3), (A54, &k4)]),
+        t + C[3] * h,
+        &combine(
+            y,
+            h,
+            &[(A5[0], k1), (A5[1], &k2), (A5[2], &k3), (A5[3], &k4)],
+        ),
     );
     let k6 = f(
         t + h,
         &combine(
             y,
             h,
-            &[(A61, k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)],
+            &[
+                (A6[0], k1),
+                (A6[1], &k2),
+                (A6[2], &k3),
+                (A6[3], &k4),
+                (A6[4], &k5),
+            ],
         ),
     );
     let y_new = combine(
         y,
         h,
-        &[(B1, k1), (B3, &k3), (B4, &k4), (B5, &k5), (B6, &k6)],
+        &[
+            (B[0], k1),
+            (B[2], &k3),
+            (B[3], &k4),
+            (B[4], &k5),
+            (B[5], &k6),
+        ],
     );
     let k7 = f(t + h, &y_new);
     let zero = [0.0; N];
@@ -103,12 +126,12 @@ where
         &zero,
         h,
         &[
-            (E1, k1),
-            (E3, &k3),
-            (E4, &k4),
-            (E5, &k5),
-            (E6, &k6),
-            (E7, &k7),
+            (E[0], k1),
+            (E[2], &k3),
+            (E[3], &k4),
+            (E[4], &k5),
+            (E[5], &k6),
+            (E[6], &k7),
         ],
     );
     Step {

@@ -20,6 +20,7 @@ mod dopri5;
 pub mod limit_surface;
 pub mod montana;
 pub mod montana_paths;
+pub mod motions;
 pub mod rk45;
 pub mod rolling_ode;
 pub mod scene;
@@ -93,13 +94,16 @@ pub struct ReferencePaths {
 }
 
 /// Why no reference could be computed.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum ReferenceError {
     /// Non-positive or non-finite radius or sampling period, or a non-finite sample.
+    #[error("non-positive or non-finite radius or sampling period, or a non-finite sample")]
     InvalidInput,
     /// The integrator failed (bad tolerances, or the step size collapsed).
+    #[error("integration failed: {0}")]
     Integration(Rk45Error),
     /// [`ReferenceMethod::ClosedForm`] on a ground that has none (the cylinder).
+    #[error("no closed form on this ground")]
     NoClosedForm,
 }
 

@@ -285,6 +285,17 @@ mod tests {
         assert!(max_dist(&a.paths.finger, &b.paths.finger) < 6.3e-15);
     }
 
+    /// A 10 mm fingertip on the plane through `samples` (10 ms apart) at rtol 1e-12: the run and its
+    /// largest distances (m) from the closed form, object and fingertip points.
+    fn tight_on_plane(samples: &[UnitQuaternion<f64>]) -> (MontanaRun, f64, f64) {
+        let opts = MontanaOptions::uniform(1e-12, 1e-14);
+        let run = integrate(0.01, Surface::Plane, [0.0, 0.0], samples, 0.01, &opts).unwrap();
+        let exact = closed_form::sphere_on_plane(samples, 0.01);
+        let object = max_dist(&run.paths.object, &exact.object);
+        let finger = max_dist(&run.paths.finger, &exact.finger);
+        (run, object, finger)
+    }
+
     #[test]
     fn long_path_needs_recharts_and_stays_exact() {
         // 10 s of the paper's motion (1000 intervals, ~60 rad of rotation): the contact circles the sphere,
@@ -298,19 +309,12 @@ mod tests {
             100.0,
             10.0,
         );
-        let run = integrate(
-            0.01,
-            Surface::Plane,
-            [0.0, 0.0],
-            &samples,
-            0.01,
-            &MontanaOptions::uniform(1e-12, 1e-14),
-        )
-        .unwrap();
+        let (run, object, finger) = tight_on_plane(&samples);
         assert!(run.stats.recharts > 5, "{:?}", run.stats);
-        let exact = closed_form::sphere_on_plane(&samples, 0.01);
-        assert!(max_dist(&run.paths.object, &exact.object) < 1.6e-12);
-        assert!(max_dist(&run.paths.finger, &exact.finger) < 6.5e-14);
+        assert!(
+            object < 1.6e-12 && finger < 6.5e-14,
+            "{object:e} {finger:e}"
+        );
     }
 
     #[test]
@@ -322,19 +326,12 @@ mod tests {
         let samples: Vec<_> = (0..=12)
             .map(|k| UnitQuaternion::from_axis_angle(&axis, k as f64))
             .collect();
-        let run = integrate(
-            0.01,
-            Surface::Plane,
-            [0.0, 0.0],
-            &samples,
-            0.01,
-            &MontanaOptions::uniform(1e-12, 1e-14),
-        )
-        .unwrap();
+        let (run, object, finger) = tight_on_plane(&samples);
         assert!(run.stats.rk.intervals >= 4 * 12);
-        let exact = closed_form::sphere_on_plane(&samples, 0.01);
-        assert!(max_dist(&run.paths.object, &exact.object) < 6.8e-14);
-        assert!(max_dist(&run.paths.finger, &exact.finger) < 3.7e-15);
+        assert!(
+            object < 6.8e-14 && finger < 3.7e-15,
+            "{object:e} {finger:e}"
+        );
     }
 
     #[test]

@@ -94,17 +94,22 @@ pub struct Stats {
 }
 
 /// Why an integration stopped.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum Rk45Error {
     /// A tolerance is not finite and positive, or a controller setting is out of range.
+    #[error("a tolerance is not finite and positive, or a controller setting is out of range")]
     InvalidOptions,
     /// The interval end is before its start, or a bound is not finite.
+    #[error("the interval end is before its start, or a bound is not finite")]
     InvalidInterval,
     /// The right-hand side returned a non-finite value at the start of an interval (time `t`).
+    #[error("the right-hand side is not finite at t = {t} s")]
     NonFinite { t: f64 },
     /// The step size fell below the round-off limit at time `t`.
+    #[error("the step size {h:e} s fell below the round-off limit at t = {t} s")]
     StepTooSmall { t: f64, h: f64 },
     /// More than `max_attempts` step attempts in one interval; stopped at time `t`.
+    #[error("too many step attempts in one interval, stopped at t = {t} s")]
     TooManySteps { t: f64 },
 }
 

@@ -51,20 +51,25 @@ fn closed_form_paths_have_one_row_per_sample() {
         .all(|p| ((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 0.01).abs() < 1e-17));
 }
 
+/// The paper scene (100 Hz) through the restarting RK45 at (`rtol`, `atol`): the paths and their
+/// largest distances (m) from the closed form on the plane and on the sphere.
+fn rk45_on_paper_scene(rtol: f64, atol: f64) -> (ReferencePaths, f64, f64) {
+    let exact = paths(ReferenceMethod::ClosedForm, 100.0);
+    let r = paths(ReferenceMethod::Rk45 { rtol, atol }, 100.0);
+    let (dp, ds) = compare(
+        &format!("paper scene, rtol {rtol:e} atol {atol:e}"),
+        &r,
+        &exact,
+    );
+    (r, dp, ds)
+}
+
 #[test]
 fn rk45_tight_tolerance_matches_closed_form_on_paper_scene() {
     // rtol 1e-12, atol 1e-14 on states of size ≤ ~1 rad and ≤ ~1e-2 m. The RK45 tests show global errors of
     // ~0.2–9·tol per unit of motion, so ~1e-14 m is expected here (measured 6.3e-15 m on the plane,
     // 2.1e-15 m on the sphere). Bounds 3×: 1.9e-14 m and 6.4e-15 m.
-    let exact = paths(ReferenceMethod::ClosedForm, 100.0);
-    let r = paths(
-        ReferenceMethod::Rk45 {
-            rtol: 1e-12,
-            atol: 1e-14,
-        },
-        100.0,
-    );
-    let (dp, ds) = compare("paper scene, rtol 1e-12 atol 1e-14", &r, &exact);
+    let (r, dp, ds) = rk45_on_paper_scene(1e-12, 1e-14);
     assert!(dp < 1.9e-14 && ds < 6.4e-15);
     assert_eq!(r.plane.len(), 101);
     assert!(r.plane.iter().all(|p| p[2] == 0.0));
@@ -80,15 +85,7 @@ fn rk45_matlab_default_tolerance_on_paper_scene() {
     // (measured 6.3e-12 m plane, 2.5e-12 m sphere, i.e. ~6e-9 mm). Bounds 3×: 1.9e-11 m and 7.6e-12 m;
     // and at most 10 steps more than intervals (the first interval's starting step is smaller;
     // measured 104 steps for 100 intervals).
-    let exact = paths(ReferenceMethod::ClosedForm, 100.0);
-    let r = paths(
-        ReferenceMethod::Rk45 {
-            rtol: 1e-3,
-            atol: 1e-6,
-        },
-        100.0,
-    );
-    let (dp, ds) = compare("paper scene, rtol 1e-3 atol 1e-6", &r, &exact);
+    let (r, dp, ds) = rk45_on_paper_scene(1e-3, 1e-6);
     assert!(dp < 1.9e-11 && ds < 7.6e-12);
     assert!(r.stats.steps <= r.stats.intervals + 10, "{:?}", r.stats);
 }

@@ -17,7 +17,7 @@
 //! μ_k = μ_s = 0.8 (a single friction coefficient), where only the cone hysteresis h separates the
 //! two thresholds.
 
-use super::rng::SplitMix64;
+use crate::rng::SplitMix64;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::{next_state, ContactState, Reason, StateInputs};
 use softfinger_core::Vec3;

@@ -20,13 +20,14 @@
 //! β = π/2 and 3π/2 (the ±y axes). Each map cell keeps the worst error over the azimuths and the
 //! fraction of azimuths whose result was flagged.
 
+use crate::backend::{dispatch, Backend, MathBackend};
 use nalgebra::{UnitQuaternion, Vector3};
 use softfinger_core::contact::decompose::{decompose, Method};
 use softfinger_core::{Flags, Math, Quat};
 use std::f64::consts::{FRAC_PI_2, PI};
 
-/// The math backends compared, by name.
-pub const BACKENDS: [&str; 3] = ["libm", "fast", "micromath"];
+/// The math backends compared.
+pub const BACKENDS: [Backend; 3] = [Backend::Libm, Backend::Fast, Backend::Micromath];
 
 /// Smallest rotation magnitude swept, rad.
 pub const MAG_MIN: f64 = 1e-7;
@@ -112,12 +113,12 @@ pub struct Cell {
 #[derive(Clone, Debug)]
 pub struct MethodMap {
     pub method: Method,
-    pub backend: &'static str,
+    pub backend: Backend,
     pub cells: Vec<Vec<Cell>>,
 }
 
 /// Sweep one (method, backend).
-pub fn sweep<M: Math>(method: Method, backend: &'static str, grid: &Grid) -> MethodMap {
+pub fn sweep<M: MathBackend>(method: Method, grid: &Grid) -> MethodMap {
     let (mags, tilts, azs) = (grid.magnitudes(), grid.tilts(), grid.azimuths());
     let cells = tilts
         .iter()
@@ -140,7 +141,7 @@ pub fn sweep<M: Math>(method: Method, backend: &'static str, grid: &Grid) -> Met
         .collect();
     MethodMap {
         method,
-        backend,
+        backend: M::BACKEND,
         cells,
     }
 }
@@ -149,9 +150,9 @@ pub fn sweep<M: Math>(method: Method, backend: &'static str, grid: &Grid) -> Met
 pub fn sweep_all(grid: &Grid) -> Vec<MethodMap> {
     let mut out = Vec::new();
     for m in Method::ALL {
-        out.push(sweep::<softfinger_core::Libm>(m, BACKENDS[0], grid));
-        out.push(sweep::<softfinger_core::Fast>(m, BACKENDS[1], grid));
-        out.push(sweep::<softfinger_core::Micromath>(m, BACKENDS[2], grid));
+        for b in BACKENDS {
+            out.push(dispatch!(b, M => sweep::<M>(m, grid)));
+        }
     }
     out
 }
@@ -235,7 +236,7 @@ mod tests {
     #[test]
     fn paper_verbatim_is_singular_at_small_tilt() {
         let g = Grid::DEFAULT;
-        let map = sweep::<Libm>(Method::PaperVerbatim, "libm", &g);
+        let map = sweep::<Libm>(Method::PaperVerbatim, &g);
         let (mags, tilts) = (g.magnitudes(), g.tilts());
         // Pure spin: all magnitudes up to π (exclusive: at π the spin axis flips the normal).
         for (j, &m) in mags.iter().enumerate().filter(|(_, &m)| m < 3.0) {
@@ -255,7 +256,7 @@ mod tests {
     fn rpy_is_flagged_near_the_pole_only() {
         let g = Grid::DEFAULT;
         let (mags, tilts) = (g.magnitudes(), g.tilts());
-        let map = sweep::<Libm>(Method::Rpy, "libm", &g);
+        let map = sweep::<Libm>(Method::Rpy, &g);
         let t = tilts.iter().position(|&a| a == FRAC_PI_2).unwrap();
         let j = col(&mags, FRAC_PI_2);
         // Azimuths π/2 and 3π/2 (±y) of 16 are flagged: 2/16.
@@ -279,7 +280,7 @@ mod tests {
     fn exact_never_fails_and_stays_at_the_f32_floor() {
         let g = Grid::DEFAULT;
         let mags = g.magnitudes();
-        let map = sweep::<Libm>(Method::Exact, "libm", &g);
+        let map = sweep::<Libm>(Method::Exact, &g);
         for row in &map.cells {
             for (k, c) in row.iter().enumerate() {
                 assert_eq!(c.fail_frac, 0.0);

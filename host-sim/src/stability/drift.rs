@@ -18,12 +18,13 @@
 //! and of dq = q·q_prev*, not zero-mean) and one third from the f32 accumulator. (Measured before
 //! the contact point became a fixed-point sum and the increment exactly antisymmetric.)
 
+use crate::backend::{dispatch, Backend, MathBackend};
 use indicatif::ProgressBar;
 use nalgebra::{UnitQuaternion, Vector3};
 use softfinger_core::contact::decompose::Method;
 use softfinger_core::contact::rolling::Rolling;
 use softfinger_core::contact::surface::Plane;
-use softfinger_core::{Math, Quat};
+use softfinger_core::Quat;
 use std::f64::consts::PI;
 
 /// Control rate of the run, Hz.
@@ -45,7 +46,7 @@ pub fn orientation(t_s: f64) -> UnitQuaternion<f64> {
 #[derive(Clone, Debug)]
 pub struct DriftRun {
     pub method: Method,
-    pub backend: &'static str,
+    pub backend: Backend,
     pub steps: u64,
     /// Largest plane-point error over the run, m.
     pub max_plane_m: f64,
@@ -61,12 +62,7 @@ pub struct DriftRun {
 
 /// Run `steps` steps of the motion through the core with `method` and backend `M`. `progress` is
 /// advanced by the number of steps done (in chunks).
-pub fn run<M: Math>(
-    method: Method,
-    backend: &'static str,
-    steps: u64,
-    progress: Option<&ProgressBar>,
-) -> DriftRun {
+pub fn run<M: MathBackend>(method: Method, steps: u64, progress: Option<&ProgressBar>) -> DriftRun {
     let dt = 1.0 / RATE_HZ;
     let to32 = |q: &UnitQuaternion<f64>| Quat::new(q.w as f32, q.i as f32, q.j as f32, q.k as f32);
     let down = Vector3::new(0.0, 0.0, -RADIUS_M);
@@ -77,7 +73,7 @@ pub fn run<M: Math>(
     let tick = 10_000u64;
     let mut out = DriftRun {
         method,
-        backend,
+        backend: M::BACKEND,
         steps,
         max_plane_m: 0.0,
         final_plane_m: 0.0,
@@ -125,11 +121,11 @@ pub fn run<M: Math>(
 
 /// The backends of the drift runs: libm and our kernels (the MCU candidates), and micromath,
 /// whose atan2 reads small angles 6.3 % short (measured in part 1), to show what that does.
-pub const DRIFT_BACKENDS: [&str; 3] = ["libm", "fast", "micromath"];
+pub const DRIFT_BACKENDS: [Backend; 3] = [Backend::Libm, Backend::Fast, Backend::Micromath];
 
 /// Every method × {libm, fast}, spread over the available cores.
 pub fn run_all(steps: u64, progress: Option<&ProgressBar>) -> Vec<DriftRun> {
-    let jobs: Vec<(Method, &'static str)> = Method::ALL
+    let jobs: Vec<(Method, Backend)> = Method::ALL
         .iter()
         .flat_map(|&m| DRIFT_BACKENDS.iter().map(move |&b| (m, b)))
         .collect();
@@ -143,11 +139,7 @@ pub fn run_all(steps: u64, progress: Option<&ProgressBar>) -> Vec<DriftRun> {
             s.spawn(|| loop {
                 let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 let Some(&(m, b)) = jobs.get(i) else { break };
-                let r = match b {
-                    "fast" => run::<softfinger_core::Fast>(m, b, steps, progress),
-                    "micromath" => run::<softfinger_core::Micromath>(m, b, steps, progress),
-                    _ => run::<softfinger_core::Libm>(m, b, steps, progress),
-                };
+                let r = dispatch!(b, M => run::<M>(m, steps, progress));
                 results
                     .lock()
                     .unwrap_or_else(|e| e.into_inner())
@@ -202,9 +194,9 @@ mod tests {
     /// worst; asserted at least 17×).
     #[test]
     fn exact_stays_small_and_rpy_drifts() {
-        let exact = run::<Libm>(Method::Exact, "libm", 20_000, None);
-        let rpy1 = run::<Libm>(Method::Rpy, "libm", 10_000, None);
-        let rpy2 = run::<Libm>(Method::Rpy, "libm", 20_000, None);
+        let exact = run::<Libm>(Method::Exact, 20_000, None);
+        let rpy1 = run::<Libm>(Method::Rpy, 10_000, None);
+        let rpy2 = run::<Libm>(Method::Rpy, 20_000, None);
         assert!(exact.max_plane_m < 3.5e-8, "{}", exact.max_plane_m);
         assert!(exact.max_finger_m < 7.4e-9, "{}", exact.max_finger_m);
         assert!(

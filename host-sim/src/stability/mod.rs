@@ -23,9 +23,9 @@ pub mod haptic_present;
 pub mod haptic_timing;
 pub mod passivity_scene;
 pub mod present;
-pub mod rng;
 pub mod table;
 
+use crate::error::{ChartError, FileError, JsonError};
 use haptic_device::DeviceRow;
 use haptic_present::HapticJson;
 use haptic_timing::TimingRow;
@@ -60,23 +60,50 @@ pub struct Args {
     pub chatter_steps: u64,
 }
 
-fn check(args: &Args) -> Result<(), String> {
+/// Why the stability command failed.
+#[derive(Debug, thiserror::Error)]
+pub enum StabilityError {
+    /// An option out of range (its message names it).
+    #[error("{0}")]
+    Option(&'static str),
+    /// Part 3 found no passive wall at 10 kHz.
+    #[error("part 3: no passive wall found at 10 kHz")]
+    NoPassiveWall,
+    /// A device-wall run failed (the device-wall module's message).
+    #[error("{0}")]
+    DeviceWall(String),
+    /// The default scene could not be run.
+    #[error(transparent)]
+    Scene(#[from] passivity_scene::PassivitySceneError),
+    /// A chart could not be drawn or written.
+    #[error(transparent)]
+    Chart(#[from] ChartError),
+    /// summary.txt or the output folder could not be written.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// The JSON could not be serialised.
+    #[error(transparent)]
+    Json(#[from] JsonError),
+}
+
+fn check(args: &Args) -> Result<(), StabilityError> {
+    let bad = |m| Err(StabilityError::Option(m));
     if args.drift_steps == 0 {
-        return Err("--drift-steps must be at least 1".into());
+        return bad("--drift-steps must be at least 1");
     }
     if !(args.haptic_seconds.is_finite() && args.haptic_seconds >= 0.1) {
-        return Err("--haptic-seconds must be at least 0.1".into());
+        return bad("--haptic-seconds must be at least 0.1");
     }
     if args.chatter_steps == 0 {
-        return Err("--chatter-steps must be at least 1".into());
+        return bad("--chatter-steps must be at least 1");
     }
     Ok(())
 }
 
-pub fn main(args: &Args) -> Result<(), String> {
+pub fn main(args: &Args) -> Result<(), StabilityError> {
     check(args)?;
     let out = &args.out;
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
+    std::fs::create_dir_all(out).map_err(FileError::on(out, "cannot create"))?;
     let start = Instant::now();
     let mut summary = Summary {
         print: !args.json,
@@ -98,10 +125,7 @@ pub fn main(args: &Args) -> Result<(), String> {
     write_summary(&out.join("summary.txt"), &summary.text)?;
     if args.json {
         let v = serde_json::json!({ "haptic": haptic_json });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-        );
+        println!("{}", serde_json::to_string_pretty(&v).map_err(JsonError)?);
     }
     Ok(())
 }
@@ -124,7 +148,7 @@ impl Summary {
 }
 
 /// Part 1: where each decomposition fails, charts and tables.
-fn decomposition_part(out: &Path, summary: &mut Summary) -> Result<(), String> {
+fn decomposition_part(out: &Path, summary: &mut Summary) -> Result<(), StabilityError> {
     let t = Instant::now();
     let grid = decomp_map::Grid::DEFAULT;
     let maps = decomp_map::sweep_all(&grid);
@@ -136,7 +160,7 @@ fn decomposition_part(out: &Path, summary: &mut Summary) -> Result<(), String> {
 }
 
 /// Part 2: f32 drift over `--drift-steps` per method and backend, with a progress bar.
-fn drift_part(args: &Args, summary: &mut Summary) -> Result<(), String> {
+fn drift_part(args: &Args, summary: &mut Summary) -> Result<(), StabilityError> {
     let t = Instant::now();
     let total = args.drift_steps * (decompose_methods() * drift::DRIFT_BACKENDS.len()) as u64;
     let pb = indicatif::ProgressBar::new(total);
@@ -156,22 +180,22 @@ fn drift_part(args: &Args, summary: &mut Summary) -> Result<(), String> {
 
 /// Part 3: haptic stability of the virtual wall (rates, delays, impact), and unless skipped the
 /// closed-loop runs with the device plant; returns its JSON figures.
-fn haptic_part(args: &Args, summary: &mut Summary) -> Result<HapticJson, String> {
+fn haptic_part(args: &Args, summary: &mut Summary) -> Result<HapticJson, StabilityError> {
     let out = &args.out;
     let t = Instant::now();
     let device = haptic::Device::DEFAULT;
     let rows = haptic::run_all(&device, 0.0, args.haptic_seconds);
-    haptic_charts::haptic_charts(out, &device, &rows)?;
+    haptic_charts::haptic_charts(out, &device, &rows).map_err(ChartError)?;
     summary.emit(haptic_present::haptic_table(&device, &rows, args.haptic_seconds).render());
     summary.emit(haptic_present::haptic_notes(&device, args.haptic_seconds));
     let timing = haptic_timing::run_all(&device, args.haptic_seconds);
     let at10 = timing.iter().find(|r| r.rate_hz == 10_000.0);
     let (delay10, k10) = at10
         .and_then(|r| r.at_multiple.as_ref().map(|m| (r.delay_ticks, m.0)))
-        .ok_or("part 3: no passive wall found at 10 kHz")?;
+        .ok_or(StabilityError::NoPassiveWall)?;
     let imp = haptic_timing::impact(&device, 10_000.0, delay10, k10);
-    haptic_charts::timing_chart(out, &device, &timing)?;
-    haptic_charts::impact_chart(out, &imp)?;
+    haptic_charts::timing_chart(out, &device, &timing).map_err(ChartError)?;
+    haptic_charts::impact_chart(out, &imp).map_err(ChartError)?;
     summary.emit(haptic_present::timing_table(&device, &timing, args.haptic_seconds).render());
     summary.emit(haptic_present::impact_notes(&imp));
     let (device_rows, scene_diff) = if args.skip_closed_loop {
@@ -191,12 +215,13 @@ fn haptic_part(args: &Args, summary: &mut Summary) -> Result<HapticJson, String>
 fn closed_loop_part(
     timing: &[TimingRow],
     summary: &mut Summary,
-) -> Result<(Vec<DeviceRow>, SceneDifference), String> {
+) -> Result<(Vec<DeviceRow>, SceneDifference), StabilityError> {
     let device_rows = timing
         .iter()
         .filter(|r| r.rate_hz >= 10_000.0)
         .map(|r| haptic_device::row(r.rate_hz, r.delay_ticks))
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(StabilityError::DeviceWall)?;
     summary.emit(haptic_present::device_table(&device_rows).render());
     let scene_diff = passivity_scene::compare()?;
     summary.emit(format!(
@@ -212,7 +237,7 @@ fn closed_loop_part(
 }
 
 /// Part 4: state chatter over `--chatter-steps` per configuration.
-fn chatter_part(args: &Args, summary: &mut Summary) -> Result<(), String> {
+fn chatter_part(args: &Args, summary: &mut Summary) -> Result<(), StabilityError> {
     let t = Instant::now();
     let ch = chatter::run_all(args.chatter_steps);
     present::chatter_chart(&args.out, &ch)?;
@@ -222,13 +247,12 @@ fn chatter_part(args: &Args, summary: &mut Summary) -> Result<(), String> {
 }
 
 /// summary.txt, written whole or not at all.
-fn write_summary(path: &Path, text: &str) -> Result<(), String> {
+fn write_summary(path: &Path, text: &str) -> Result<(), FileError> {
     let mut f = crate::atomic_file::AtomicFile::create(path)
-        .map_err(|e| format!("{}: cannot create: {e}", path.display()))?;
+        .map_err(FileError::on(path, "cannot create"))?;
     std::io::Write::write_all(f.writer(), text.as_bytes())
-        .map_err(|e| format!("{}: write failed: {e}", path.display()))?;
-    f.commit()
-        .map_err(|e| format!("{}: cannot publish: {e}", path.display()))
+        .map_err(FileError::on(path, "write failed"))?;
+    f.commit().map_err(FileError::on(path, "cannot publish"))
 }
 
 fn decompose_methods() -> usize {

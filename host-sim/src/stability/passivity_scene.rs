@@ -9,6 +9,19 @@ use softfinger_core::control::pipeline::passivity::PassivityConfig;
 use softfinger_core::control::pipeline::Pipeline;
 use softfinger_core::math::Fast;
 
+use crate::closed_loop::SetupError;
+
+/// Why the default scene could not be run.
+#[derive(Debug, thiserror::Error)]
+pub enum PassivitySceneError {
+    /// The default scene is not on the plane.
+    #[error("the default scene is expected on the plane")]
+    NotPlane,
+    /// The closed loop could not be set up.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+}
+
 /// The comparison's figures.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct SceneDifference {
@@ -33,20 +46,19 @@ struct Run {
 }
 
 /// One run of the default scene.
-fn run(enabled: bool) -> Result<Run, String> {
+fn run(enabled: bool) -> Result<Run, PassivitySceneError> {
     let scene = Scene::default_scene();
     if scene.surface != SurfaceSpec::Plane {
-        return Err("the default scene is expected on the plane".into());
+        return Err(PassivitySceneError::NotPlane);
     }
-    let contact = closed_loop::contact_params(&scene)?;
-    let config = closed_loop::plane_config(&scene, contact)?;
-    let mut pipe: Pipeline<Fast, Plane> =
-        Pipeline::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
+    let contact = closed_loop::contact_params(&scene).map_err(SetupError::from)?;
+    let config = closed_loop::plane_config(&scene, contact).map_err(SetupError::from)?;
+    let mut pipe: Pipeline<Fast, Plane> = Pipeline::new(config).map_err(SetupError::from)?;
     let base = *pipe.controller().passivity().config();
     pipe.set_passivity(PassivityConfig { enabled, ..base })
-        .map_err(|e| format!("passivity: {e}"))?;
-    let mut plant = closed_loop::plant(&scene, &contact).map_err(|e| format!("plant: {e:?}"))?;
-    prepare(&mut pipe, &mut plant)?;
+        .map_err(SetupError::Passivity)?;
+    let mut plant = closed_loop::plant(&scene, &contact).map_err(SetupError::from)?;
+    prepare(&mut pipe, &mut plant).map_err(SetupError::from)?;
     let ticks = (scene.duration_s * scene.rate_hz).round() as u64;
     let mut forces = Vec::with_capacity(ticks as usize);
     let (mut max_e, mut min_e, mut damped) = (f64::MIN, f64::MAX, 0u64);
@@ -73,7 +85,7 @@ fn run(enabled: bool) -> Result<Run, String> {
 }
 
 /// Run the default scene with the stage on and observing only, and compare.
-pub fn compare() -> Result<SceneDifference, String> {
+pub fn compare() -> Result<SceneDifference, PassivitySceneError> {
     let Run {
         forces: on,
         energy_range_j: (max_e, min_e),

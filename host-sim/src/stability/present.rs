@@ -4,10 +4,12 @@ use super::chatter::{self, ChatterRun};
 use super::decomp_map::{self, Grid, MethodMap};
 use super::drift::DriftRun;
 use super::table::{sci, Table};
+use crate::backend::Backend;
 use crate::chart::bars::BarChart;
 use crate::chart::heatmap::{heatmap, HeatPanel};
 use crate::chart::lines::{line_chart, Axes, Series, Style};
 use crate::chart::style::{method_color, PALETTE};
+use crate::error::ChartError;
 use plotters::style::RGBColor;
 use softfinger_core::contact::decompose::Method;
 use std::path::Path;
@@ -15,18 +17,18 @@ use std::path::Path;
 /// Floor of the log error axes, rad (errors are clamped to it for display only).
 pub const ERR_FLOOR: f64 = 1e-16;
 
-fn backend_style(b: &str) -> Style {
+fn backend_style(b: Backend) -> Style {
     match b {
-        "libm" => Style::Line,
-        "fast" => Style::Dashed,
-        _ => Style::Dotted,
+        Backend::Libm => Style::Line,
+        Backend::Fast => Style::Dashed,
+        Backend::Micromath => Style::Dotted,
     }
 }
 
 // ---------------------------------------------------------------- part 1
 
 /// One heatmap SVG per method (a panel per backend) and the worst-error line chart.
-pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), String> {
+pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), ChartError> {
     let mags = grid.magnitudes();
     let tilts_deg: Vec<f64> = grid.tilts().iter().map(|t| t.to_degrees()).collect();
     for m in Method::ALL {
@@ -100,6 +102,7 @@ pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), 
             series,
         )],
     )
+    .map_err(ChartError)
 }
 
 /// Per method × backend and magnitude decade: worst error and failure fraction.
@@ -201,7 +204,7 @@ pub fn decomp_failures(grid: &Grid, maps: &[MethodMap]) -> String {
 
 // ---------------------------------------------------------------- part 2
 
-pub fn drift_charts(out: &Path, runs: &[DriftRun]) -> Result<(), String> {
+pub fn drift_charts(out: &Path, runs: &[DriftRun]) -> Result<(), ChartError> {
     let floor = 1e-10; // mm
     let tmax = runs
         .iter()
@@ -245,6 +248,7 @@ pub fn drift_charts(out: &Path, runs: &[DriftRun]) -> Result<(), String> {
             (axes("Fingertip contact point drift (f32)"), mk(true)),
         ],
     )
+    .map_err(ChartError)
 }
 
 pub fn drift_table(runs: &[DriftRun]) -> Table {
@@ -288,7 +292,7 @@ fn chatter_group(single_mu: bool, h: f32) -> String {
     )
 }
 
-pub fn chatter_chart(out: &Path, runs: &[ChatterRun]) -> Result<(), String> {
+pub fn chatter_chart(out: &Path, runs: &[ChatterRun]) -> Result<(), ChartError> {
     let cats: Vec<String> = chatter::NOISE_LEVELS
         .iter()
         .map(|a| format!("±{:.0}%", a * 100.0))
@@ -322,6 +326,7 @@ pub fn chatter_chart(out: &Path, runs: &[ChatterRun]) -> Result<(), String> {
         y_range: (0.05, 1e6),
     }
     .write(&out.join("chatter.svg"))
+    .map_err(ChartError)
 }
 
 pub fn chatter_table(runs: &[ChatterRun], steps: u64) -> Table {

@@ -15,9 +15,10 @@ use nalgebra::UnitQuaternion;
 
 use super::errors::PathErrors;
 use super::timing::Case;
+use super::ValidateError;
 use crate::reference::montana_paths::{self, MontanaOptions};
 use crate::reference::surface::Surface;
-use crate::reference::{reference_paths, ReferenceMethod, ReferencePaths};
+use crate::reference::{reference_paths, ReferenceError, ReferenceMethod, ReferencePaths};
 
 /// Matlab's `ode45` default tolerances (`RelTol`, `AbsTol`), which the paper used.
 pub const ODE45_DEFAULTS: (f64, f64) = (1e-3, 1e-6);
@@ -66,17 +67,17 @@ impl Rk45Call {
         radius: f64,
         rtol: f64,
         atol: f64,
-    ) -> Result<ReferencePaths, String> {
-        let fail = |e: &dyn std::fmt::Debug| {
-            format!(
-                "RK45 ({}, rtol {rtol:e}, atol {atol:e}) failed: {e:?}",
-                self.name()
-            )
+    ) -> Result<ReferencePaths, ValidateError> {
+        let fail = |e: ReferenceError| ValidateError::Rk45 {
+            call: self.name(),
+            rtol,
+            atol,
+            source: e,
         };
         match self {
             Rk45Call::Restart => {
                 reference_paths(ReferenceMethod::Rk45 { rtol, atol }, samples, dt, radius)
-                    .map_err(|e| fail(&e))
+                    .map_err(fail)
             }
             Rk45Call::SingleCall => reference_paths(
                 ReferenceMethod::MatlabOde45 { rtol, atol },
@@ -84,7 +85,7 @@ impl Rk45Call {
                 dt,
                 radius,
             )
-            .map_err(|e| fail(&e)),
+            .map_err(fail),
             Rk45Call::PerSampleCall => montana_paths::integrate(
                 radius,
                 Surface::Plane,
@@ -94,7 +95,7 @@ impl Rk45Call {
                 &MontanaOptions::matlab_like_per_interval(rtol, atol, dt),
             )
             .map(|run| ReferencePaths::from_run(&run))
-            .map_err(|e| fail(&e)),
+            .map_err(|e| fail(e.into())),
         }
     }
 }
@@ -132,7 +133,12 @@ pub struct SceneRef<'a> {
 
 /// Runs `call` at (`rtol`, `atol`) on `scene` and measures its error against the closed form (not yet
 /// timed).
-pub fn run(scene: SceneRef<'_>, call: Rk45Call, rtol: f64, atol: f64) -> Result<Rk45Run, String> {
+pub fn run(
+    scene: SceneRef<'_>,
+    call: Rk45Call,
+    rtol: f64,
+    atol: f64,
+) -> Result<Rk45Run, ValidateError> {
     let paths = call.paths(scene.samples, scene.dt, scene.radius, rtol, atol)?;
     let errors = PathErrors::between(
         &paths.plane,
@@ -171,7 +177,7 @@ pub fn matched(
     scene: SceneRef<'_>,
     call: Rk45Call,
     target_mm: f64,
-) -> Result<Option<Rk45Run>, String> {
+) -> Result<Option<Rk45Run>, ValidateError> {
     for rtol in rtol_ladder() {
         let r = run(scene, call, rtol, rtol * ATOL_PER_RTOL)?;
         if r.errors.max_mm() <= target_mm {

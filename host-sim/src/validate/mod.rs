@@ -23,7 +23,47 @@ pub mod report;
 pub mod surfaces;
 pub mod timing;
 
+use crate::error::JsonError;
 use crate::reference::scene::{paper_scene, Scene};
+use crate::reference::ReferenceError;
+
+/// Why the validation could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum ValidateError {
+    /// A classical RK45 run failed.
+    #[error("RK45 ({call}, rtol {rtol:e}, atol {atol:e}) failed: {source}")]
+    Rk45 {
+        /// The call style's name.
+        call: &'static str,
+        /// Relative tolerance.
+        rtol: f64,
+        /// Absolute tolerance.
+        atol: f64,
+        /// The integrator's reason.
+        source: ReferenceError,
+    },
+    /// The reference integration failed.
+    #[error("reference integration failed: {0}")]
+    Reference(ReferenceError),
+    /// The closed form failed.
+    #[error("closed form failed: {0}")]
+    ClosedForm(ReferenceError),
+    /// A reference on a curved surface failed.
+    #[error("{reference} reference on the {object}: {source}")]
+    Surface {
+        /// "Montana" or "Cartesian".
+        reference: &'static str,
+        /// The object's name.
+        object: &'static str,
+        /// The integrator's reason.
+        source: ReferenceError,
+    },
+    /// The JSON could not be serialised.
+    #[error(transparent)]
+    Json(#[from] JsonError),
+}
+
+crate::error::error_into_string!(ValidateError);
 use crate::reference::{max_distance, reference_paths, ReferenceMethod, ReferencePaths};
 use classical::{Rk45Call, Rk45Run, SceneRef, ODE45_DEFAULTS, REFERENCE_TOLERANCES};
 use errors::PathErrors;
@@ -114,7 +154,10 @@ impl Validation {
 }
 
 /// The reference (RK45 at [`REFERENCE_TOLERANCES`]) for `scene`, checked against the closed form.
-pub fn reference_for(scene: &Scene, closed: &ReferencePaths) -> Result<ReferenceCheck, String> {
+pub fn reference_for(
+    scene: &Scene,
+    closed: &ReferencePaths,
+) -> Result<ReferenceCheck, ValidateError> {
     let (rtol, atol) = REFERENCE_TOLERANCES;
     let paths = reference_paths(
         ReferenceMethod::Rk45 { rtol, atol },
@@ -122,7 +165,7 @@ pub fn reference_for(scene: &Scene, closed: &ReferencePaths) -> Result<Reference
         scene.dt,
         scene.radius,
     )
-    .map_err(|e| format!("reference integration failed: {e:?}"))?;
+    .map_err(ValidateError::Reference)?;
     let errors = PathErrors::between(&paths.plane, &paths.sphere, &closed.plane, &closed.sphere);
     let max_distance_mm = (
         max_distance(&paths.plane, &closed.plane) * 1e3,
@@ -136,14 +179,14 @@ pub fn reference_for(scene: &Scene, closed: &ReferencePaths) -> Result<Reference
 }
 
 /// The closed-form paths of `scene`.
-pub fn closed_form(scene: &Scene) -> Result<ReferencePaths, String> {
+pub fn closed_form(scene: &Scene) -> Result<ReferencePaths, ValidateError> {
     reference_paths(
         ReferenceMethod::ClosedForm,
         &scene.samples,
         scene.dt,
         scene.radius,
     )
-    .map_err(|e| format!("closed form failed: {e:?}"))
+    .map_err(ValidateError::ClosedForm)
 }
 
 /// Runs a variant of ours on `scene` (f32 samples) and measures its error against `reference` (not yet
@@ -175,7 +218,7 @@ pub fn pick_best(runs: &[OurRun]) -> usize {
 
 /// The whole experiment on the paper's scene: accuracy of every run first, then all runs timed together
 /// (interleaved, see [`timing`]).
-pub fn run(timing: Timing) -> Result<Validation, String> {
+pub fn run(timing: Timing) -> Result<Validation, ValidateError> {
     let scene = paper_scene();
     let closed = closed_form(&scene)?;
     let reference = reference_for(&scene, &closed)?;
@@ -298,7 +341,7 @@ fn candidate_errors(ours: &[OurRun]) -> Vec<f64> {
 
 /// For each call style and each candidate error, the loosest-tolerance classical run that reaches
 /// it (each distinct run once).
-fn matched_runs(sref: SceneRef<'_>, candidates: &[f64]) -> Result<Vec<Rk45Run>, String> {
+fn matched_runs(sref: SceneRef<'_>, candidates: &[f64]) -> Result<Vec<Rk45Run>, ValidateError> {
     let mut matched: Vec<Rk45Run> = Vec::new();
     for call in [Rk45Call::Restart, Rk45Call::SingleCall] {
         for &target in candidates {
@@ -326,7 +369,7 @@ fn select_matched(runs: Vec<Rk45Run>, target_mm: f64) -> Vec<Rk45Run> {
 }
 
 /// Runs the experiment and renders it as the command prints it (JSON or the table).
-pub fn render(args: &Args) -> Result<String, String> {
+pub fn render(args: &Args) -> Result<String, ValidateError> {
     let timing = if args.quick {
         Timing::QUICK
     } else {
@@ -336,18 +379,16 @@ pub fn render(args: &Args) -> Result<String, String> {
     let surf = surfaces::run()?;
     if args.json {
         let text = report::json(&v)?;
-        let mut doc: serde_json::Value =
-            serde_json::from_str(&text).map_err(|e| format!("internal JSON error: {e}"))?;
-        doc["surfaces"] =
-            serde_json::to_value(&surf).map_err(|e| format!("internal JSON error: {e}"))?;
-        serde_json::to_string_pretty(&doc).map_err(|e| format!("internal JSON error: {e}"))
+        let mut doc: serde_json::Value = serde_json::from_str(&text).map_err(JsonError)?;
+        doc["surfaces"] = serde_json::to_value(&surf).map_err(JsonError)?;
+        Ok(serde_json::to_string_pretty(&doc).map_err(JsonError)?)
     } else {
         Ok(report::table(&v) + &surfaces::table(&surf))
     }
 }
 
 /// The command.
-pub fn main(args: &Args) -> Result<(), String> {
+pub fn main(args: &Args) -> Result<(), ValidateError> {
     let out = render(args)?;
     println!("{out}");
     Ok(())

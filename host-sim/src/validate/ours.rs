@@ -5,35 +5,13 @@ use nalgebra::UnitQuaternion;
 use softfinger_core::contact::decompose::Method;
 use softfinger_core::contact::rolling::Rolling;
 use softfinger_core::contact::surface::Plane;
-use softfinger_core::{Fast, Libm, Math, Micromath, Quat};
+use softfinger_core::{Math, Quat};
 use std::hint::black_box;
 
 use super::timing::Case;
 
-/// A math backend of the core, chosen at run time here (the core itself dispatches statically).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Backend {
-    /// [`Libm`].
-    Libm,
-    /// [`Fast`].
-    Fast,
-    /// [`Micromath`].
-    Micromath,
-}
-
-impl Backend {
-    /// All backends, in table order.
-    pub const ALL: [Backend; 3] = [Backend::Libm, Backend::Fast, Backend::Micromath];
-
-    /// The backend's own name ([`Math::NAME`]): `libm`, `fast`, `micromath`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            Backend::Libm => Libm::NAME,
-            Backend::Fast => Fast::NAME,
-            Backend::Micromath => Micromath::NAME,
-        }
-    }
-}
+use crate::backend::dispatch;
+pub use crate::backend::Backend;
 
 /// One of our variants: a decomposition method with a math backend.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -123,19 +101,11 @@ fn case_with<'a, M: Math>(samples: &'a [Quat], radius_m: f32, method: Method) ->
 impl Variant {
     /// The contact paths this variant computes for `samples` (f32) on a fingertip of `radius_m`.
     pub fn paths(self, samples: &[Quat], radius_m: f32) -> Paths {
-        match self.backend {
-            Backend::Libm => paths_with::<Libm>(samples, radius_m, self.method),
-            Backend::Fast => paths_with::<Fast>(samples, radius_m, self.method),
-            Backend::Micromath => paths_with::<Micromath>(samples, radius_m, self.method),
-        }
+        dispatch!(self.backend, M => paths_with::<M>(samples, radius_m, self.method))
     }
 
     /// A timing case: one pass of rolling steps through `samples`.
     pub fn case(self, samples: &[Quat], radius_m: f32) -> Case<'_> {
-        match self.backend {
-            Backend::Libm => case_with::<Libm>(samples, radius_m, self.method),
-            Backend::Fast => case_with::<Fast>(samples, radius_m, self.method),
-            Backend::Micromath => case_with::<Micromath>(samples, radius_m, self.method),
-        }
+        dispatch!(self.backend, M => case_with::<M>(samples, radius_m, self.method))
     }
 }

@@ -6,6 +6,7 @@
 //! Our rows are named `method/backend` (e.g. `exact/libm`) and measured against the RK45 reference; the
 //! classical rows' names start with `rk45` and are measured against the closed form.
 
+use crate::error::JsonError;
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -113,7 +114,7 @@ pub fn rows(v: &Validation) -> Vec<Row> {
 }
 
 /// The JSON document.
-pub fn json(v: &Validation) -> Result<String, String> {
+pub fn json(v: &Validation) -> Result<String, JsonError> {
     let rows = rows(v);
     let doc = Json {
         methods: &rows,
@@ -134,7 +135,7 @@ pub fn json(v: &Validation) -> Result<String, String> {
             speedup: PAPER_CLASSICAL_S / PAPER_PROPOSED_S,
         },
     };
-    serde_json::to_string_pretty(&doc).map_err(|e| format!("JSON output: {e}"))
+    serde_json::to_string_pretty(&doc).map_err(JsonError)
 }
 
 fn e3(v: [f64; 3]) -> String {

@@ -6,13 +6,15 @@
 //! the rolling constraint ([`crate::reference::rolling_ode`], rtol 1e-10), and the distance
 //! between the two is reported.
 
+use super::ValidateError;
+use crate::backend::{dispatch, Backend};
 use crate::reference::rolling_ode::{integrate, Object};
 use crate::reference::{max_distance, reference_paths_on, Ground, ReferenceMethod};
 use nalgebra::UnitQuaternion;
 use softfinger_core::contact::decompose::Method;
 use softfinger_core::contact::rolling::Rolling;
 use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
-use softfinger_core::{Fast, Libm, Math, Quat};
+use softfinger_core::{Math, Quat};
 
 /// Fingertip radius, m.
 pub const FINGER_R: f64 = 0.01;
@@ -26,7 +28,7 @@ pub const DURATION_S: f64 = 10.0;
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct SurfaceRow {
     pub surface: &'static str,
-    pub backend: &'static str,
+    pub backend: Backend,
     /// Largest distance from the reference over the run, object and fingertip contact points, mm.
     pub object_max_error_mm: f64,
     pub finger_max_error_mm: f64,
@@ -92,12 +94,12 @@ fn ours<M: Math, S: Surface>(
 }
 
 /// Every surface with the libm and fast backends.
-pub fn run() -> Result<Vec<SurfaceRow>, String> {
+pub fn run() -> Result<Vec<SurfaceRow>, ValidateError> {
     run_with_series().map(|(rows, _)| rows)
 }
 
 /// [`run`], with each surface's error along the run for the charts.
-pub fn run_with_series() -> Result<(Vec<SurfaceRow>, Vec<SurfaceErrors>), String> {
+pub fn run_with_series() -> Result<(Vec<SurfaceRow>, Vec<SurfaceErrors>), ValidateError> {
     let s = samples();
     let dt = 1.0 / RATE_HZ;
     let big = OBJECT_R as f32;
@@ -120,24 +122,29 @@ pub fn run_with_series() -> Result<(Vec<SurfaceRow>, Vec<SurfaceErrors>), String
             Object::Bowl(r) => Ground::Bowl { radius: r },
             Object::Cylinder(r) => Ground::Cylinder { radius: r },
         };
-        let montana = reference_paths_on(ground, method, &s, dt, FINGER_R)
-            .map_err(|e| format!("Montana reference on the {name}: {e:?}"))?;
-        let cartesian = integrate(object, FINGER_R, &s, dt, 1e-10)
-            .map_err(|e| format!("Cartesian reference on the {name}: {e:?}"))?;
+        let montana = reference_paths_on(ground, method, &s, dt, FINGER_R).map_err(|source| {
+            ValidateError::Surface {
+                reference: "Montana",
+                object: name,
+                source,
+            }
+        })?;
+        let cartesian =
+            integrate(object, FINGER_R, &s, dt, 1e-10).map_err(|e| ValidateError::Surface {
+                reference: "Cartesian",
+                object: name,
+                source: e.into(),
+            })?;
         let cross = max_distance(&montana.plane, &cartesian.object)
             .max(max_distance(&montana.sphere, &cartesian.finger));
-        for backend in ["libm", "fast"] {
-            let (o, f) = match (object, backend) {
-                (Object::Plane, "libm") => ours::<Libm, _>(Plane::default(), &s),
-                (Object::Plane, _) => ours::<Fast, _>(Plane::default(), &s),
-                (Object::Sphere(_), "libm") => ours::<Libm, _>(Sphere::new(big), &s),
-                (Object::Sphere(_), _) => ours::<Fast, _>(Sphere::new(big), &s),
-                (Object::Bowl(_), "libm") => ours::<Libm, _>(Bowl::new(big), &s),
-                (Object::Bowl(_), _) => ours::<Fast, _>(Bowl::new(big), &s),
-                (Object::Cylinder(_), "libm") => ours::<Libm, _>(Cylinder::new(big), &s),
-                (Object::Cylinder(_), _) => ours::<Fast, _>(Cylinder::new(big), &s),
-            };
-            if backend == "fast" {
+        for backend in [Backend::Libm, Backend::Fast] {
+            let (o, f) = dispatch!(backend, M => match object {
+                Object::Plane => ours::<M, _>(Plane::default(), &s),
+                Object::Sphere(_) => ours::<M, _>(Sphere::new(big), &s),
+                Object::Bowl(_) => ours::<M, _>(Bowl::new(big), &s),
+                Object::Cylinder(_) => ours::<M, _>(Cylinder::new(big), &s),
+            });
+            if backend == Backend::Fast {
                 series.push(SurfaceErrors {
                     surface: name,
                     t_s: (0..o.len()).map(|k| k as f64 * dt).collect(),
@@ -201,7 +208,7 @@ mod tests {
         for e in &series {
             let row = rows
                 .iter()
-                .find(|r| r.surface == e.surface && r.backend == "fast")
+                .find(|r| r.surface == e.surface && r.backend == Backend::Fast)
                 .unwrap();
             let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
             assert_eq!(max(&e.object_mm), row.object_max_error_mm, "{row:?}");

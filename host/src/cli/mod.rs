@@ -69,12 +69,9 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
-    let cli = match Cli::try_parse_from(argv) {
+    let cli: Cli = match host_sim::cli::parse_or_exit_code(argv) {
         Ok(c) => c,
-        Err(e) => {
-            let _ = e.print();
-            return if e.use_stderr() { 2 } else { 0 };
-        }
+        Err(code) => return code,
     };
     let result = match &cli.command {
         Command::Info { json } => control::info(&cli.connect, *json),
@@ -88,11 +85,5 @@ where
         Command::View(a) => view::main(&cli.connect, a),
         Command::Bench(a) => bench::main(&cli.connect, a),
     };
-    match result {
-        Ok(()) => 0,
-        Err(e) => {
-            eprintln!("softfinger: {e}");
-            2
-        }
-    }
+    host_sim::cli::exit_code("softfinger", result)
 }

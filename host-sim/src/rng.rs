@@ -1,11 +1,13 @@
-//! A small deterministic pseudo-random generator (SplitMix64, Steele, Lea & Flood 2014), so the
-//! noisy experiments give the same numbers on every run without a dependency.
+//! The one pseudo-random generator of host-sim's campaigns (SplitMix64, Steele, Lea & Flood 2014):
+//! seeded, so the noisy experiments (state chatter, sensor noise in the fault campaign) give the
+//! same numbers on every run, without a dependency.
 
 /// SplitMix64 state.
 #[derive(Clone, Copy, Debug)]
 pub struct SplitMix64(u64);
 
 impl SplitMix64 {
+    /// A generator started at `seed`.
     pub fn new(seed: u64) -> Self {
         SplitMix64(seed)
     }
@@ -27,6 +29,12 @@ impl SplitMix64 {
     /// Uniform in [−1, 1).
     pub fn uniform_pm1(&mut self) -> f64 {
         2.0 * self.uniform() - 1.0
+    }
+
+    /// Uniform integer in [−k, k] (`k` ≥ 0; the modulo bias is below 2⁻⁶⁰ for small `k`).
+    pub fn symmetric(&mut self, k: u32) -> i64 {
+        let span = 2 * u64::from(k) + 1;
+        (self.next_u64() % span) as i64 - i64::from(k)
     }
 }
 
