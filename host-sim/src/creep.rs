@@ -204,12 +204,7 @@ fn hold_run<M: Math>(
             }
         },
         |k, _, out, ctrl, _| {
-            let a = ctrl
-                .controller()
-                .contact()
-                .rolling()
-                .surface()
-                .contact_point();
+            let a = anchor_point(ctrl);
             if k >= settle {
                 let a0 = *anchor0.get_or_insert(a);
                 walk = walk.max((a - a0).norm::<Libm>() as f64);
@@ -229,6 +224,15 @@ fn hold_run<M: Math>(
         },
     );
     Ok((worst, walk, growth))
+}
+
+/// The rolled contact point on the plane (object frame, m): where the held finger's anchor sits.
+pub fn anchor_point<M: Math>(ctrl: &Pipeline<M, Plane>) -> Vec3 {
+    ctrl.controller()
+        .contact()
+        .rolling()
+        .surface()
+        .contact_point()
 }
 
 /// The closed-loop hold scene: the plant with a hand that presses 1 mm at the workspace centre in

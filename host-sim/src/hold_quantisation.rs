@@ -17,9 +17,8 @@
 //! Units: N, m, s; forces in the device base frame (tangential = x, y on the plane scene).
 
 use crate::closed_loop::{self, SetupError};
-use crate::creep::hold_scene;
+use crate::creep::{anchor_point, hold_scene};
 use softfinger_core::contact::params::ContactParams;
-use softfinger_core::contact::surface::Surface;
 use softfinger_core::control::pipeline::passivity::PassivityConfig;
 use softfinger_core::{Libm, Math, Vec3};
 
@@ -134,12 +133,7 @@ pub fn measure<M: Math>(setup: HoldSetup) -> Result<HoldProfile, HoldError> {
                 count_changes += 1;
             }
             prev_counts = counts;
-            let a = ctrl
-                .controller()
-                .contact()
-                .rolling()
-                .surface()
-                .contact_point();
+            let a = anchor_point(ctrl);
             let a0 = *anchor0.get_or_insert(a);
             walk = walk.max((a - a0).norm::<Libm>() as f64);
         },
