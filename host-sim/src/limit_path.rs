@@ -148,7 +148,7 @@ pub fn chart(
     let (f_lo, f_hi) = load.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), q| {
         (lo.min(q.f_n), hi.max(q.f_n))
     });
-    Ok(render_svg(path, (960, 680), |root| {
+    render_svg(path, (960, 680), |root| {
         let mut ch = ChartBuilder::on(root)
             .caption(title, (FONT, 18))
             .margin(14)
@@ -161,7 +161,7 @@ pub fn chart(
             "|f_t| / (μ_s·f_N)  [-]   (1 = static friction cone)",
             "|τn| / τ_max,s(f_N)  [-]   (τ_max,s = 3π/16·μ_s·f_N·a(f_N))",
         )?;
-        draw_surfaces(&mut ch, p).map_err(|e| e.0)?;
+        draw_surfaces(&mut ch, p)?;
         for state in [ContactState::Rolling, ContactState::Sliding] {
             let color = state_color(state).mix(0.8).filled();
             let label = format!("rendered, {}", state.name());
@@ -189,7 +189,7 @@ pub fn chart(
             .map_err(drawing_err)?;
         }
         Ok(())
-    })?)
+    })
 }
 
 /// The model's static, slip-threshold and kinetic limit surfaces and the Hertzian reference curve.

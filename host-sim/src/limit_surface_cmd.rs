@@ -39,7 +39,7 @@ pub struct Args {
 }
 
 /// The true curve and the ellipse, normalised by μ·f_N and τ_max, as an SVG chart.
-pub fn chart(path: &Path, c: &[LimitPoint]) -> Result<(), String> {
+pub fn chart(path: &Path, c: &[LimitPoint]) -> Result<(), ChartError> {
     render_svg(path, (640, 600), |root| {
         let mut ch = ChartBuilder::on(root)
             .caption(
@@ -84,7 +84,7 @@ pub fn render(args: &Args) -> Result<String, LimitSurfaceError> {
     let c = curve(args.points, args.cells, 2 * args.cells);
     let (lo, hi) = ellipse_error_range(&c);
     if let Some(path) = &args.svg {
-        chart(path, &c).map_err(ChartError)?;
+        chart(path, &c)?;
     }
     if args.json {
         let doc =

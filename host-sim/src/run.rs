@@ -373,13 +373,12 @@ pub fn main(args: &Args) -> Result<(), RunError> {
     let csv = args.out.join("run.csv");
     write_csv(&csv, &res.rows)?;
     let mut files = vec![csv];
-    files.extend(crate::chart::run_charts::write(&args.out, &res).map_err(ChartError)?);
+    files.extend(crate::chart::run_charts::write(&args.out, &res)?);
     let limit = crate::limit_path::write_for_run(&args.out, &res)?;
     let lines = summary_lines(&res, &s, limit.as_ref().map(|l| &l.1));
     files.extend(limit.map(|l| l.0));
     let title = format!("host-sim run: {}", res.scene.name);
-    let index = crate::chart::index_page::write(&args.out, &title, &lines.join("\n"), &files)
-        .map_err(ChartError)?;
+    let index = crate::chart::index_page::write(&args.out, &title, &lines.join("\n"), &files)?;
     files.push(index);
     for l in &lines {
         println!("{l}");

@@ -1,6 +1,7 @@
 //! Grouped bar charts on a log y axis, in the style of [`super::style`].
 
 use super::style::{draw_legend, drawing_err, fmt_num, render_svg, Area, FONT};
+use crate::error::ChartError;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -20,11 +21,11 @@ pub struct BarChart<'a> {
 
 impl BarChart<'_> {
     /// Renders the chart and writes it atomically to `path`.
-    pub fn write(&self, path: &Path) -> Result<(), String> {
+    pub fn write(&self, path: &Path) -> Result<(), ChartError> {
         render_svg(path, (1000, 560), |root| self.draw(root))
     }
 
-    fn draw(&self, root: &Area) -> Result<(), String> {
+    fn draw(&self, root: &Area) -> Result<(), ChartError> {
         let BarChart {
             title,
             x_label,

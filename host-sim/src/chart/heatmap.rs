@@ -2,6 +2,7 @@
 //! through the viridis colour map, flagged cells in [`FAIL_COLOR`] with a marker.
 
 use super::style::{self, fmt_num, render_svg, Area, FONT};
+use crate::error::ChartError;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -76,7 +77,7 @@ pub fn heatmap(
     vmin: f64,
     vmax: f64,
     bar_label: &str,
-) -> Result<(), String> {
+) -> Result<(), ChartError> {
     let n = panels.len().max(1) as u32;
     let (pw, h, bar_w) = (520u32, 520u32, 150u32);
     render_svg(path, (pw * n + bar_w, h), |root| {
@@ -90,7 +91,7 @@ pub fn heatmap(
 
 /// One heatmap: cells coloured by value over [vmin, vmax], flagged cells in the failure colour
 /// with a marker.
-fn heat_panel(area: &Area, p: &HeatPanel, vmin: f64, vmax: f64) -> Result<(), String> {
+fn heat_panel(area: &Area, p: &HeatPanel, vmin: f64, vmax: f64) -> Result<(), ChartError> {
     let xe = edges(p.x, true);
     let ye = edges(p.y, false);
     let mut chart = ChartBuilder::on(area)
@@ -146,7 +147,7 @@ fn heat_panel(area: &Area, p: &HeatPanel, vmin: f64, vmax: f64) -> Result<(), St
 }
 
 /// The colour bar over [vmin, vmax] labelled `bar_label`, with the failure colour's key below.
-fn colour_bar(bar: &Area, vmin: f64, vmax: f64, bar_label: &str) -> Result<(), String> {
+fn colour_bar(bar: &Area, vmin: f64, vmax: f64, bar_label: &str) -> Result<(), ChartError> {
     let mut cb = ChartBuilder::on(bar)
         .margin_top(40)
         .margin_bottom(60)

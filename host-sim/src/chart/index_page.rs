@@ -5,6 +5,7 @@
 //! attributes, which the browser test reads).
 
 use crate::atomic_file::AtomicFile;
+use crate::error::ChartError;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -109,7 +110,12 @@ pub fn html(dir: &Path, title: &str, summary: &str, files: &[PathBuf]) -> String
 }
 
 /// Writes [`html`] to `dir/index.html` atomically; returns its path.
-pub fn write(dir: &Path, title: &str, summary: &str, files: &[PathBuf]) -> Result<PathBuf, String> {
+pub fn write(
+    dir: &Path,
+    title: &str,
+    summary: &str,
+    files: &[PathBuf],
+) -> Result<PathBuf, ChartError> {
     let path = dir.join(FILE);
     let fail = |e: std::io::Error| format!("{}: {e}", path.display());
     let mut f = AtomicFile::create(&path).map_err(fail)?;

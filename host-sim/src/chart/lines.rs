@@ -6,6 +6,7 @@
 //! floor.
 
 use super::style::{draw_axes, draw_legend, drawing_err, render_svg, Area, ContactPhase, FONT};
+use crate::error::ChartError;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 use softfinger_core::contact::state::ContactState;
@@ -72,7 +73,7 @@ pub fn line_chart(
     panel_w: u32,
     h: u32,
     panels: &[(Axes, Vec<Series>)],
-) -> Result<(), String> {
+) -> Result<(), ChartError> {
     grid_chart(path, (1, panels.len().max(1)), (panel_w, h), panels)
 }
 
@@ -82,7 +83,7 @@ pub fn stacked_chart(
     w: u32,
     panel_h: u32,
     panels: &[(Axes, Vec<Series>)],
-) -> Result<(), String> {
+) -> Result<(), ChartError> {
     grid_chart(path, (panels.len().max(1), 1), (w, panel_h), panels)
 }
 
@@ -92,14 +93,14 @@ fn grid_chart(
     (rows, cols): (usize, usize),
     panel_px: (u32, u32),
     panels: &[(Axes, Vec<Series>)],
-) -> Result<(), String> {
+) -> Result<(), ChartError> {
     let size = (panel_px.0 * cols as u32, panel_px.1 * rows as u32);
     render_svg(path, size, |root| {
         draw_panels(&root.split_evenly((rows, cols)), panels)
     })
 }
 
-fn draw_panels(areas: &[Area], panels: &[(Axes, Vec<Series>)]) -> Result<(), String> {
+fn draw_panels(areas: &[Area], panels: &[(Axes, Vec<Series>)]) -> Result<(), ChartError> {
     for (area, (axes, series)) in areas.iter().zip(panels) {
         panel(area, axes, series)?;
     }
@@ -141,7 +142,7 @@ pub fn equal_ranges(x: (f64, f64), y: (f64, f64), plot_px: (u32, u32)) -> ((f64,
 }
 
 /// One panel: the title, then the axes at the requested scales.
-fn panel(area: &Area, axes: &Axes, series: &[Series]) -> Result<(), String> {
+fn panel(area: &Area, axes: &Axes, series: &[Series]) -> Result<(), ChartError> {
     let inner = area
         .margin(MARGIN, MARGIN, MARGIN, MARGIN)
         .titled(&axes.title, (FONT, 20))
@@ -180,7 +181,7 @@ fn draw_panel<X, Y>(
     series: &[Series],
     x: X,
     y: Y,
-) -> Result<(), String>
+) -> Result<(), ChartError>
 where
     X: AsRangedCoord<Value = f64>,
     Y: AsRangedCoord<Value = f64>,
@@ -216,7 +217,7 @@ fn draw_bands<'a, 'b: 'a, X, Y>(
     bands: &[Band],
     xr: (f64, f64),
     yr: (f64, f64),
-) -> Result<(), String>
+) -> Result<(), ChartError>
 where
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,
@@ -242,7 +243,7 @@ fn draw_series<'a, 'b: 'a, X, Y>(
     chart: &mut ChartContext<'a, SVGBackend<'b>, Cartesian2d<X, Y>>,
     s: &Series,
     pts: Vec<(f64, f64)>,
-) -> Result<(), String>
+) -> Result<(), ChartError>
 where
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,

@@ -6,6 +6,7 @@
 //! `contact_step` (exact), `contact_step_rpy` (the full contact step: rolling, spin torque, state machine,
 //! proxy coupling). Backends `libm`, `fast`, `micromath`. Other entries are ignored.
 
+use crate::error::ChartError;
 use plotters::prelude::*;
 use serde::Deserialize;
 use softfinger_core::contact::decompose::Method;
@@ -54,14 +55,14 @@ pub struct McuPoint {
 }
 
 /// Reads the mcu-bench JSON.
-pub fn read(path: &Path) -> Result<Vec<Entry>, String> {
+pub fn read(path: &Path) -> Result<Vec<Entry>, ChartError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     serde_json::from_str(&text).map_err(|e| {
-        format!(
+        ChartError(format!(
             "{}: not an mcu-bench JSON array of {{name, backend, instructions}}: {e}",
             path.display()
-        )
+        ))
     })
 }
 
@@ -120,7 +121,7 @@ pub fn front(points: &[McuPoint]) -> Vec<usize> {
 }
 
 /// Renders the chart as SVG.
-pub fn svg(points: &[McuPoint]) -> Result<String, String> {
+pub fn svg(points: &[McuPoint]) -> Result<String, ChartError> {
     svg_string((1100, 760), |root| {
         let (x0, x1) = log_range(points.iter().map(|p| xy(p).0));
         // Linear instructions axis from 0, with room above the points for the legend.

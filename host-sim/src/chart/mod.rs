@@ -27,6 +27,8 @@ pub mod style;
 pub mod surfaces;
 pub mod trajectories;
 
+use crate::error::{ChartError, FileError};
+use crate::validate::ValidateError;
 use std::fmt::Write;
 use std::path::PathBuf;
 
@@ -72,8 +74,25 @@ pub struct ChartReport {
     pub notes: Vec<String>,
 }
 
+/// Why the `chart` command failed.
+#[derive(Debug, thiserror::Error)]
+pub enum ChartCommandError {
+    /// A sampling rate outside 1 Hz to 1 MHz.
+    #[error("--rates-hz: every rate must be between 1 and 1e6 Hz")]
+    Rates,
+    /// The output folder could not be made.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// A reference or a method's run failed.
+    #[error(transparent)]
+    Validate(#[from] ValidateError),
+    /// A chart could not be drawn or written.
+    #[error(transparent)]
+    Chart(#[from] ChartError),
+}
+
 /// Makes the charts.
-pub fn run(args: &Args) -> Result<ChartReport, String> {
+pub fn run(args: &Args) -> Result<ChartReport, ChartCommandError> {
     let timing = if args.quick {
         Timing::QUICK
     } else {
@@ -87,10 +106,9 @@ pub fn run(args: &Args) -> Result<ChartReport, String> {
         .iter()
         .any(|r| !(r.is_finite() && *r >= 1.0 && *r <= 1e6))
     {
-        return Err("--rates-hz: every rate must be between 1 and 1e6 Hz".to_string());
+        return Err(ChartCommandError::Rates);
     }
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| format!("{}: cannot create: {e}", args.out.display()))?;
+    std::fs::create_dir_all(&args.out).map_err(FileError::on(&args.out, "cannot create"))?;
     let mut files = Vec::new();
     let mut notes = Vec::new();
 
@@ -151,7 +169,7 @@ pub fn run(args: &Args) -> Result<ChartReport, String> {
 }
 
 /// The paper scene's paths for Fig. 3: the RK45 reference, ours exact/libm and rpy/libm.
-fn fig3() -> Result<trajectories::Trajectories, String> {
+fn fig3() -> Result<trajectories::Trajectories, ChartCommandError> {
     let scene = paper_scene();
     let closed = closed_form(&scene)?;
     let reference = reference_for(&scene, &closed)?.paths;
@@ -239,7 +257,7 @@ pub fn summary(r: &ChartReport) -> String {
 }
 
 /// The command.
-pub fn main(args: &Args) -> Result<(), String> {
+pub fn main(args: &Args) -> Result<(), ChartCommandError> {
     let r = run(args)?;
     print!("{}", summary(&r));
     Ok(())

@@ -7,6 +7,7 @@ use crate::reference::ReferencePaths;
 use crate::validate::classical::{self, Rk45Call, SceneRef, ATOL_PER_RTOL};
 use crate::validate::ours::{self, Variant};
 use crate::validate::timing::{self, Case, Timing};
+use crate::validate::ValidateError;
 use crate::validate::{closed_form, reference_for, run_ours};
 
 /// Sampling rates of the sweep (Hz): the paper's 100 Hz and haptic-loop rates.
@@ -61,7 +62,7 @@ struct Prepared {
 }
 
 /// Computes and times every point (ours at `rates_hz`, classical at [`RK45_RTOLS`] on the 100 Hz scene).
-pub fn sweep(rates_hz: &[f64], timing: Timing) -> Result<Vec<Point>, String> {
+pub fn sweep(rates_hz: &[f64], timing: Timing) -> Result<Vec<Point>, ValidateError> {
     let prepared = rates_hz
         .iter()
         .map(|&rate| {
@@ -75,7 +76,7 @@ pub fn sweep(rates_hz: &[f64], timing: Timing) -> Result<Vec<Point>, String> {
                 samples32,
             })
         })
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, ValidateError>>()?;
     let rk_scene = paper_scene_at_rate(RK45_RATE_HZ);
     let rk_closed = closed_form(&rk_scene)?;
     let mut points = Vec::new();

@@ -9,6 +9,7 @@
 
 use super::lines::{line_chart, phase_bands, stacked_chart, Axes, Series, Style};
 use super::style::{linear_range, state_color, ContactPhase, PALETTE};
+use crate::error::ChartError;
 use crate::run::{Row, RunResult};
 use plotters::prelude::SeriesLabelPosition;
 use plotters::style::BLACK;
@@ -19,7 +20,7 @@ use std::path::{Path, PathBuf};
 const MAX_POINTS: usize = 4000;
 
 /// Writes the run's charts into `dir`; returns their paths.
-pub fn write(dir: &Path, res: &RunResult) -> Result<Vec<PathBuf>, String> {
+pub fn write(dir: &Path, res: &RunResult) -> Result<Vec<PathBuf>, ChartError> {
     let paths = dir.join("contact_path.svg");
     path_chart(&paths, res)?;
     let forces = dir.join("forces.svg");
@@ -33,7 +34,7 @@ fn thinned(rows: &[Row]) -> impl Iterator<Item = &Row> {
 }
 
 /// Force and spin torque against time over the state bands.
-fn force_chart(file: &Path, res: &RunResult) -> Result<(), String> {
+fn force_chart(file: &Path, res: &RunResult) -> Result<(), ChartError> {
     let rows = &res.rows;
     let bands = phase_bands(
         rows.iter().map(|r| (r.t_s, r.state)),
@@ -146,7 +147,7 @@ fn path_series(rows: &[Row], point: impl Fn(&Row) -> [f32; 3]) -> Vec<Series> {
 }
 
 /// The contact paths on the object and on the fingertip, side by side, equal axes.
-fn path_chart(file: &Path, res: &RunResult) -> Result<(), String> {
+fn path_chart(file: &Path, res: &RunResult) -> Result<(), ChartError> {
     let name = &res.scene.name;
     let panel = |title: String, series: Vec<Series>| {
         let xs = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));

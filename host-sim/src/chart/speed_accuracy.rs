@@ -1,6 +1,7 @@
 //! The speed–accuracy chart: time per step against the largest contact-path error, log–log, with the
 //! Pareto front.
 
+use crate::error::ChartError;
 use plotters::coord::combinators::LogCoord;
 use plotters::prelude::*;
 
@@ -37,7 +38,7 @@ pub fn rate_label(hz: f64) -> String {
 type LogLog<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
 
 /// Renders the chart as SVG.
-pub fn svg(points: &[Point]) -> Result<String, String> {
+pub fn svg(points: &[Point]) -> Result<String, ChartError> {
     svg_string((1200, 860), |root| {
         let (x0, x1) = log_range(points.iter().map(|p| p.ns_per_step));
         let (y0, y1) = log_range(points.iter().map(|p| xy(p).1));
@@ -74,7 +75,7 @@ fn draw_front<'a, 'b: 'a>(
     chart: &mut LogLog<'a, 'b>,
     points: &[Point],
     x1: f64,
-) -> Result<(), String> {
+) -> Result<(), ChartError> {
     let idx = front(points);
     let front_xy: Vec<(f64, f64)> = idx.iter().map(|&i| xy(&points[i])).collect();
     draw_line(
@@ -88,7 +89,7 @@ fn draw_front<'a, 'b: 'a>(
 
 /// Our variants: one line and marker set per method x backend over the rates, the recommended
 /// variant's points labelled with their rate.
-fn draw_ours<'a, 'b: 'a>(chart: &mut LogLog<'a, 'b>, points: &[Point]) -> Result<(), String> {
+fn draw_ours<'a, 'b: 'a>(chart: &mut LogLog<'a, 'b>, points: &[Point]) -> Result<(), ChartError> {
     for v in Variant::all() {
         let mut pts: Vec<&Point> = points
             .iter()
@@ -132,7 +133,7 @@ fn draw_ours<'a, 'b: 'a>(chart: &mut LogLog<'a, 'b>, points: &[Point]) -> Result
 
 /// The classical RK45 runs: one line per call style over the tolerances, points labelled with
 /// their rtol.
-fn draw_rk45<'a, 'b: 'a>(chart: &mut LogLog<'a, 'b>, points: &[Point]) -> Result<(), String> {
+fn draw_rk45<'a, 'b: 'a>(chart: &mut LogLog<'a, 'b>, points: &[Point]) -> Result<(), ChartError> {
     for (call, color) in [Rk45Call::Restart, Rk45Call::SingleCall]
         .into_iter()
         .zip(RK45_COLORS)

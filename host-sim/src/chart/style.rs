@@ -4,6 +4,7 @@
 //! it: [`super::lines`] (line charts in panels, with state bands and equal axes), [`super::bars`],
 //! [`super::heatmap`], and the `chart` command's own plots.
 
+use crate::error::ChartError;
 use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
@@ -167,7 +168,7 @@ pub fn draw_markers<'a, 'b: 'a, CT>(
     shape: Shape,
     style: ShapeStyle,
     label: Option<&str>,
-) -> Result<(), String>
+) -> Result<(), ChartError>
 where
     CT: CoordTranslate<From = (f64, f64)>,
 {
@@ -191,7 +192,7 @@ pub fn draw_axes<'a, 'b: 'a, X, Y>(
     chart: &mut ChartContext<'a, SVGBackend<'b>, Cartesian2d<X, Y>>,
     x_desc: &str,
     y_desc: &str,
-) -> Result<(), String>
+) -> Result<(), ChartError>
 where
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
@@ -215,7 +216,7 @@ pub fn draw_legend<'a, 'b: 'a, CT>(
     chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,
     position: SeriesLabelPosition,
     font_size: u32,
-) -> Result<(), String>
+) -> Result<(), ChartError>
 where
     CT: CoordTranslate,
 {
@@ -235,7 +236,7 @@ pub fn draw_line<'a, 'b: 'a, CT>(
     pts: &[(f64, f64)],
     style: ShapeStyle,
     label: Option<&str>,
-) -> Result<(), String>
+) -> Result<(), ChartError>
 where
     CT: CoordTranslate<From = (f64, f64)>,
 {
@@ -308,8 +309,8 @@ pub fn tick_label(v: f64, (lo, hi): (f64, f64)) -> String {
 }
 
 /// A plotters drawing error as this crate's error text.
-pub fn drawing_err<E: std::fmt::Debug>(e: E) -> String {
-    format!("drawing failed: {e:?}")
+pub fn drawing_err<E: std::fmt::Display>(e: E) -> ChartError {
+    ChartError(format!("drawing failed: {e}"))
 }
 
 /// Renders a `size` (px) figure on white with `draw` and writes it to `path` atomically; errors
@@ -317,8 +318,8 @@ pub fn drawing_err<E: std::fmt::Debug>(e: E) -> String {
 pub fn render_svg(
     path: &Path,
     size: (u32, u32),
-    draw: impl FnOnce(&Area) -> Result<(), String>,
-) -> Result<(), String> {
+    draw: impl FnOnce(&Area) -> Result<(), ChartError>,
+) -> Result<(), ChartError> {
     let svg = svg_string(size, draw).map_err(|e| format!("{}: {e}", path.display()))?;
     write_svg(path, &svg)
 }
@@ -326,8 +327,8 @@ pub fn render_svg(
 /// Renders a `size` (px) figure on white with `draw` into an SVG string.
 pub fn svg_string(
     size: (u32, u32),
-    draw: impl FnOnce(&Area) -> Result<(), String>,
-) -> Result<String, String> {
+    draw: impl FnOnce(&Area) -> Result<(), ChartError>,
+) -> Result<String, ChartError> {
     let mut buf = String::new();
     {
         let root = SVGBackend::with_string(&mut buf, size).into_drawing_area();
@@ -339,8 +340,8 @@ pub fn svg_string(
 }
 
 /// Writes `svg` to `path` atomically.
-pub fn write_svg(path: &Path, svg: &str) -> Result<(), String> {
-    let fail = |e: std::io::Error| format!("{}: {e}", path.display());
+pub fn write_svg(path: &Path, svg: &str) -> Result<(), ChartError> {
+    let fail = |e: std::io::Error| ChartError(format!("{}: {e}", path.display()));
     let mut f = AtomicFile::create(path).map_err(fail)?;
     f.writer().write_all(svg.as_bytes()).map_err(fail)?;
     f.commit().map_err(fail)

@@ -2,6 +2,7 @@
 //! Montana-form RK45 reference along `host-sim validate`'s 10 s roll-and-spin motion (Fast backend,
 //! exact method), object point solid, fingertip point thin, log error axis.
 
+use crate::error::ChartError;
 use plotters::prelude::*;
 
 use super::style::{
@@ -31,7 +32,7 @@ pub fn decimated(t: &[f64], v: &[f64]) -> Line {
 }
 
 /// Renders the chart as SVG.
-pub fn svg(series: &[SurfaceErrors]) -> Result<String, String> {
+pub fn svg(series: &[SurfaceErrors]) -> Result<String, ChartError> {
     svg_string((1200, 700), |root| {
         let lines: Vec<(&SurfaceErrors, Line, Line)> = series
             .iter()

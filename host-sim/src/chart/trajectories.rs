@@ -1,6 +1,7 @@
 //! The paper's Fig. 3 reproduced: contact trajectories on the plane and on the sphere, classical
 //! (Montana + RK45) against ours (exact and rpy), as 2-D projections.
 
+use crate::error::ChartError;
 use plotters::prelude::*;
 use plotters::style::full_palette::{BLUE_600, GREEN_700};
 
@@ -55,7 +56,7 @@ const PANELS: [Panel; 3] = [
 const AXIS: [&str; 3] = ["x", "y", "z"];
 
 /// Renders the three panels as one SVG.
-pub fn svg(t: &Trajectories) -> Result<String, String> {
+pub fn svg(t: &Trajectories) -> Result<String, ChartError> {
     svg_string((1500, 560), |root| {
         let root = root
             .titled(

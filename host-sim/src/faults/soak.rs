@@ -18,7 +18,6 @@ use super::FaultsError;
 use crate::plant::{Phase, PlantParams, TouchScript, Waypoint};
 use serde::Serialize;
 use softfinger_core::contact::state::ContactState;
-use softfinger_core::contact::surface::Surface;
 use std::fmt::Write;
 use std::time::Instant;
 
@@ -63,6 +62,38 @@ struct Repetition {
     roll_end_point: Option<[f64; 3]>,
 }
 
+/// How later repetitions differ from the reference one.
+#[derive(Clone, Copy, Debug, Default)]
+struct Drift {
+    /// Repetitions whose sequence of states differs from the reference's.
+    mismatches: u64,
+    /// Largest shift of a transition, ticks, among repetitions with the same sequence.
+    max_shift: u64,
+    /// Largest distance between the rolled contact points at the roll's end, m.
+    max_drift_m: f64,
+}
+
+impl Drift {
+    fn compare(&mut self, r: &Repetition, done: &Repetition) {
+        let same_states = r.timeline.len() == done.timeline.len()
+            && r.timeline
+                .iter()
+                .zip(&done.timeline)
+                .all(|(a, b)| a.1 == b.1);
+        if same_states {
+            for (a, b) in r.timeline.iter().zip(&done.timeline) {
+                self.max_shift = self.max_shift.max(a.0.abs_diff(b.0));
+            }
+        } else {
+            self.mismatches += 1;
+        }
+        if let (Some(a), Some(b)) = (r.roll_end_point, done.roll_end_point) {
+            let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
+            self.max_drift_m = self.max_drift_m.max(d);
+        }
+    }
+}
+
 /// Run the soak for `ticks` controller ticks.
 pub fn soak(ticks: u64) -> Result<SoakReport, FaultsError> {
     let touch = TouchScript::default();
@@ -92,7 +123,7 @@ pub fn soak(ticks: u64) -> Result<SoakReport, FaultsError> {
     let mut rep = Repetition::default();
     let mut prev_state = None;
     let (mut max_r, mut max_p, mut nan, mut latched) = (0.0f64, 0.0f64, 0u64, 0u64);
-    let (mut mismatches, mut max_shift, mut max_drift) = (0u64, 0u64, 0.0f64);
+    let mut drift = Drift::default();
     let mut reps = 0u64;
     let mut no_act = |_: u64, _: &mut _, _: &mut _| {};
     let mut no_inject = |_: u64, _: &mut _| {};
@@ -106,24 +137,7 @@ pub fn soak(ticks: u64) -> Result<SoakReport, FaultsError> {
             match &reference {
                 None if reps >= 2 => reference = Some(done),
                 None => {}
-                Some(r) => {
-                    if r.timeline.len() != done.timeline.len()
-                        || r.timeline
-                            .iter()
-                            .zip(&done.timeline)
-                            .any(|(a, b)| a.1 != b.1)
-                    {
-                        mismatches += 1;
-                    } else {
-                        for (a, b) in r.timeline.iter().zip(&done.timeline) {
-                            max_shift = max_shift.max(a.0.abs_diff(b.0));
-                        }
-                    }
-                    if let (Some(a), Some(b)) = (r.roll_end_point, done.roll_end_point) {
-                        let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
-                        max_drift = max_drift.max(d);
-                    }
-                }
+                Some(r) => drift.compare(r, &done),
             }
             lp.plant.restart_script();
             prev_state = None;
@@ -138,13 +152,7 @@ pub fn soak(ticks: u64) -> Result<SoakReport, FaultsError> {
             prev_state = Some(r.out.control.state);
         }
         if within == roll_end {
-            let p = lp
-                .pipe
-                .controller()
-                .contact()
-                .rolling()
-                .surface()
-                .contact_point();
+            let p = crate::creep::anchor_point(&lp.pipe);
             rep.roll_end_point = Some([p.x as f64, p.y as f64, p.z as f64]);
         }
     }
@@ -160,9 +168,9 @@ pub fn soak(ticks: u64) -> Result<SoakReport, FaultsError> {
         force_limit_n: limit,
         nan_outputs: nan,
         latched_ticks: latched,
-        timeline_mismatches: mismatches,
-        max_transition_shift_ticks: max_shift,
-        max_contact_point_drift_m: max_drift,
+        timeline_mismatches: drift.mismatches,
+        max_transition_shift_ticks: drift.max_shift,
+        max_contact_point_drift_m: drift.max_drift_m,
         reference_roll_end_point_m: reference.as_ref().and_then(|r| r.roll_end_point),
         reference_timeline: reference
             .map(|r| r.timeline.iter().map(|(k, s)| (*k, s.name())).collect())

@@ -52,7 +52,7 @@ pub fn force_chart(
         y: linear_range(ys, 0.1, 0.3),
         ..Axes::default()
     };
-    Ok(line_chart(path, 900, 600, &[(axes, series)])?)
+    line_chart(path, 900, 600, &[(axes, series)])
 }
 
 /// The handle orientation of each record from its wrist counts (the device's wrist

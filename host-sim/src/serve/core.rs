@@ -77,7 +77,11 @@ impl PipelineCore {
     /// The pipeline for `scene` (its control rate on the firmware's board timing, its contact
     /// parameters, its surface as the initial local model), blending model switches over
     /// `blend_s`, with the watchdog at `watchdog_s` (0: off). Unhomed.
-    pub fn new(scene: &crate::scene::Scene, blend_s: f32, watchdog_s: f32) -> Result<Self, String> {
+    pub fn new(
+        scene: &crate::scene::Scene,
+        blend_s: f32,
+        watchdog_s: f32,
+    ) -> Result<Self, super::ServeError> {
         let (contact, model) = scene_model(scene)?;
         let config = PipelineConfig {
             device: softfinger_core::device::OMEGA_LIKE,
@@ -94,7 +98,7 @@ impl PipelineCore {
         };
         // The passivity stage observes only, as on the firmware: the local-model scene's
         // default (`LocalModelScene::PASSIVITY_DAMPS`, with the measurement behind it).
-        let pipe = Pipeline::new(config).map_err(|e| format!("pipeline: {e:?}"))?;
+        let pipe = Pipeline::new(config)?;
         Ok(PipelineCore { pipe })
     }
 
@@ -150,7 +154,9 @@ impl DeviceCore for PipelineCore {
 
 /// The initial model and contact parameters of a scene (plane top; sphere, bowl or cylinder centre
 /// in the base frame, as the closed-loop runs place them).
-pub fn scene_model(scene: &crate::scene::Scene) -> Result<(ContactParams, LocalModelSpec), String> {
+pub fn scene_model(
+    scene: &crate::scene::Scene,
+) -> Result<(ContactParams, LocalModelSpec), crate::closed_loop::ClosedLoopError> {
     let contact = crate::closed_loop::contact_params(scene)?;
     let top = crate::closed_loop::surface_top_z_m() as f32;
     let (kind, z) = match scene.surface {

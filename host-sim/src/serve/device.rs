@@ -334,7 +334,7 @@ impl DeviceLoop {
         }
     }
 
-    fn rehand(&mut self, plant: Result<Plant, String>, mode: HandMode) -> AckResult {
+    fn rehand(&mut self, plant: Result<Plant, hand::HandError>, mode: HandMode) -> AckResult {
         match plant {
             Ok(mut p) => {
                 p.continue_counters_from(&self.plant);

@@ -3,7 +3,7 @@
 //! the handle never jumps: the plant is rebuilt at rest at the current effector position and
 //! wrist angles, and the script moves from there (minimum jerk) to where it should be.
 
-use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
+use crate::plant::{HandScript, Phase, Plant, PlantError, PlantParams, Waypoint};
 use softfinger_core::device::DeviceParams;
 
 /// Reference speed of the move to a new script's start, m/s.
@@ -33,12 +33,26 @@ fn move_duration_s(a: &Waypoint, b: &Waypoint) -> f64 {
     (d / MOVE_SPEED_M_S).clamp(0.2, 2.0)
 }
 
+/// Why a new hand motion was refused.
+#[derive(Debug, thiserror::Error)]
+pub enum HandError {
+    /// The hand's path from the handle to the script could not be built.
+    #[error("hand script: {0}")]
+    Script(PlantError),
+    /// The target is out of the device's reach.
+    #[error("hand target: {0}")]
+    Target(PlantError),
+    /// The target has a NaN or infinite coordinate.
+    #[error("hand target is not finite")]
+    NotFinite,
+}
+
 /// A plant at the current handle position whose hand moves to `script`'s start and plays it.
 pub fn following(
     plant: &Plant,
     script: &HandScript,
     device: DeviceParams,
-) -> Result<Plant, String> {
+) -> Result<Plant, HandError> {
     let now = here(plant);
     let first = script.sample(0.0);
     let start = Waypoint {
@@ -49,24 +63,24 @@ pub fn following(
     for seg in script.segments() {
         s = s.then(seg.phase, seg.duration_s, seg.end);
     }
-    Plant::new(device, PlantParams::OMEGA_LIKE, s).map_err(|e| format!("hand script: {e:?}"))
+    Plant::new(device, PlantParams::OMEGA_LIKE, s).map_err(HandError::Script)
 }
 
 /// A plant at the current handle position whose hand moves to `target` and holds it.
-pub fn holding(plant: &Plant, target: Waypoint, device: DeviceParams) -> Result<Plant, String> {
+pub fn holding(plant: &Plant, target: Waypoint, device: DeviceParams) -> Result<Plant, HandError> {
     let all_finite = target
         .position_m
         .iter()
         .chain(target.wrist_rad.iter())
         .all(|v| v.is_finite());
     if !all_finite {
-        return Err("hand target is not finite".into());
+        return Err(HandError::NotFinite);
     }
     let now = here(plant);
     let s = HandScript::new(now).then(Phase::Approach, move_duration_s(&now, &target), target);
-    let p = Plant::new(device, PlantParams::OMEGA_LIKE, s).map_err(|e| format!("hand: {e:?}"))?;
+    let p = Plant::new(device, PlantParams::OMEGA_LIKE, s).map_err(HandError::Script)?;
     // The target itself must be reachable too (the start is, by construction).
     Plant::new(device, PlantParams::OMEGA_LIKE, HandScript::new(target))
-        .map_err(|e| format!("hand target: {e:?}"))?;
+        .map_err(HandError::Target)?;
     Ok(p)
 }

@@ -56,17 +56,42 @@ pub struct Server {
     connections: Arc<Mutex<Vec<TcpStream>>>,
 }
 
+/// Why the virtual device could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum ServeError {
+    /// The scene could not be loaded.
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
+    /// The scene's configuration, or the operator's session before serving, failed.
+    #[error(transparent)]
+    Setup(#[from] crate::closed_loop::ClosedLoopError),
+    /// The plant rejected the scene.
+    #[error("plant: {0}")]
+    Plant(crate::plant::PlantError),
+    /// The pipeline rejected its configuration.
+    #[error("pipeline: {0}")]
+    Pipeline(#[from] softfinger_core::control::pipeline::PipelineError),
+    /// The pipeline refused to turn its watchdog off for bench mode.
+    #[error("watchdog: {0}")]
+    Watchdog(softfinger_core::control::pipeline::CommandError),
+    /// The listening socket could not be set up.
+    #[error("{0}: cannot listen: {1}")]
+    Listen(String, std::io::Error),
+    /// `--duration-s` was not a positive number.
+    #[error("--duration-s must be positive, got {0}")]
+    Duration(f64),
+}
+
 impl Server {
     /// Bind, build the device from the scene, and start the threads.
-    pub fn start(args: &Args) -> Result<Server, String> {
+    pub fn start(args: &Args) -> Result<Server, ServeError> {
         let scene = Scene::load(&args.scene)?;
         let (contact, _) = core::scene_model(&scene)?;
         let device = softfinger_core::device::OMEGA_LIKE.params;
         let watchdog_s = args.watchdog_ms * 1e-3;
         let mut core = core::PipelineCore::new(&scene, args.blend_ms * 1e-3, watchdog_s)?;
         let script = crate::closed_loop::touch_script(&scene, &contact);
-        let mut plant =
-            crate::closed_loop::plant(&scene, &contact).map_err(|e| format!("plant: {e:?}"))?;
+        let mut plant = crate::closed_loop::plant(&scene, &contact).map_err(ServeError::Plant)?;
         if args.auto_arm {
             // The operator's session in simulated time: home against the plant, the hand takes
             // the handle, arm. Bench mode: no client feeds the watchdog, so it is off.
@@ -74,13 +99,17 @@ impl Server {
             pipe.command(softfinger_core::control::pipeline::Command::SetWatchdog {
                 timeout_s: 0.0,
             })
-            .map_err(|e| format!("watchdog: {e:?}"))?;
+            .map_err(ServeError::Watchdog)?;
             crate::closed_loop::prepare(pipe, &mut plant)?;
         }
-        let listener =
-            TcpListener::bind(&args.listen).map_err(|e| format!("{}: {e}", args.listen))?;
-        let addr = listener.local_addr().map_err(|e| e.to_string())?;
-        listener.set_nonblocking(true).map_err(|e| e.to_string())?;
+        let listener = TcpListener::bind(&args.listen)
+            .map_err(|e| ServeError::Listen(args.listen.clone(), e))?;
+        let addr = listener
+            .local_addr()
+            .map_err(|e| ServeError::Listen(args.listen.clone(), e))?;
+        listener
+            .set_nonblocking(true)
+            .map_err(|e| ServeError::Listen(args.listen.clone(), e))?;
         let stop = Arc::new(AtomicBool::new(false));
         let stats = Arc::new(link::LinkStats::default());
         let (events_tx, events_rx) = channel();
@@ -136,7 +165,7 @@ impl Server {
 }
 
 /// Run `host-sim serve`.
-pub fn main(args: &Args) -> Result<(), String> {
+pub fn main(args: &Args) -> Result<(), ServeError> {
     let server = Server::start(args)?;
     println!(
         "virtual device listening on {} (scene '{}'{}); Ctrl-C to stop",
@@ -146,7 +175,7 @@ pub fn main(args: &Args) -> Result<(), String> {
     );
     match args.duration_s {
         Some(s) if s.is_finite() && s > 0.0 => thread::sleep(Duration::from_secs_f64(s)),
-        Some(s) => return Err(format!("--duration-s must be positive, got {s}")),
+        Some(s) => return Err(ServeError::Duration(s)),
         None => loop {
             thread::sleep(Duration::from_secs(3600));
         },

@@ -6,17 +6,18 @@ use super::haptic::{self, Device, RateRow};
 use super::haptic_timing::{Impact, TimingRow, IMPACT_SECONDS, IMPACT_SPEED};
 use crate::chart::lines::{line_chart, Axes, Series, Style};
 use crate::chart::style::PALETTE;
+use crate::error::ChartError;
 use plotters::style::RGBColor;
 use std::path::Path;
 
-pub fn haptic_charts(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), String> {
+pub fn haptic_charts(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), ChartError> {
     kmax_chart(out, d, rows)?;
     energy_chart(out, rows)
 }
 
 /// haptic_kmax.svg: K_max against the control rate, the bounds and eigenvalue limits as lines and
 /// the simulated values as markers, without and with one tick of delay.
-fn kmax_chart(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), String> {
+fn kmax_chart(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), ChartError> {
     let fine: Vec<f64> = (0..=40)
         .map(|i| 1_000.0 * 20f64.powf(i as f64 / 40.0))
         .collect();
@@ -97,7 +98,7 @@ fn rate_axes(title: String, y_label: &str, y: (f64, f64)) -> Axes {
 }
 
 /// haptic_energy.svg: energy ratio late/early over the K sweep, per rate, both delays.
-fn energy_chart(out: &Path, rows: &[RateRow]) -> Result<(), String> {
+fn energy_chart(out: &Path, rows: &[RateRow]) -> Result<(), ChartError> {
     line_chart(
         &out.join("haptic_energy.svg"),
         700,
@@ -155,7 +156,7 @@ fn energy_panel(rows: &[RateRow], delay: usize) -> (Axes, Vec<Series>) {
 
 /// K_max over 2b/T against the control rate: one tick of delay, the firmware's timing, with the
 /// passivity stage (measured markers; eigenvalue lines where they exist).
-pub fn timing_chart(out: &Path, d: &Device, rows: &[TimingRow]) -> Result<(), String> {
+pub fn timing_chart(out: &Path, d: &Device, rows: &[TimingRow]) -> Result<(), ChartError> {
     let pts = |label: &str, color, style, get: &dyn Fn(&TimingRow) -> Option<f64>| Series {
         label: label.into(),
         color,
@@ -211,7 +212,7 @@ pub fn timing_chart(out: &Path, d: &Device, rows: &[TimingRow]) -> Result<(), St
 }
 
 /// Position and force against time for the fast impact, without and with passivity.
-pub fn impact_chart(out: &Path, imp: &Impact) -> Result<(), String> {
+pub fn impact_chart(out: &Path, imp: &Impact) -> Result<(), ChartError> {
     let (red, green) = (PALETTE[3], PALETTE[2]);
     let s = |label: &str, color, tr: &[TraceSample], get: &dyn Fn(&TraceSample) -> f64| Series {
         label: label.into(),

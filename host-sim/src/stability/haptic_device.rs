@@ -34,6 +34,20 @@ use softfinger_core::device::DeviceParams;
 use softfinger_core::math::vec3::Vec3;
 use softfinger_core::math::Fast;
 
+/// Why a device-plant wall run could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum DeviceWallError {
+    /// The controller rejected the wall (stiffness K, N/m).
+    #[error("device wall K = {0}: {1}")]
+    Controller(f64, softfinger_core::contact::params::ParamError),
+    /// The passivity stage rejected its configuration.
+    #[error("passivity: {0}")]
+    Passivity(softfinger_core::contact::params::ParamError),
+    /// The plant rejected the run.
+    #[error("plant: {0}")]
+    Plant(crate::plant::PlantError),
+}
+
 /// Run length, s.
 pub const RUN_S: f64 = 0.6;
 /// A late peak-to-peak amplitude below this is settled, m.
@@ -106,7 +120,7 @@ fn simulate(
     k: f64,
     seconds: f64,
     mut each: impl FnMut(&Sample),
-) -> Result<u64, String> {
+) -> Result<u64, DeviceWallError> {
     let contact = ContactParams {
         normal_stiffness: k as f32,
         normal_damping: 0.0,
@@ -123,7 +137,7 @@ fn simulate(
         ..ControllerConfig::default_plane()
     };
     let mut ctrl: Controller<Fast> =
-        Controller::new(config).map_err(|e| format!("device wall K = {k}: {e}"))?;
+        Controller::new(config).map_err(|e| DeviceWallError::Controller(k, e))?;
     // As the pipeline configures it for the firmware: the board's delay and the motor
     // encoders' resolution at the probe.
     ctrl.set_passivity(PassivityConfig {
@@ -132,12 +146,12 @@ fn simulate(
         position_quantum_m: device.probe_m_per_motor_count(),
         ..PassivityConfig::DEFAULT
     })
-    .map_err(|e| format!("passivity: {e}"))?;
+    .map_err(DeviceWallError::Passivity)?;
     let params = PlantParams {
         motor_inductance_h: l.inductance_h,
         ..PlantParams::OMEGA_LIKE
     };
-    let mut plant = Plant::new(device, params, script()).map_err(|e| format!("plant: {e:?}"))?;
+    let mut plant = Plant::new(device, params, script()).map_err(DeviceWallError::Plant)?;
     let dt = 1.0 / l.rate_hz;
     let ticks = (seconds * l.rate_hz).round() as u64;
     let mut damped = 0u64;
@@ -164,7 +178,7 @@ fn simulate(
 }
 
 /// One run with wall stiffness `k` (N/m).
-pub fn run(l: &DeviceLoop, k: f64) -> Result<DeviceOutcome, String> {
+pub fn run(l: &DeviceLoop, k: f64) -> Result<DeviceOutcome, DeviceWallError> {
     let (mut early, mut late) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));
     let mut peak = 0.0f64;
     let damped = simulate(l, k, RUN_S, |x| {
@@ -197,7 +211,7 @@ pub const ENVELOPE_S: (f64, f64) = (2.0, 0.1);
 /// Peak-to-peak effector height (m) in each [`ENVELOPE_S`] window of a 2 s run of the wall of
 /// stiffness `k` after the press (from 0.3 s): equal values are a sustained oscillation, falling
 /// ones a decaying one; with the same run's [`Cycle`].
-pub fn envelope(l: &DeviceLoop, k: f64) -> Result<(Vec<f64>, Cycle), String> {
+pub fn envelope(l: &DeviceLoop, k: f64) -> Result<(Vec<f64>, Cycle), DeviceWallError> {
     let (seconds, window) = ENVELOPE_S;
     let start = 0.3;
     let n = ((seconds - start) / window).round() as usize;
@@ -292,7 +306,7 @@ pub fn levels(samples: &[Sample]) -> Vec<Level> {
 
 /// K_max: the sweep's first unstable K bisected against the last stable one (`None`: nothing in
 /// the sweep is unstable, or the first K already is).
-pub fn kmax(l: &DeviceLoop) -> Result<Option<f64>, String> {
+pub fn kmax(l: &DeviceLoop) -> Result<Option<f64>, DeviceWallError> {
     let (lo, hi, n) = K_SWEEP;
     let mut last_stable = None;
     for i in 0..n {
@@ -376,7 +390,7 @@ type Figures = (
     Option<DeviceOutcome>,
 );
 
-fn figures(rate_hz: f64, delay_ticks: f64, inductance_h: f64) -> Result<Figures, String> {
+fn figures(rate_hz: f64, delay_ticks: f64, inductance_h: f64) -> Result<Figures, DeviceWallError> {
     let mk = |delay_ticks, passivity| DeviceLoop {
         rate_hz,
         delay_ticks,
@@ -397,7 +411,7 @@ fn figures(rate_hz: f64, delay_ticks: f64, inductance_h: f64) -> Result<Figures,
 }
 
 /// The device figures at `rate_hz` with the firmware's delay `delay_ticks`.
-pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, String> {
+pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, DeviceWallError> {
     let l = PlantParams::OMEGA_LIKE.motor_inductance_h;
     let (one, fw, with, without) = figures(rate_hz, delay_ticks, l)?;
     let (n_one, n_fw, n_with, _) = figures(rate_hz, delay_ticks, NEGLIGIBLE_INDUCTANCE_H)?;

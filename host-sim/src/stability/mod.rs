@@ -70,8 +70,8 @@ pub enum StabilityError {
     #[error("part 3: no passive wall found at 10 kHz")]
     NoPassiveWall,
     /// A device-wall run failed (the device-wall module's message).
-    #[error("{0}")]
-    DeviceWall(String),
+    #[error(transparent)]
+    DeviceWall(#[from] haptic_device::DeviceWallError),
     /// The default scene could not be run.
     #[error(transparent)]
     Scene(#[from] passivity_scene::PassivitySceneError),
@@ -185,7 +185,7 @@ fn haptic_part(args: &Args, summary: &mut Summary) -> Result<HapticJson, Stabili
     let t = Instant::now();
     let device = haptic::Device::DEFAULT;
     let rows = haptic::run_all(&device, 0.0, args.haptic_seconds);
-    haptic_charts::haptic_charts(out, &device, &rows).map_err(ChartError)?;
+    haptic_charts::haptic_charts(out, &device, &rows)?;
     summary.emit(haptic_present::haptic_table(&device, &rows, args.haptic_seconds).render());
     summary.emit(haptic_present::haptic_notes(&device, args.haptic_seconds));
     let timing = haptic_timing::run_all(&device, args.haptic_seconds);
@@ -194,8 +194,8 @@ fn haptic_part(args: &Args, summary: &mut Summary) -> Result<HapticJson, Stabili
         .and_then(|r| r.at_multiple.as_ref().map(|m| (r.delay_ticks, m.0)))
         .ok_or(StabilityError::NoPassiveWall)?;
     let imp = haptic_timing::impact(&device, 10_000.0, delay10, k10);
-    haptic_charts::timing_chart(out, &device, &timing).map_err(ChartError)?;
-    haptic_charts::impact_chart(out, &imp).map_err(ChartError)?;
+    haptic_charts::timing_chart(out, &device, &timing)?;
+    haptic_charts::impact_chart(out, &imp)?;
     summary.emit(haptic_present::timing_table(&device, &timing, args.haptic_seconds).render());
     summary.emit(haptic_present::impact_notes(&imp));
     let (device_rows, scene_diff) = if args.skip_closed_loop {

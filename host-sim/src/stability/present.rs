@@ -102,7 +102,6 @@ pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), 
             series,
         )],
     )
-    .map_err(ChartError)
 }
 
 /// Per method × backend and magnitude decade: worst error and failure fraction.
@@ -248,7 +247,6 @@ pub fn drift_charts(out: &Path, runs: &[DriftRun]) -> Result<(), ChartError> {
             (axes("Fingertip contact point drift (f32)"), mk(true)),
         ],
     )
-    .map_err(ChartError)
 }
 
 pub fn drift_table(runs: &[DriftRun]) -> Table {
@@ -326,7 +324,6 @@ pub fn chatter_chart(out: &Path, runs: &[ChatterRun]) -> Result<(), ChartError> 
         y_range: (0.05, 1e6),
     }
     .write(&out.join("chatter.svg"))
-    .map_err(ChartError)
 }
 
 pub fn chatter_table(runs: &[ChatterRun], steps: u64) -> Table {
