@@ -76,8 +76,6 @@ pub enum ClosedLoopError {
     NotHomed(f64),
 }
 
-crate::error::error_into_string!(ClosedLoopError);
-
 /// Why a closed loop (plant, pipeline, operator session) could not be set up.
 #[derive(Debug, thiserror::Error)]
 pub enum SetupError {

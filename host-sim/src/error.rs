@@ -30,19 +30,6 @@ impl FileError {
     }
 }
 
-/// `From<E> for String` for error types that still meet string-typed callers (the chart modules),
-/// so `?` carries the message across unchanged.
-macro_rules! error_into_string {
-    ($($t:ty),* $(,)?) => {$(
-        impl From<$t> for String {
-            fn from(e: $t) -> String {
-                e.to_string()
-            }
-        }
-    )*};
-}
-pub(crate) use error_into_string;
-
 /// A chart that could not be drawn or written. The chart modules report their failures as text that
 /// already names the file; this carries it unchanged.
 #[derive(Debug, thiserror::Error)]
@@ -52,13 +39,6 @@ pub struct ChartError(pub String);
 impl From<String> for ChartError {
     fn from(message: String) -> Self {
         ChartError(message)
-    }
-}
-
-impl ChartError {
-    /// A closure for `map_err` on a drawing call: `PATH: cannot draw: CAUSE`.
-    pub fn drawing<'a, E: std::fmt::Display>(path: &'a Path) -> impl Fn(E) -> ChartError + 'a {
-        move |e| ChartError(format!("{}: cannot draw: {e}", path.display()))
     }
 }
 

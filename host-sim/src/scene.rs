@@ -193,8 +193,6 @@ fn built_in_names() -> String {
         .join(", ")
 }
 
-crate::error::error_into_string!(SceneError);
-
 impl Scene {
     /// Parse TOML text; `origin` names the source in errors (which carry the line).
     pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {

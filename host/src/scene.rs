@@ -26,8 +26,8 @@ pub fn to_wire(s: &LocalModelSpec) -> LocalModel {
 
 /// The contact parameters and local model (sequence `seq`) of a scene file or built-in name.
 pub fn load(name_or_path: &str, seq: u32) -> Result<(ContactParamsWire, LocalModel), String> {
-    let scene = Scene::load(name_or_path)?;
-    let (contact, spec) = scene_model(&scene)?;
+    let scene = Scene::load(name_or_path).map_err(|e| e.to_string())?;
+    let (contact, spec) = scene_model(&scene).map_err(|e| e.to_string())?;
     let model = to_wire(&LocalModelSpec { seq, ..spec });
     Ok((ContactParamsWire::of(&contact), model))
 }

@@ -63,7 +63,6 @@ pub enum ValidateError {
     Json(#[from] JsonError),
 }
 
-crate::error::error_into_string!(ValidateError);
 use crate::reference::{max_distance, reference_paths, ReferenceMethod, ReferencePaths};
 use classical::{Rk45Call, Rk45Run, SceneRef, ODE45_DEFAULTS, REFERENCE_TOLERANCES};
 use errors::PathErrors;

@@ -5,12 +5,6 @@
 use super::*;
 use crate::math::Micromath;
 
-/// The 26 cube directions ([`Vec3::CUBE_DIRECTIONS`]), normalised in f64.
-fn axes() -> Vec<Vector3<f64>> {
-    let f = |d: Vec3| Vector3::new(d.x as f64, d.y as f64, d.z as f64).normalize();
-    Vec3::CUBE_DIRECTIONS.iter().map(|&d| f(d)).collect()
-}
-
 /// Worst per-axis error (m) of either path over every axis, for steps of `step` rad.
 fn worst<M: Math>(step: f64) -> f64 {
     let mut w = 0.0f64;

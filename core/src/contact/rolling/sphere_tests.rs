@@ -14,12 +14,6 @@ use std::vec::Vec;
 const RHO: f64 = 0.01;
 const BIG: f64 = 0.05;
 
-/// The 26 cube directions ([`Vec3::CUBE_DIRECTIONS`]), normalised in f64.
-fn axes() -> Vec<Vector3<f64>> {
-    let f = |d: Vec3| Vector3::new(d.x as f64, d.y as f64, d.z as f64).normalize();
-    Vec3::CUBE_DIRECTIONS.iter().map(|&d| f(d)).collect()
-}
-
 /// 60 samples rotating by 0.02 rad per sample about `axis` turned by a slowly changing offset.
 fn motion(axis: &Vector3<f64>) -> Vec<UnitQuaternion<f64>> {
     let mut q = UnitQuaternion::from_euler_angles(0.2, -0.4, 0.9);

@@ -11,6 +11,12 @@ mod large_step_tests;
 #[path = "sphere_tests.rs"]
 mod sphere_tests;
 
+/// The 26 cube directions ([`Vec3::CUBE_DIRECTIONS`]), normalised in f64.
+fn axes() -> Vec<Vector3<f64>> {
+    let f = |d: Vec3| Vector3::new(d.x as f64, d.y as f64, d.z as f64).normalize();
+    Vec3::CUBE_DIRECTIONS.iter().map(|&d| f(d)).collect()
+}
+
 const RHO: f64 = 0.01;
 
 /// The closed-form contact paths (f64) for orientation samples `qs`: plane point and fingertip
