@@ -83,6 +83,8 @@ pub struct DeviceLoop {
     /// Motor encoder counts per motor turn, controller and plant (the device's 4096; a finer
     /// encoder isolates the quantisation).
     pub motor_counts_per_rev: u32,
+    /// The passivity stage's damper limit, N·s/m (the default's, unless an experiment varies it).
+    pub damper_limit_n_s_per_m: f32,
 }
 
 fn script() -> HandScript {
@@ -144,7 +146,7 @@ fn simulate(
         enabled: l.passivity,
         output_delay_ticks: l.delay_ticks.clamp(0.0, 1.0) as f32,
         position_quantum_m: device.probe_m_per_motor_count(),
-        ..PassivityConfig::DEFAULT
+        max_damping_n_s_per_m: l.damper_limit_n_s_per_m,
     })
     .map_err(DeviceWallError::Passivity)?;
     let params = PlantParams {
@@ -397,6 +399,7 @@ fn figures(rate_hz: f64, delay_ticks: f64, inductance_h: f64) -> Result<Figures,
         passivity,
         inductance_h,
         motor_counts_per_rev: DeviceParams::OMEGA_LIKE.motor_encoder_counts_per_rev,
+        damper_limit_n_s_per_m: PassivityConfig::DEFAULT.max_damping_n_s_per_m,
     };
     let one = kmax(&mk(1.0, false))?;
     let fw = kmax(&mk(delay_ticks, false))?;
@@ -421,6 +424,7 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, DeviceWallError>
         passivity: true,
         inductance_h: l,
         motor_counts_per_rev: DeviceParams::OMEGA_LIKE.motor_encoder_counts_per_rev,
+        damper_limit_n_s_per_m: PassivityConfig::DEFAULT.max_damping_n_s_per_m,
     };
     let (env, cycle) = match fw.map(|k| envelope(&pc, 3.0 * k)).transpose()? {
         Some((e, c)) => (Some(e), Some(c)),
