@@ -68,3 +68,27 @@ fn passivity_keeps_a_3x_wall_bounded() {
     // Decayed: the late energy is 3.7e-5 of the hit's (measured).
     assert!(with.late_j < 1.2e-4 * with.hit_j, "{with:?}");
 }
+
+/// The planned pipeline tick is the measured one: `PIPELINE_TICK_INSTRUCTIONS` within
+/// `mcu-bench/budget.json`'s tolerance of its `pipeline_tick` baseline (the figure
+/// `scripts/mcu-bench --check` holds the firmware's tick to), so re-measuring the tick without
+/// updating the plan fails here.
+#[test]
+fn planned_tick_is_the_measured_pipeline_tick() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../mcu-bench/budget.json");
+    let budget: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let tolerance = budget["tolerance_percent"].as_f64().unwrap() / 100.0;
+    let measured = budget["baseline"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["name"] == "pipeline_tick")
+        .and_then(|r| r["instructions"].as_f64())
+        .unwrap();
+    let planned = f64::from(PIPELINE_TICK_INSTRUCTIONS);
+    assert!(
+        (planned - measured).abs() <= tolerance * measured,
+        "planned {planned} vs measured {measured}"
+    );
+}
