@@ -8,7 +8,7 @@
 //! | from | to | condition (all must hold) |
 //! | --- | --- | --- |
 //! | any contact | broken | f_N ≤ ε_f and (a_N > ε_a or gap > ε_gap) — the paper's "f_N = 0, a_N > 0"; the gap test is ours, so a probe lifted off at constant speed also breaks contact |
-//! | broken | rolling | f_N > f_make (contact made; the paper gives no rule for it). f_make > ε_f is a hysteresis band: encoder quantisation makes the penetration of a grazing probe flicker around zero, and without the band the state chatters broken ↔ rolling ↔ sliding; and at least t_broken since the break (a probe lifted off fast re-crosses zero penetration for single ticks) |
+//! | broken | rolling | f_N > f_make (contact made; the paper gives no rule for it). f_make > ε_f is a hysteresis band: encoder quantisation makes the penetration of a grazing probe flicker around zero, and without the band the state chatters broken ↔ rolling ↔ sliding; and at least t_broken since the break (a probe lifted off fast re-crosses zero penetration for single ticks). The dwell holds back the *state* only: a probe pressed beyond f_make during it gets the normal spring (docs/design.md#the-wall-stays-solid-through-the-re-contact-dwell) |
 //! | rolling | sliding | |a_N| ≤ tol_a, (\|f_T\|/(μ_s·f_N))² + (τn/τ_max)² > (1 + h)² (the limit surface; the friction cone when τn = 0), relative tangential motion (\|a_T\| > ε_a or \|v_T\| > v_stick), and the haptic rule: f_T·d_roll ≥ 0 (the user's tangential force agrees with the rolling displacement d_roll) or no rolling this step |
 //! | rolling | sliding | the twist threshold: Δθ > Δθ_max = f_N·μ_s/(k_τ·r), with Δθ the tilt rate δξ/T (see below) |
 //! | sliding | rolling | |a_N| ≤ tol_a, \|f_T\| ≤ μ_k·f_N, \|v_T\| ≤ v_stick, and at least t_slide in sliding (a dwell: at the onset of a slide the probe has not picked up speed yet) |
@@ -27,7 +27,9 @@ use crate::math::vec3::Vec3;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ContactState {
-    /// No contact: no force.
+    /// No contact: no friction, no rolling, no spin torque, and no force unless the probe presses
+    /// beyond the make force f_make while the re-contact dwell t_broken still holds the state:
+    /// then the unilateral normal spring alone, so the wall stays solid.
     #[default]
     Broken,
     /// Rolling without slip: the contact point moves by rolling.

