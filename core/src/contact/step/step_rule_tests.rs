@@ -348,3 +348,30 @@ fn wall_stays_solid_through_the_recontact_dwell() {
         assert_eq!(o.force_n, Vec3::ZERO, "v = {vel:?}");
     }
 }
+
+/// The dwell's force gate is open strictly above f_make, as the make rule itself: at K·δ = f_make
+/// exactly nothing, one ulp of depth deeper the normal force. Exact in f32 with K = 2¹¹ N/m,
+/// f_make = 2⁻⁴ N and δ = 2⁻¹⁵ m (ρ − δ and ρ − (ρ − δ) are exact: same binade, Sterbenz).
+#[test]
+fn dwell_force_gate_is_strict_at_the_make_force() {
+    let mut p = P;
+    p.normal_stiffness = 2048.0;
+    p.tolerances.make_force_n = 0.0625;
+    let depth = 1.0 / 32_768.0;
+    assert_eq!(p.normal_stiffness * depth, p.tolerances.make_force_n);
+    for (z, expect_force) in [
+        (p.fingertip_radius_m - depth, false),
+        (libm::nextafterf(p.fingertip_radius_m - depth, 0.0), true),
+    ] {
+        let mut m =
+            ContactModel::<Libm, Plane>::new(p, Plane::default(), Quat::IDENTITY, DT).unwrap();
+        let at = |z: f32| sample(Quat::IDENTITY, Vec3::new(0.0, 0.0, z), Vec3::ZERO);
+        let o = m.contact_step(&at(p.fingertip_radius_m - 0.001));
+        assert_eq!(o.state, ContactState::Rolling, "{o:?}");
+        let o = m.contact_step(&at(p.fingertip_radius_m + 0.001));
+        assert_eq!(o.state, ContactState::Broken, "{o:?}");
+        let o = m.contact_step(&at(z));
+        assert_eq!(o.state, ContactState::Broken, "{o:?}");
+        assert_eq!(o.force_n.z > 0.0, expect_force, "z = {z}: {o:?}");
+    }
+}
