@@ -276,7 +276,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             ContactState::Broken
                 if p.normal_stiffness * -s.inputs.gap_m > p.tolerances.make_force_n =>
             {
-                (s.surface.along_normal(s.f_n), 0.0, false)
+                (s.normal * s.f_n, 0.0, false)
             }
             ContactState::Broken => (Vec3::ZERO, 0.0, false),
             ContactState::Rolling => {
@@ -295,7 +295,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
                     f_t.norm_squared(),
                     f_max * f_max,
                 );
-                (s.surface.along_normal(s.f_n) + f_t, tau, sat)
+                (s.normal * s.f_n + f_t, tau, sat)
             }
             ContactState::Sliding => self.slide(probe, q_now, dphi, s.f_n, s.patch),
         };
@@ -397,6 +397,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         };
         Sensed {
             inputs,
+            normal: surface.normal(),
             surface,
             f_n,
             f_couple,
@@ -438,6 +439,8 @@ struct Sensed<S> {
     inputs: StateInputs,
     /// The surface as it was before the transition (a restart moves the contact).
     surface: S,
+    /// Its outward unit normal at the contact, object frame.
+    normal: Vec3,
     /// Normal force, N (≥ 0).
     f_n: f32,
     /// The rolling coupling force (tangential), object frame, N.
