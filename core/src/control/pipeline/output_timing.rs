@@ -42,7 +42,7 @@ pub const SAMPLE_INSTRUCTIONS: u32 = 40;
 /// than that file's tolerance). Only whole PWM periods matter: with 40 kHz PWM
 /// any figure up to 3 350 gives the same delay. On the firmware `scripts/pil` measures the sample
 /// and the latest compare write of every tick (`firmware/pil/README.md`, "Measured").
-pub const PIPELINE_TICK_INSTRUCTIONS: u32 = 2_656;
+pub const PIPELINE_TICK_INSTRUCTIONS: u32 = 2_657;
 
 /// The cycles per instruction at which a compare write `write_instructions` after the tick's
 /// event reaches the end of the first PWM period of `board`: below it the write is in time for
@@ -203,14 +203,14 @@ mod tests {
         assert_eq!(BOARD_20K.pwm_periods_per_tick(), 2);
     }
 
-    /// The CPI margin of the planned tick: 4250 / (40 + 2656) = 1.576; just below it the write
+    /// The CPI margin of the planned tick: 4250 / (40 + 2657) = 1.576; just below it the write
     /// is in time for the second PWM period, at it the delay grows by a PWM period.
     #[test]
     fn cpi_margin_is_the_edge_of_the_first_pwm_period() {
         let n = SAMPLE_INSTRUCTIONS + PIPELINE_TICK_INSTRUCTIONS;
         let m = cpi_margin(&BOARD_10K, n);
         // Measured exact; bound 1 ulp of 1.58 (1.2e-7), an ulp argument.
-        assert!((m - 4_250.0 / 2_696.0).abs() <= 1.2e-7, "{m}");
+        assert!((m - 4_250.0 / 2_697.0).abs() <= 1.2e-7, "{m}");
         let at = |cpi: f32| OutputTiming::new(&BOARD_10K, 0, (n as f32 * cpi) as u32);
         assert_eq!(at(0.999 * m).effect_counts, 4_250);
         assert_eq!(at(m).effect_counts, 8_500);
