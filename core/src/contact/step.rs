@@ -341,7 +341,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
     /// split along the normal, the unilateral normal force), then the rolling coupling force as
     /// it would be if rolling is kept, gathered into the state machine's inputs.
     #[inline(always)]
-    fn sense(&mut self, probe: Vec3, vel: Vec3, roll: &RollStep) -> Sensed<S> {
+    fn sense(&mut self, probe: Vec3, vel: Vec3, roll: &RollStep) -> Sensed {
         let p = &self.params;
         let r = p.fingertip_radius_m;
         let inv_dt = self.inv_dt;
@@ -398,7 +398,6 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         Sensed {
             inputs,
             normal: surface.normal(),
-            surface,
             f_n,
             f_couple,
             patch,
@@ -434,12 +433,11 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
 
 /// What stages 2 and 3 of the contact step hand on to the later stages.
 #[derive(Clone, Copy)]
-struct Sensed<S> {
+struct Sensed {
     /// The state machine's inputs.
     inputs: StateInputs,
-    /// The surface as it was before the transition (a restart moves the contact).
-    surface: S,
-    /// Its outward unit normal at the contact, object frame.
+    /// The surface's outward unit normal at the contact as it was before the transition (a
+    /// restart moves the contact), object frame.
     normal: Vec3,
     /// Normal force, N (≥ 0).
     f_n: f32,
