@@ -7,10 +7,7 @@
 //! `... -- 10000 0.247 16 50 56 60 100`. The wall is 3 × the largest passive one at that rate and
 //! delay on the device's own encoder, as in `host-sim stability`.
 
-use host_sim::plant::PlantParams;
 use host_sim::stability::{encoder_cell, haptic_device as hd};
-use softfinger_core::control::pipeline::passivity::PassivityConfig;
-use softfinger_core::device::DeviceParams;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -20,21 +17,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let rate_hz: f64 = args[0].parse()?;
     let delay_ticks: f64 = args[1].parse()?;
     let fine: u32 = args[2].parse()?;
-    let counts = DeviceParams::OMEGA_LIKE.motor_encoder_counts_per_rev;
-    let base = hd::DeviceLoop {
-        rate_hz,
-        delay_ticks,
-        passivity: false,
-        inductance_h: PlantParams::OMEGA_LIKE.motor_inductance_h,
-        motor_counts_per_rev: counts,
-        damper_limit_n_s_per_m: PassivityConfig::DEFAULT.max_damping_n_s_per_m,
-    };
+    let base = hd::DeviceLoop::omega_like(rate_hz, delay_ticks, false);
     let k = 3.0 * hd::kmax(&base)?.ok_or("no largest passive wall in the sweep")?;
     println!("rate {rate_hz} Hz, delay {delay_ticks} ticks, encoder x{fine}, wall {k:.0} N/m");
     for limit in &args[3..] {
         let l = hd::DeviceLoop {
             passivity: true,
-            motor_counts_per_rev: counts * fine,
+            motor_counts_per_rev: base.motor_counts_per_rev * fine,
             damper_limit_n_s_per_m: limit.parse()?,
             ..base
         };

@@ -87,6 +87,21 @@ pub struct DeviceLoop {
     pub damper_limit_n_s_per_m: f32,
 }
 
+impl DeviceLoop {
+    /// The Omega-like device as built: the plant's winding, the device's motor encoder and the
+    /// passivity stage's default damper limit, at `rate_hz` with `delay_ticks` of output delay.
+    pub fn omega_like(rate_hz: f64, delay_ticks: f64, passivity: bool) -> DeviceLoop {
+        DeviceLoop {
+            rate_hz,
+            delay_ticks,
+            passivity,
+            inductance_h: PlantParams::OMEGA_LIKE.motor_inductance_h,
+            motor_counts_per_rev: DeviceParams::OMEGA_LIKE.motor_encoder_counts_per_rev,
+            damper_limit_n_s_per_m: PassivityConfig::DEFAULT.max_damping_n_s_per_m,
+        }
+    }
+}
+
 fn script() -> HandScript {
     let touch_z = closed_loop::surface_top_z_m() + 0.010;
     HandScript::hold([0.0, 0.0, touch_z + 0.001]).then(
@@ -394,12 +409,8 @@ type Figures = (
 
 fn figures(rate_hz: f64, delay_ticks: f64, inductance_h: f64) -> Result<Figures, DeviceWallError> {
     let mk = |delay_ticks, passivity| DeviceLoop {
-        rate_hz,
-        delay_ticks,
-        passivity,
         inductance_h,
-        motor_counts_per_rev: DeviceParams::OMEGA_LIKE.motor_encoder_counts_per_rev,
-        damper_limit_n_s_per_m: PassivityConfig::DEFAULT.max_damping_n_s_per_m,
+        ..DeviceLoop::omega_like(rate_hz, delay_ticks, passivity)
     };
     let one = kmax(&mk(1.0, false))?;
     let fw = kmax(&mk(delay_ticks, false))?;
@@ -418,14 +429,7 @@ pub fn row(rate_hz: f64, delay_ticks: f64) -> Result<DeviceRow, DeviceWallError>
     let l = PlantParams::OMEGA_LIKE.motor_inductance_h;
     let (one, fw, with, without) = figures(rate_hz, delay_ticks, l)?;
     let (n_one, n_fw, n_with, _) = figures(rate_hz, delay_ticks, NEGLIGIBLE_INDUCTANCE_H)?;
-    let pc = DeviceLoop {
-        rate_hz,
-        delay_ticks,
-        passivity: true,
-        inductance_h: l,
-        motor_counts_per_rev: DeviceParams::OMEGA_LIKE.motor_encoder_counts_per_rev,
-        damper_limit_n_s_per_m: PassivityConfig::DEFAULT.max_damping_n_s_per_m,
-    };
+    let pc = DeviceLoop::omega_like(rate_hz, delay_ticks, true);
     let (env, cycle) = match fw.map(|k| envelope(&pc, 3.0 * k)).transpose()? {
         Some((e, c)) => (Some(e), Some(c)),
         None => (None, None),

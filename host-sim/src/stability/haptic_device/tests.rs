@@ -44,14 +44,7 @@ fn levels_group_equal_heights() {
 /// (`device_plant[0].kmax_firmware_timing` of `host-sim stability --json`).
 #[test]
 fn the_3x_wall_with_the_stage_stays_within_the_encoder_floor_on_the_device_plant() {
-    let l = DeviceLoop {
-        rate_hz: 10_000.0,
-        delay_ticks: 0.247,
-        passivity: true,
-        inductance_h: PlantParams::OMEGA_LIKE.motor_inductance_h,
-        motor_counts_per_rev: DeviceParams::OMEGA_LIKE.motor_encoder_counts_per_rev,
-        damper_limit_n_s_per_m: PassivityConfig::DEFAULT.max_damping_n_s_per_m,
-    };
+    let l = DeviceLoop::omega_like(10_000.0, 0.247, true);
     let k = 3.0 * 119_708.0;
     let (env, cycle) = envelope(&l, k).unwrap();
     let cell = encoder_cell::normal_cell_m(&DeviceParams::OMEGA_LIKE).unwrap();
