@@ -16,9 +16,9 @@ use softfinger_core::control::pipeline::{
     BoardTiming, Command, CommandError, Mode, Pipeline, PipelineConfig, PipelineError,
     PipelineOutput, RawInput, TimingError,
 };
-use softfinger_core::device::delta::DeltaGeometry;
 use softfinger_core::device::OMEGA_LIKE;
 use softfinger_core::{Math, Vec3};
+use softfinger_scene::model::ModelError;
 use std::time::{Duration, Instant};
 
 /// Why a scene could not be set up or its operator session failed.
@@ -95,32 +95,24 @@ pub enum SetupError {
 
 /// Height (base frame, m) of the first contact point in every built-in scene (the plane, the top
 /// of the sphere or the cylinder, the bottom of the bowl): 10 mm below the workspace centre, so a
-/// 10 mm fingertip touches with its centre there.
+/// 10 mm fingertip touches with its centre there ([`softfinger_scene::model::surface_top_z_m`]).
 pub fn surface_top_z_m() -> f64 {
-    DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M.z as f64 - 0.010
+    softfinger_scene::model::surface_top_z_m()
 }
 
-/// The scene's contact parameters: the defaults with the scene's overrides.
+/// The scene's contact parameters: the defaults with the scene's overrides
+/// ([`softfinger_scene::model::contact_params`]).
 pub fn contact_params(scene: &Scene) -> Result<ContactParams, ClosedLoopError> {
-    let c = &scene.contact;
-    let d = ContactParams::DEFAULT;
-    let p = ContactParams {
-        method: scene.method()?,
-        fingertip_radius_m: c.fingertip_radius_m.unwrap_or(d.fingertip_radius_m),
-        normal_stiffness: c.normal_stiffness.unwrap_or(d.normal_stiffness),
-        normal_damping: c.normal_damping.unwrap_or(d.normal_damping),
-        tangential_stiffness: c.tangential_stiffness.unwrap_or(d.tangential_stiffness),
-        tangential_damping: c.tangential_damping.unwrap_or(d.tangential_damping),
-        mu_s: c.mu_s.unwrap_or(d.mu_s),
-        mu_k: c.mu_k.unwrap_or(d.mu_k),
-        spin_stiffness: c.spin_stiffness.unwrap_or(d.spin_stiffness),
-        ..d
-    };
-    p.validate().map_err(|source| ClosedLoopError::Contact {
-        scene: scene.name.clone(),
-        source,
-    })?;
-    Ok(p)
+    Ok(softfinger_scene::model::contact_params(scene)?)
+}
+
+impl From<ModelError> for ClosedLoopError {
+    fn from(e: ModelError) -> Self {
+        match e {
+            ModelError::Scene(p) => ClosedLoopError::Scene(p),
+            ModelError::Contact { scene, source } => ClosedLoopError::Contact { scene, source },
+        }
+    }
 }
 
 /// The hand script of a scene: the plant's touch script over the scene's surface.

@@ -3,7 +3,8 @@
 //!
 //! A reader thread decodes every frame the device sends: state samples go to a bounded queue
 //! (when the application does not keep up, the oldest samples are kept and the newest counted as
-//! dropped here), everything else to the reply queue. Requests carry a sequence number and wait
+//! dropped here) and to the latest-sample slot ([`LatestState`], what a servo loop polls),
+//! everything else to the reply queue. Requests carry a sequence number and wait
 //! for the reply with that number, skipping late replies to earlier requests.
 //!
 //! Heartbeat: while a `Device` is open, a thread sends a `Ping` every [`HEARTBEAT`] with the
@@ -15,7 +16,7 @@ use crate::error::LinkError;
 use crate::target::{self, Target};
 use softfinger_protocol::{
     encode_frame, AckResult, ContactParamsWire, DeviceInfo, DeviceMsg, FrameDecoder,
-    FrameErrorCounts, FrameErrorKind, HandTarget, HostMsg, LinkCounters, LocalModel, Request,
+    FrameErrorCounts, FrameErrorKind, HandTarget, HostMsg, LinkCounters, LocalModel, Mode, Request,
     StateSample, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 use std::io::{Read, Write};
@@ -44,16 +45,84 @@ struct ReaderCounts {
     states_dropped: AtomicU32,
 }
 
+/// The newest state sample, when it arrived and how many came before it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Latest {
+    /// The sample.
+    pub sample: StateSample,
+    /// When the reader thread read the bytes that completed it.
+    pub arrived: Instant,
+    /// Samples received on this connection up to and including this one (1 for the first).
+    pub count: u64,
+}
+
+/// The newest state sample of a connection, shared with the reader thread that writes it.
+///
+/// [`LatestState::get`] never waits for the device: it copies the sample under a lock that the
+/// reader thread holds only for the same copy (about a hundred bytes), so a 1 kHz servo loop can
+/// poll it from any thread while another thread makes requests.
+#[derive(Debug, Default)]
+pub struct LatestState {
+    slot: Mutex<Option<Latest>>,
+}
+
+impl LatestState {
+    /// The newest sample, `None` before the first.
+    pub fn get(&self) -> Option<Latest> {
+        match self.slot.lock() {
+            Ok(g) => *g,
+            // The reader thread cannot panic while holding the lock (a copy), but a poisoned
+            // slot still holds a whole sample.
+            Err(p) => *p.into_inner(),
+        }
+    }
+
+    fn put(&self, sample: StateSample, arrived: Instant) {
+        let mut g = match self.slot.lock() {
+            Ok(g) => g,
+            Err(p) => p.into_inner(),
+        };
+        let count = g.map_or(0, |l| l.count) + 1;
+        *g = Some(Latest {
+            sample,
+            arrived,
+            count,
+        });
+    }
+}
+
+/// The queue of state samples of one connection, in arrival order; clones share it.
+#[derive(Clone, Debug)]
+pub struct StateQueue(Arc<Mutex<Receiver<StateSample>>>);
+
+impl StateQueue {
+    /// The next state sample, waiting up to `timeout`; `Ok(None)` on timeout,
+    /// [`LinkError::Disconnected`] once the connection is gone and the queue empty. Two threads
+    /// taking from one queue take turns (each sample goes to one of them).
+    pub fn next(&self, timeout: Duration) -> Result<Option<StateSample>, LinkError> {
+        let deadline = Instant::now() + timeout;
+        let rx = self.0.lock().map_err(|_| LinkError::Disconnected)?;
+        match rx.recv_timeout(deadline.saturating_duration_since(Instant::now())) {
+            Ok(s) => Ok(Some(s)),
+            Err(RecvTimeoutError::Timeout) => Ok(None),
+            Err(RecvTimeoutError::Disconnected) => Err(LinkError::Disconnected),
+        }
+    }
+}
+
 /// A connection to a device.
 pub struct Device {
     target: Option<Target>,
+    /// The TCP socket, shut down on drop (see [`target::Link::tcp`]).
+    tcp: Option<std::net::TcpStream>,
     writer: SharedWriter,
     /// Cleared when the connection is dropped: stops the heartbeat.
     alive: Arc<AtomicBool>,
     /// The heartbeat sends while set (see [`Device::set_heartbeat`]).
     beating: Arc<AtomicBool>,
     replies: Receiver<DeviceMsg>,
-    states: Receiver<StateSample>,
+    states: StateQueue,
+    latest: Arc<LatestState>,
     counts: Arc<ReaderCounts>,
     next_seq: u16,
     rejected_by_device: u32,
@@ -75,6 +144,7 @@ fn spawn_reader(
     mut r: Box<dyn Read + Send>,
     replies: Sender<DeviceMsg>,
     states: SyncSender<StateSample>,
+    latest: Arc<LatestState>,
     counts: Arc<ReaderCounts>,
 ) {
     thread::spawn(move || {
@@ -85,9 +155,11 @@ fn spawn_reader(
                 Ok(0) | Err(_) => return,
                 Ok(n) => n,
             };
+            let arrived = Instant::now();
             for &b in &buf[..n] {
                 match dec.push::<DeviceMsg>(b) {
                     Some(Ok(DeviceMsg::State(s))) => {
+                        latest.put(s, arrived);
                         // Full: the application is not taking samples; keep the older ones.
                         let _ = states.try_send(s).map_err(|_| {
                             counts.states_dropped.fetch_add(1, Relaxed);
@@ -144,15 +216,26 @@ fn spawn_heartbeat(writer: SharedWriter, alive: Arc<AtomicBool>, beating: Arc<At
 impl Drop for Device {
     fn drop(&mut self) {
         self.alive.store(false, Relaxed);
+        if let Some(s) = &self.tcp {
+            let _ = s.shutdown(std::net::Shutdown::Both);
+        }
     }
 }
 
 impl Device {
     /// Connect to `target` and agree on the protocol version.
     pub fn connect(target: &Target) -> Result<Device, LinkError> {
-        let (r, w) = target::open(target)?;
-        let mut d = Device::over(r, w)?;
+        let link = target::open_link(target)?;
+        let (r, w) = link.halves;
+        let tcp = link.tcp;
+        let d = Device::over(r, w);
+        if let (Err(_), Some(s)) = (&d, &tcp) {
+            // No device speaking the protocol: do not leave the reader waiting on the socket.
+            let _ = s.shutdown(std::net::Shutdown::Both);
+        }
+        let mut d = d?;
         d.target = Some(target.clone());
+        d.tcp = tcp;
         Ok(d)
     }
 
@@ -164,18 +247,21 @@ impl Device {
         let (rtx, rrx) = channel();
         let (stx, srx) = sync_channel(STATE_QUEUE);
         let counts = Arc::new(ReaderCounts::default());
-        spawn_reader(reader, rtx, stx, counts.clone());
+        let latest = Arc::new(LatestState::default());
+        spawn_reader(reader, rtx, stx, latest.clone(), counts.clone());
         let writer: SharedWriter = Arc::new(Mutex::new(writer));
         let alive = Arc::new(AtomicBool::new(true));
         let beating = Arc::new(AtomicBool::new(true));
         spawn_heartbeat(writer.clone(), alive.clone(), beating.clone());
         let mut d = Device {
             target: None,
+            tcp: None,
             writer,
             alive,
             beating,
             replies: rrx,
-            states: srx,
+            states: StateQueue(Arc::new(Mutex::new(srx))),
+            latest,
             counts,
             next_seq: 1,
             rejected_by_device: 0,
@@ -329,9 +415,55 @@ impl Device {
         Ok(t0.elapsed())
     }
 
-    /// Home the device.
+    /// Home the device (returns once the device accepted; homing then takes a moment, see
+    /// [`Device::home_and_wait`]).
     pub fn home(&mut self) -> Result<(), LinkError> {
         self.command(Request::Home)
+    }
+
+    /// Home the device and wait until it is homed ([`Mode::Disarmed`]), failed
+    /// ([`LinkError::HomingFailed`]: it faulted) or `timeout` passed ([`LinkError::Timeout`]).
+    ///
+    /// The mode is read from the state stream; with the stream off it is turned on at the
+    /// device's fastest rate for the wait and off again afterwards.
+    pub fn home_and_wait(&mut self, timeout: Duration) -> Result<(), LinkError> {
+        let deadline = Instant::now() + timeout;
+        let streaming = self.divisor != 0;
+        if !streaming {
+            let fastest = self.info()?.min_stream_divisor.max(1);
+            self.set_stream(fastest)?;
+        }
+        let result = self.home().and_then(|()| self.wait_homed(deadline));
+        if !streaming {
+            // Restore the stream as it was; a homing failure is the answer that matters.
+            let off = self.set_stream(0);
+            result?;
+            off?;
+            return Ok(());
+        }
+        result
+    }
+
+    /// Wait for a sample after the `Home` acknowledgement that is no longer homing.
+    fn wait_homed(&self, deadline: Instant) -> Result<(), LinkError> {
+        // Samples are decoded in order with the replies: every sample counted after the
+        // acknowledgement was handed over was made after the device took `Home`.
+        let after = self.latest.get().map_or(0, |l| l.count);
+        loop {
+            match self.latest.get() {
+                Some(l) if l.count > after && l.sample.mode != Mode::Homing => {
+                    return match l.sample.mode {
+                        Mode::Faulted => Err(LinkError::HomingFailed),
+                        _ => Ok(()),
+                    };
+                }
+                _ => {}
+            }
+            if Instant::now() >= deadline {
+                return Err(LinkError::Timeout);
+            }
+            thread::sleep(Duration::from_millis(1));
+        }
     }
     /// Arm (needs homing); re-arms the watchdog.
     pub fn arm(&mut self) -> Result<(), LinkError> {
@@ -377,11 +509,24 @@ impl Device {
     /// The next state sample, waiting up to `timeout`; `Ok(None)` on timeout,
     /// [`LinkError::Disconnected`] once the connection is gone and the queue empty.
     pub fn next_state(&self, timeout: Duration) -> Result<Option<StateSample>, LinkError> {
-        match self.states.recv_timeout(timeout) {
-            Ok(s) => Ok(Some(s)),
-            Err(RecvTimeoutError::Timeout) => Ok(None),
-            Err(RecvTimeoutError::Disconnected) => Err(LinkError::Disconnected),
-        }
+        self.states.next(timeout)
+    }
+
+    /// The state queue itself, to take samples on another thread while this `Device` is used for
+    /// requests elsewhere.
+    pub fn state_queue(&self) -> StateQueue {
+        self.states.clone()
+    }
+
+    /// The newest state sample, without waiting (`None` before the first; see [`LatestState`]).
+    pub fn latest_state(&self) -> Option<StateSample> {
+        self.latest.get().map(|l| l.sample)
+    }
+
+    /// The latest-sample slot itself, to poll from another thread while this `Device` is used
+    /// for requests elsewhere. It stops changing when the connection goes.
+    pub fn latest(&self) -> Arc<LatestState> {
+        self.latest.clone()
     }
 
     /// Frames from the device this side could not decode, by kind.

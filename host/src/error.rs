@@ -29,6 +29,8 @@ pub enum LinkError {
     Protocol(String),
     /// An error with what was being done.
     Context(String),
+    /// Homing ended in a fault (see [`crate::Device::home_and_wait`]).
+    HomingFailed,
 }
 
 impl fmt::Display for LinkError {
@@ -51,6 +53,7 @@ impl fmt::Display for LinkError {
             ),
             LinkError::Protocol(m) => write!(f, "unexpected answer: {m}"),
             LinkError::Context(m) => write!(f, "{m}"),
+            LinkError::HomingFailed => write!(f, "homing failed: the device faulted"),
         }
     }
 }

@@ -39,16 +39,24 @@
 //! refusals come back typed ([`LinkError::Refused`] with the device's
 //! [`protocol::ErrorCode`]). After the device goes away, [`Device::reconnect`] opens it again and
 //! restores the stream and the watchdog.
+//!
+//! The library alone is `default-features = false`: `softfinger-protocol`, `softfinger-core` and
+//! `serialport`. The default feature `cli` adds the `softfinger` command line, its link
+//! measurements (`bench`) and the scene-file loader (`softfinger-scene`).
 
+// The command line's link measurements and its scene loader (feature `cli`, on by default).
+#[cfg(feature = "cli")]
 pub mod bench;
+#[cfg(feature = "cli")]
+pub use softfinger_scene::wire as scene;
+
 pub mod device;
 pub mod error;
 pub mod flags;
-pub mod scene;
 pub mod target;
 pub mod usb;
 
-pub use device::Device;
+pub use device::{Device, Latest, LatestState, StateQueue};
 pub use error::LinkError;
 pub use softfinger_protocol as protocol;
 pub use target::Target;

@@ -54,19 +54,44 @@ pub type Halves = (Box<dyn Read + Send>, Box<dyn Write + Send>);
 
 /// Open `target`.
 pub fn open(target: &Target) -> Result<Halves, LinkError> {
+    open_link(target).map(|l| l.halves)
+}
+
+/// An open connection.
+pub struct Link {
+    /// Its two halves.
+    pub halves: Halves,
+    /// For TCP, the socket once more: shutting it down ends a reader blocked on the read half
+    /// (a dropped [`crate::Device`] does this, so its reader thread and the device's stream to
+    /// it stop).
+    pub tcp: Option<TcpStream>,
+}
+
+/// Open `target`, keeping what is needed to shut it down.
+pub fn open_link(target: &Target) -> Result<Link, LinkError> {
     match target {
         Target::Tcp(addr) => {
             let s = TcpStream::connect(addr)?;
             s.set_nodelay(true)?;
             let r = s.try_clone()?;
-            Ok((Box::new(r), Box::new(s)))
+            let tcp = Some(s.try_clone()?);
+            Ok(Link {
+                halves: (Box::new(r), Box::new(s)),
+                tcp,
+            })
         }
         Target::FirstUsb => {
             let ports = serialport::available_ports().map_err(|e| LinkError::Io(e.into()))?;
             let path = usb::pick_port(&ports).ok_or(LinkError::NoDevice)?;
-            usb::open(&path, Duration::from_millis(50))
+            Ok(Link {
+                halves: usb::open(&path, Duration::from_millis(50))?,
+                tcp: None,
+            })
         }
-        Target::UsbPath(p) => usb::open(p, Duration::from_millis(50)),
+        Target::UsbPath(p) => Ok(Link {
+            halves: usb::open(p, Duration::from_millis(50))?,
+            tcp: None,
+        }),
     }
 }
 

@@ -12,9 +12,7 @@ use crate::plant::Plant;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::control::controller::ContactStage;
-use softfinger_core::control::local_model::{
-    LocalModelScene, LocalModelSpec, ModelKind, ModelPose,
-};
+use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec};
 use softfinger_core::control::pipeline::{Command, Pipeline, PipelineConfig};
 use softfinger_core::{Fast, Flags, Vec3};
 use softfinger_protocol::{AckResult, Mode};
@@ -157,37 +155,7 @@ impl DeviceCore for PipelineCore {
 pub fn scene_model(
     scene: &crate::scene::Scene,
 ) -> Result<(ContactParams, LocalModelSpec), crate::closed_loop::ClosedLoopError> {
-    let contact = crate::closed_loop::contact_params(scene)?;
-    let top = crate::closed_loop::surface_top_z_m() as f32;
-    let (kind, z) = match scene.surface {
-        crate::scene::SurfaceSpec::Plane => (ModelKind::Plane, top),
-        crate::scene::SurfaceSpec::Sphere { radius_m } => (
-            ModelKind::Sphere {
-                radius_m: radius_m as f32,
-            },
-            top - radius_m as f32,
-        ),
-        // The bowl's centre is its radius above its bottom (the first contact), as in
-        // `closed_loop::bowl_config`; the local model checks that it holds the fingertip.
-        crate::scene::SurfaceSpec::Bowl { radius_m } => (
-            ModelKind::Bowl {
-                radius_m: radius_m as f32,
-            },
-            top + radius_m as f32,
-        ),
-        // The cylinder's axis (object x, along base x) is its radius below its top.
-        crate::scene::SurfaceSpec::Cylinder { radius_m } => (
-            ModelKind::Cylinder {
-                radius_m: radius_m as f32,
-            },
-            top - radius_m as f32,
-        ),
-    };
-    let spec = LocalModelSpec {
-        kind,
-        ..LocalModelSpec::plane(0, ModelPose::at(Vec3::new(0.0, 0.0, z)), &contact)
-    };
-    Ok((contact, spec))
+    Ok(softfinger_scene::model::scene_model(scene)?)
 }
 
 #[cfg(test)]

@@ -1,5 +1,6 @@
 use super::*;
 use crate::scene::Scene;
+use softfinger_core::control::local_model::ModelPose;
 use softfinger_core::control::pipeline::passivity::PassivityConfig;
 use softfinger_protocol::ErrorCode;
 

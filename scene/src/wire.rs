@@ -1,8 +1,8 @@
-//! host-sim's scene files as messages: the scene's surface becomes a local model and its contact
+//! Scenes as the protocol's messages: the scene's surface becomes a local model and its contact
 //! overrides become contact parameters.
 
-use host_sim::scene::Scene;
-use host_sim::serve::core::scene_model;
+use crate::file::Scene;
+use crate::model::scene_model;
 use softfinger_core::control::local_model::LocalModelSpec;
 use softfinger_protocol::{ContactParamsWire, LocalModel};
 
