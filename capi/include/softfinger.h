@@ -153,6 +153,9 @@ typedef struct sf_info_t {
   int32_t virtual_device;
   // Communication watchdog timeout in force, ms (0: off).
   uint32_t watchdog_ms;
+  // Fingertip sphere radius in force, m (a contact parameter): the probe position is its
+  // centre, so a surface is touched at this distance.
+  double fingertip_radius_m;
 } sf_info_t;
 
 // The surface the device renders locally until the next model: the protocol's local model.
@@ -225,7 +228,8 @@ struct sf_device *sf_open(const char *target, int *err);
 // handle must not be used afterwards, nor by another thread meanwhile.
 void sf_close(struct sf_device *dev);
 
-// The device's description into `*out`. Returns `SF_OK` or an error.
+// The device's description (and its fingertip radius) into `*out`. Returns `SF_OK` or an
+// error.
 int sf_info(struct sf_device *dev, struct sf_info_t *out);
 
 // Home the device and return when it is homed (`SF_OK`), failed (`SF_ERR_HOMING_FAILED`) or
@@ -252,7 +256,8 @@ int sf_set_local_model(struct sf_device *dev, const struct sf_local_model *m);
 // Stream state samples at `rate_hz` (0: stop). The device makes a sample every
 // round(control rate / rate_hz) ticks, so the rate is the nearest it can make; faster than the
 // device's fastest (`sf_info_t.max_stream_hz`) is refused (`SF_ERR_REFUSED_STREAM_TOO_FAST`).
-// Negative, non-finite or a divisor beyond 65535 is `SF_ERR_BAD_VALUE`.
+// Negative, non-finite, above the control rate or below control rate / 65535 is
+// `SF_ERR_BAD_VALUE`.
 int sf_set_stream(struct sf_device *dev, double rate_hz);
 
 // The next state sample in arrival order into `*out`, waiting up to `timeout_s`

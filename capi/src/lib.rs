@@ -138,7 +138,8 @@ pub unsafe extern "C" fn sf_close(dev: *mut sf_device) {
     });
 }
 
-/// The device's description into `*out`. Returns `SF_OK` or an error.
+/// The device's description (and its fingertip radius) into `*out`. Returns `SF_OK` or an
+/// error.
 #[no_mangle]
 pub unsafe extern "C" fn sf_info(dev: *mut sf_device, out: *mut sf_info_t) -> c_int {
     if out.is_null() {
@@ -146,12 +147,14 @@ pub unsafe extern "C" fn sf_info(dev: *mut sf_device, out: *mut sf_info_t) -> c_
     }
     // SAFETY: forwarded; `out` checked above.
     unsafe {
-        with_device(dev, |d, _| match d.info() {
-            Ok(i) => {
-                *out = sf_info_t::of(&i);
-                SF_OK
+        with_device(dev, |d, _| {
+            match d.info().and_then(|i| Ok((i, d.contact_params()?))) {
+                Ok((i, p)) => {
+                    *out = sf_info_t::of(&i, p.fingertip_radius_m);
+                    SF_OK
+                }
+                Err(e) => error::code_of(&e),
             }
-            Err(e) => error::code_of(&e),
         })
     }
 }
@@ -215,7 +218,8 @@ pub unsafe extern "C" fn sf_set_local_model(
 /// Stream state samples at `rate_hz` (0: stop). The device makes a sample every
 /// round(control rate / rate_hz) ticks, so the rate is the nearest it can make; faster than the
 /// device's fastest (`sf_info_t.max_stream_hz`) is refused (`SF_ERR_REFUSED_STREAM_TOO_FAST`).
-/// Negative, non-finite or a divisor beyond 65535 is `SF_ERR_BAD_VALUE`.
+/// Negative, non-finite, above the control rate or below control rate / 65535 is
+/// `SF_ERR_BAD_VALUE`.
 #[no_mangle]
 pub unsafe extern "C" fn sf_set_stream(dev: *mut sf_device, rate_hz: f64) -> c_int {
     if !(rate_hz.is_finite() && rate_hz >= 0.0) {
@@ -227,9 +231,9 @@ pub unsafe extern "C" fn sf_set_stream(dev: *mut sf_device, rate_hz: f64) -> c_i
             let divisor = if rate_hz == 0.0 {
                 0.0
             } else {
-                (f64::from(h.rate_hz) / rate_hz).round().max(1.0)
+                (f64::from(h.rate_hz) / rate_hz).round()
             };
-            if divisor > f64::from(u16::MAX) {
+            if rate_hz > f64::from(h.rate_hz) || divisor > f64::from(u16::MAX) {
                 return SF_ERR_BAD_VALUE;
             }
             code(d.set_stream(divisor as u16))

@@ -123,6 +123,9 @@ pub struct sf_info_t {
     pub virtual_device: i32,
     /// Communication watchdog timeout in force, ms (0: off).
     pub watchdog_ms: u32,
+    /// Fingertip sphere radius in force, m (a contact parameter): the probe position is its
+    /// centre, so a surface is touched at this distance.
+    pub fingertip_radius_m: f64,
 }
 
 fn c_text<const N: usize>(s: &str) -> [c_char; N] {
@@ -134,8 +137,8 @@ fn c_text<const N: usize>(s: &str) -> [c_char; N] {
 }
 
 impl sf_info_t {
-    /// The C view of `i`.
-    pub fn of(i: &DeviceInfo) -> sf_info_t {
+    /// The C view of `i`, with the fingertip radius in force, m.
+    pub fn of(i: &DeviceInfo, fingertip_radius_m: f32) -> sf_info_t {
         sf_info_t {
             name: c_text(&i.name),
             firmware_version: c_text(&i.firmware_version),
@@ -145,6 +148,7 @@ impl sf_info_t {
             protocol_version: u32::from(i.protocol_version),
             virtual_device: i32::from(i.virtual_device),
             watchdog_ms: u32::from(i.watchdog_ms),
+            fingertip_radius_m: f64::from(fingertip_radius_m),
         }
     }
 }

@@ -424,47 +424,47 @@ impl Device {
     /// Home the device and wait until it is homed ([`Mode::Disarmed`]), failed
     /// ([`LinkError::HomingFailed`]: it faulted) or `timeout` passed ([`LinkError::Timeout`]).
     ///
-    /// The mode is read from the state stream; with the stream off it is turned on at the
-    /// device's fastest rate for the wait and off again afterwards.
+    /// The mode is read from the state stream, switched to the device's fastest rate for the
+    /// wait and back to this connection's rate afterwards; if it was off, the samples of the
+    /// wait are dropped from the queue (the latest-sample slot keeps the last).
     pub fn home_and_wait(&mut self, timeout: Duration) -> Result<(), LinkError> {
         let deadline = Instant::now() + timeout;
-        let streaming = self.divisor != 0;
-        if !streaming {
-            let fastest = self.info()?.min_stream_divisor.max(1);
-            self.set_stream(fastest)?;
-        }
+        let divisor = self.divisor;
+        let fastest = self.info()?.min_stream_divisor.max(1);
+        self.set_stream(fastest)?;
         let result = self.home().and_then(|()| self.wait_homed(deadline));
-        if !streaming {
-            // Restore the stream as it was; a homing failure is the answer that matters.
-            let off = self.set_stream(0);
-            result?;
-            off?;
-            return Ok(());
+        // Restore the stream as it was; a homing failure is the answer that matters.
+        let restored = self.set_stream(divisor);
+        if divisor == 0 {
+            // The samples of the wait were the library's, not the application's: drop them.
+            while let Ok(Some(_)) = self.states.next(Duration::ZERO) {}
         }
-        result
+        result.and(restored)
     }
 
-    /// Wait for a sample after the `Home` acknowledgement that is no longer homing.
+    /// Wait until the stream shows homing, then the mode it ends in. (The device applies `Home`
+    /// at a tick boundary after acknowledging it, so samples right after the acknowledgement
+    /// may still show the mode before; homing takes many stream periods.)
     fn wait_homed(&self, deadline: Instant) -> Result<(), LinkError> {
-        // Samples are decoded in order with the replies: every sample counted after the
-        // acknowledgement was handed over was made after the device took `Home`.
-        let after = self.latest.get().map_or(0, |l| l.count);
+        let mut seen_homing = false;
+        let mut last = 0;
         loop {
-            match self.latest.get() {
-                Some(l) if l.count > after && l.sample.mode != Mode::Homing => {
-                    return match l.sample.mode {
-                        Mode::Faulted => Err(LinkError::HomingFailed),
-                        _ => Ok(()),
-                    };
+            if let Some(l) = self.latest.get().filter(|l| l.count != last) {
+                last = l.count;
+                match l.sample.mode {
+                    Mode::Homing => seen_homing = true,
+                    Mode::Faulted => return Err(LinkError::HomingFailed),
+                    Mode::Disarmed | Mode::Armed if seen_homing => return Ok(()),
+                    _ => {}
                 }
-                _ => {}
             }
             if Instant::now() >= deadline {
                 return Err(LinkError::Timeout);
             }
-            thread::sleep(Duration::from_millis(1));
+            thread::sleep(Duration::from_micros(200));
         }
     }
+
     /// Arm (needs homing); re-arms the watchdog.
     pub fn arm(&mut self) -> Result<(), LinkError> {
         self.command(Request::Arm)
