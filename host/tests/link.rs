@@ -23,6 +23,7 @@ fn server_at(listen: &str) -> Server {
         watchdog_ms: 200.0,
         auto_arm: false,
         duration_s: None,
+        quiet: true,
     })
     .expect("server starts")
 }

@@ -12,6 +12,7 @@ pub mod core;
 pub mod device;
 pub mod hand;
 pub mod link;
+pub mod log;
 
 use crate::scene::Scene;
 use clap::Parser;
@@ -45,6 +46,10 @@ pub struct Args {
     /// Stop after this many seconds (default: run until killed).
     #[arg(long)]
     pub duration_s: Option<f64>,
+    /// Do not log connections, mode changes, model changes and faults (one line each on
+    /// stdout, with the device time).
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// A running virtual device.
@@ -113,7 +118,8 @@ impl Server {
         let stop = Arc::new(AtomicBool::new(false));
         let stats = Arc::new(link::LinkStats::default());
         let (events_tx, events_rx) = channel();
-        let dev = device::DeviceLoop::new(Box::new(core), device, plant, script, stats.clone());
+        let dev = device::DeviceLoop::new(Box::new(core), device, plant, script, stats.clone())
+            .with_log(args.quiet);
         let stop_dev = stop.clone();
         let device_thread = thread::spawn(move || dev.run(events_rx, stop_dev));
         let stop_acc = stop.clone();
