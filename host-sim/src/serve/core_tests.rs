@@ -95,7 +95,10 @@ fn a_fault_cuts_the_force_at_once_and_latches() {
     // The counter reads true again (a jump back, while latched), then the operator clears.
     let out = ticks(&mut core, &mut plant, 10);
     assert_eq!((out.mode, out.enable), (Mode::Faulted, false));
-    assert_eq!(AckResult::from(core.request(Command::ClearFaults)), AckResult::Ok);
+    assert_eq!(
+        AckResult::from(core.request(Command::ClearFaults)),
+        AckResult::Ok
+    );
     let out = ticks(&mut core, &mut plant, 10);
     assert_eq!((out.mode, out.enable), (Mode::Unhomed, false));
 }
@@ -163,7 +166,10 @@ fn models_are_refused_with_typed_codes() {
         AckResult::Err(ErrorCode::InvalidValue)
     );
     let good = LocalModelSpec { seq: 2, ..spec };
-    assert_eq!(AckResult::from(core.request(Command::SetLocalModel(good))), AckResult::Ok);
+    assert_eq!(
+        AckResult::from(core.request(Command::SetLocalModel(good))),
+        AckResult::Ok
+    );
     assert_eq!(core.contact_params(), contact);
 }
 
@@ -225,7 +231,10 @@ fn moving_plane_largest_step_n(damps: bool) -> f32 {
                 pose: ModelPose::at(Vec3::new(0.0, 0.0, z)),
                 ..model
             };
-            assert_eq!(AckResult::from(core.request(Command::SetLocalModel(spec))), AckResult::Ok);
+            assert_eq!(
+                AckResult::from(core.request(Command::SetLocalModel(spec))),
+                AckResult::Ok
+            );
         }
         let f = core.tick(&mut plant).force_n;
         largest = largest.max((f - prev).norm::<Fast>());

@@ -17,8 +17,7 @@ use softfinger_core::device::DeviceParams;
 use softfinger_core::Flags;
 use softfinger_protocol::{
     AckResult, ContactParamsWire, DeviceInfo, DeviceMsg, DeviceStatus, ErrorCode, FieldRange,
-    HostMsg, LocalModel, Mode, Request, StateSample, SurfaceKind, TickStatsWire,
-    PROTOCOL_VERSION,
+    HostMsg, LocalModel, Mode, Request, StateSample, SurfaceKind, TickStatsWire, PROTOCOL_VERSION,
 };
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -136,15 +135,15 @@ impl DeviceLoop {
             timing: TickTiming::default(),
             last: CoreOutput::default(),
             force_limit_n,
-            log: EventLog::new(rate, true),
+            log: EventLog::new(rate, None),
             noted: Flags::NONE,
         }
     }
 
-    /// Log each connection, mode change, model or parameter change and fault on stdout (one
-    /// line each, with the device time), unless `quiet`.
-    pub fn with_log(mut self, quiet: bool) -> DeviceLoop {
-        self.log = EventLog::new(self.core.rate_hz(), quiet);
+    /// Log each connection, mode change, model or parameter change and fault into `out` (one
+    /// line each, with the device time); `None`: silent.
+    pub fn with_log(mut self, out: Option<crate::serve::log::LogSink>) -> DeviceLoop {
+        self.log = EventLog::new(self.core.rate_hz(), out);
         self
     }
 
@@ -224,7 +223,8 @@ impl DeviceLoop {
         }
         let noted = self.core.latched() | (out.flags & EventLog::NOTED);
         if noted != self.noted {
-            self.log.flags_raised(self.tick, noted.0 & !self.noted.0, out.mode);
+            self.log
+                .flags_raised(self.tick, noted.0 & !self.noted.0, out.mode);
             self.noted = noted;
         }
         if self.homing && out.mode != Mode::Homing {

@@ -8,12 +8,26 @@ use softfinger_core::Flags;
 use softfinger_protocol::flag_names;
 use softfinger_protocol::Mode;
 use std::fmt::Arguments;
+use std::io::Write;
+use std::sync::{Arc, Mutex};
 
-/// Where the log goes (stdout), at which control rate; silent when quiet.
-#[derive(Debug, Clone, Copy)]
+/// Where the log's lines go.
+pub type LogSink = Arc<Mutex<dyn Write + Send>>;
+
+/// The log at a control rate, into a sink (none: silent).
+#[derive(Clone)]
 pub struct EventLog {
     rate_hz: f32,
-    quiet: bool,
+    out: Option<LogSink>,
+}
+
+impl std::fmt::Debug for EventLog {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("EventLog")
+            .field("rate_hz", &self.rate_hz)
+            .field("silent", &self.out.is_none())
+            .finish()
+    }
 }
 
 impl EventLog {
@@ -27,9 +41,10 @@ impl EventLog {
             | Flags::HOMING_FAILED.0,
     );
 
-    /// A log at `rate_hz` control ticks per second; nothing printed when `quiet`.
-    pub fn new(rate_hz: f32, quiet: bool) -> EventLog {
-        EventLog { rate_hz, quiet }
+    /// A log at `rate_hz` control ticks per second into `out` (stdout, a buffer in tests);
+    /// silent for `None`.
+    pub fn new(rate_hz: f32, out: Option<LogSink>) -> EventLog {
+        EventLog { rate_hz, out }
     }
 
     /// The line for `msg` at control tick `tick`.
@@ -37,10 +52,14 @@ impl EventLog {
         format!("[{:10.3} s] {msg}", tick as f64 / f64::from(self.rate_hz))
     }
 
-    /// Print `msg` at `tick`.
+    /// Write `msg` at `tick` as one line (a failing sink is ignored: the log never stops the
+    /// device).
     pub fn line(&self, tick: u64, msg: Arguments<'_>) {
-        if !self.quiet {
-            println!("{}", self.format(tick, msg));
+        if let Some(out) = &self.out {
+            if let Ok(mut w) = out.lock() {
+                let _ = writeln!(w, "{}", self.format(tick, msg));
+                let _ = w.flush();
+            }
         }
     }
 
@@ -126,11 +145,14 @@ mod tests {
 
     #[test]
     fn lines_start_with_the_device_time() {
-        let log = EventLog::new(10_000.0, true);
+        let log = EventLog::new(10_000.0, None);
         assert_eq!(
             log.format(123_450, format_args!("mode a -> b")),
             "[    12.345 s] mode a -> b"
         );
-        assert_eq!(shape(&ModelKind::Sphere { radius_m: 0.05 }), "sphere r 50.0 mm");
+        assert_eq!(
+            shape(&ModelKind::Sphere { radius_m: 0.05 }),
+            "sphere r 50.0 mm"
+        );
     }
 }

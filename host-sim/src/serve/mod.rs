@@ -88,8 +88,19 @@ pub enum ServeError {
 }
 
 impl Server {
-    /// Bind, build the device from the scene, and start the threads.
+    /// Bind, build the device from the scene, and start the threads; the event log on stdout
+    /// unless `--quiet`.
     pub fn start(args: &Args) -> Result<Server, ServeError> {
+        let out: Option<log::LogSink> = if args.quiet {
+            None
+        } else {
+            Some(Arc::new(Mutex::new(std::io::stdout())))
+        };
+        Server::start_logging(args, out)
+    }
+
+    /// [`Server::start`] with the event log into `log` (`None`: silent, whatever `--quiet`).
+    pub fn start_logging(args: &Args, log: Option<log::LogSink>) -> Result<Server, ServeError> {
         let scene = Scene::load(&args.scene)?;
         let (contact, _) = core::scene_model(&scene)?;
         let device = softfinger_core::device::OMEGA_LIKE.params;
@@ -119,7 +130,7 @@ impl Server {
         let stats = Arc::new(link::LinkStats::default());
         let (events_tx, events_rx) = channel();
         let dev = device::DeviceLoop::new(Box::new(core), device, plant, script, stats.clone())
-            .with_log(args.quiet);
+            .with_log(log);
         let stop_dev = stop.clone();
         let device_thread = thread::spawn(move || dev.run(events_rx, stop_dev));
         let stop_acc = stop.clone();

@@ -278,7 +278,10 @@ mod tests {
         let p = ContactParamsWire::of(&ContactParams::DEFAULT);
         let t = text(&p);
         assert_eq!(t.lines().count(), 9);
-        assert!(t.contains("normal_stiffness") && t.contains("2000 N/m"), "{t}");
+        assert!(
+            t.contains("normal_stiffness") && t.contains("2000 N/m"),
+            "{t}"
+        );
         let j = json(&p);
         assert_eq!(j["max_force_n"], 12.0);
         assert_eq!(j["units"]["max_force_n"], "N");

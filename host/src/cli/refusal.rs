@@ -72,11 +72,17 @@ mod tests {
         let m = explain("arm", ErrorCode::WrongMode, &status(Mode::Homing, 0));
         assert!(m.contains("is homing") && m.contains("wait"), "{m}");
         let m = explain("arm", ErrorCode::WrongMode, &status(Mode::Unhomed, 0));
-        assert!(m.contains("is unhomed") && m.contains("softfinger home"), "{m}");
+        assert!(
+            m.contains("is unhomed") && m.contains("softfinger home"),
+            "{m}"
+        );
         let m = explain("home", ErrorCode::WrongMode, &status(Mode::Armed, 0));
         assert!(m.contains("is armed") && m.contains("disarm"), "{m}");
         let f = softfinger_core::Flags::DRIVER_FAULT.0;
         let m = explain("arm", ErrorCode::Faulted, &status(Mode::Faulted, f));
-        assert!(m.contains("driver-fault") && m.contains("softfinger clear"), "{m}");
+        assert!(
+            m.contains("driver-fault") && m.contains("softfinger clear"),
+            "{m}"
+        );
     }
 }

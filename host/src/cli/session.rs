@@ -39,7 +39,11 @@ pub fn main(spec: &str, a: &Args) -> Result<(), String> {
                         println!(
                             "mode {}{}",
                             st.mode.name(),
-                            if f.is_empty() { String::new() } else { format!(", {f}") }
+                            if f.is_empty() {
+                                String::new()
+                            } else {
+                                format!(", {f}")
+                            }
                         );
                     }
                     seen = Some(now);

@@ -149,8 +149,7 @@ pub fn arm_here(dev: &mut Device) -> Result<(), String> {
     let st = dev.status().map_err(|e| format!("status: {e}"))?;
     if matches!(st.mode, Mode::Unhomed) {
         eprintln!("the device is unhomed: homing first");
-        dev.home()
-            .map_err(|e| refusal::message("home", e, dev))?;
+        dev.home().map_err(|e| refusal::message("home", e, dev))?;
         home::wait(dev, 15.0)?;
     } else if st.mode == Mode::Homing {
         home::wait(dev, 15.0)?;

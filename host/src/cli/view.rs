@@ -142,7 +142,10 @@ pub fn draw(f: &mut Frame, v: &ViewState) {
     let held = s.flags & flags::HOLD_FORCE_DOWN.0;
     let rendering = s.mode == Mode::Armed && held == 0;
     let mut head = vec![
-        Span::styled(" softfinger ", Style::default().add_modifier(Modifier::BOLD)),
+        Span::styled(
+            " softfinger ",
+            Style::default().add_modifier(Modifier::BOLD),
+        ),
         Span::raw(match &v.note {
             Some(n) => format!(" {n} "),
             None => format!(" t {:.3} s ", s.tick as f64 / v.rate_hz.max(1.0)),
@@ -177,8 +180,8 @@ pub fn draw(f: &mut Frame, v: &ViewState) {
         ]),
         rows[2],
     );
-    let cols = Layout::horizontal([Constraint::Percentage(50), Constraint::Percentage(50)])
-        .split(rows[3]);
+    let cols =
+        Layout::horizontal([Constraint::Percentage(50), Constraint::Percentage(50)]).split(rows[3]);
     let t = v.history.back().map_or(0.0, |h| h.0);
     let force: Vec<(f64, f64)> = v.history.iter().map(|h| (h.0, h.1)).collect();
     let spin: Vec<(f64, f64)> = v.history.iter().map(|h| (h.0, h.2)).collect();
@@ -237,14 +240,12 @@ fn flag_lines(s: &StateSample, st: Option<&DeviceStatus>) -> Vec<Line<'static>> 
             ])
         })
         .collect();
-    lines.extend(
-        flags::raised(s.flags & !loud).map(|(n, m)| {
-            Line::from(vec![
-                Span::styled(format!(" {n}"), Style::default().fg(Color::Yellow)),
-                Span::raw(format!(": {m}")),
-            ])
-        }),
-    );
+    lines.extend(flags::raised(s.flags & !loud).map(|(n, m)| {
+        Line::from(vec![
+            Span::styled(format!(" {n}"), Style::default().fg(Color::Yellow)),
+            Span::raw(format!(": {m}")),
+        ])
+    }));
     if lines.is_empty() {
         lines.push(Line::from(" flags: none"));
     }
@@ -293,7 +294,9 @@ pub fn main(spec: &str, a: &Args) -> Result<(), String> {
     let mut last_poll: Option<Instant> = None;
     let (mut n, mut window) = (0u32, Instant::now());
     let result = loop {
-        if a.seconds.is_some_and(|s| t0.elapsed().as_secs_f64() >= s) || super::interrupt::requested() {
+        if a.seconds.is_some_and(|s| t0.elapsed().as_secs_f64() >= s)
+            || super::interrupt::requested()
+        {
             break Ok(());
         }
         let frame_end = Instant::now() + Duration::from_millis(100);
@@ -418,10 +421,20 @@ mod tests {
         let s = screen(&v);
         let all = s.join("\n");
         println!("{all}");
-        assert!(s[0].contains("mode armed") && s[0].contains("NO FORCE"), "{}", s[0]);
-        assert!(all.contains("|F|, N") && all.contains("spin torque, mN·m"), "{all}");
+        assert!(
+            s[0].contains("mode armed") && s[0].contains("NO FORCE"),
+            "{}",
+            s[0]
+        );
+        assert!(
+            all.contains("|F|, N") && all.contains("spin torque, mN·m"),
+            "{all}"
+        );
         assert!(all.contains("-10 s") && all.contains("now"), "{all}");
-        assert!(all.contains(" 0 ") && all.contains("12 N"), "bar scale: {all}");
+        assert!(
+            all.contains(" 0 ") && all.contains("12 N"),
+            "bar scale: {all}"
+        );
         assert!(
             all.contains("comm-timeout") && all.contains("force 0 until armed"),
             "{all}"
