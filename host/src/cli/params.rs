@@ -231,7 +231,7 @@ pub fn main(spec: &str, cmd: &ParamsCmd) -> Result<(), String> {
     }
     let limit = d.info().map_err(|e| e.to_string())?.max_force_n;
     if let Some(v) = s.max_force {
-        if !(v <= limit) {
+        if v.is_nan() || v > limit {
             return Err(format!(
                 "--max-force {v} N is above the device's force limit of {limit} N"
             ));
