@@ -15,7 +15,7 @@
 use crate::error::LinkError;
 use crate::target::{self, Target};
 use softfinger_protocol::{
-    encode_frame, AckResult, ContactParamsWire, DeviceInfo, DeviceMsg, FrameDecoder,
+    encode_frame, AckResult, ContactParamsWire, DeviceInfo, DeviceMsg, DeviceStatus, FrameDecoder,
     FrameErrorCounts, FrameErrorKind, HandTarget, HostMsg, LinkCounters, LocalModel, Mode, Request,
     StateSample, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
@@ -352,7 +352,8 @@ impl Device {
     }
 
     /// Send a request and wait for its reply. An `Ack` with an error becomes
-    /// [`LinkError::Refused`].
+    /// [`LinkError::Refused`], a refusal naming the value out of range
+    /// [`LinkError::Rejected`].
     pub fn request(&mut self, req: Request) -> Result<DeviceMsg, LinkError> {
         let seq = self.next_seq;
         self.next_seq = self.next_seq.wrapping_add(1);
@@ -364,7 +365,9 @@ impl Device {
             DeviceMsg::Ack { seq: s, .. }
             | DeviceMsg::Info { seq: s, .. }
             | DeviceMsg::Counters { seq: s, .. }
-            | DeviceMsg::ContactParams { seq: s, .. } => *s == seq,
+            | DeviceMsg::ContactParams { seq: s, .. }
+            | DeviceMsg::Status { seq: s, .. }
+            | DeviceMsg::Rejected { seq: s, .. } => *s == seq,
             _ => false,
         })?;
         match reply {
@@ -372,6 +375,7 @@ impl Device {
                 result: AckResult::Err(code),
                 ..
             } => Err(LinkError::Refused(code)),
+            DeviceMsg::Rejected { code, field, .. } => Err(LinkError::Rejected { code, field }),
             other => Ok(other),
         }
     }
@@ -404,6 +408,14 @@ impl Device {
     pub fn contact_params(&mut self) -> Result<ContactParamsWire, LinkError> {
         match self.request(Request::GetContactParams)? {
             DeviceMsg::ContactParams { params, .. } => Ok(params),
+            other => Err(LinkError::Protocol(format!("{other:?}"))),
+        }
+    }
+
+    /// The device's mode, flags, latched faults and the local model in force.
+    pub fn status(&mut self) -> Result<DeviceStatus, LinkError> {
+        match self.request(Request::GetStatus)? {
+            DeviceMsg::Status { status, .. } => Ok(status),
             other => Err(LinkError::Protocol(format!("{other:?}"))),
         }
     }

@@ -1,6 +1,6 @@
 //! What can go wrong talking to a device.
 
-use softfinger_protocol::{ErrorCode, FrameErrorKind};
+use softfinger_protocol::{ErrorCode, FieldRange, FrameErrorKind};
 use std::fmt;
 
 /// A failed exchange with the device.
@@ -18,6 +18,13 @@ pub enum LinkError {
     Disconnected,
     /// The device refused the request.
     Refused(ErrorCode),
+    /// The device refused the request for one value: which field, and the range it accepts.
+    Rejected {
+        /// The error code.
+        code: ErrorCode,
+        /// The field and its range.
+        field: FieldRange,
+    },
     /// The device rejected our frame.
     Frame(FrameErrorKind),
     /// The device speaks another protocol version.
@@ -45,6 +52,12 @@ impl fmt::Display for LinkError {
             LinkError::Timeout => write!(f, "no answer from the device"),
             LinkError::Disconnected => write!(f, "the device closed the connection"),
             LinkError::Refused(c) => write!(f, "the device refused: {c:?}"),
+            LinkError::Rejected { code, field } => write!(
+                f,
+                "the device refused ({code:?}): {} must be within {}",
+                field.field,
+                range_text(field)
+            ),
             LinkError::Frame(k) => write!(f, "the device rejected our frame: {k:?}"),
             LinkError::Version { device } => write!(
                 f,
@@ -59,6 +72,16 @@ impl fmt::Display for LinkError {
 }
 
 impl std::error::Error for LinkError {}
+
+/// `[min, max]`, or `(min, max]` when `min` itself is refused.
+pub fn range_text(r: &FieldRange) -> String {
+    format!(
+        "{}{}, {}]",
+        if r.min_exclusive { "(" } else { "[" },
+        r.min,
+        r.max
+    )
+}
 
 impl From<std::io::Error> for LinkError {
     fn from(e: std::io::Error) -> Self {

@@ -23,6 +23,7 @@ fn server_at(listen: &str) -> Server {
         watchdog_ms: 200.0,
         auto_arm: false,
         duration_s: None,
+        quiet: true,
     })
     .expect("server starts")
 }
@@ -203,7 +204,15 @@ fn the_binary_streams_to_csv_and_rejects_bad_arguments() {
             .output()
             .unwrap()
     };
-    let out = run(&["stream", "--seconds", "0.5", "--csv", csv.to_str().unwrap()]);
+    // The device is unhomed: an idle recording, accepted as such.
+    let out = run(&[
+        "stream",
+        "--seconds",
+        "0.5",
+        "--allow-idle",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
     assert!(
         out.status.success(),
         "{}",

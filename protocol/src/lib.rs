@@ -38,11 +38,13 @@ extern crate std;
 
 pub mod convert;
 pub mod endpoint;
+pub mod flag_names;
 pub mod frame;
 pub mod info;
 pub mod messages;
 pub mod model;
 pub mod state;
+pub mod status;
 
 pub use endpoint::DeviceEndpoint;
 pub use frame::{encode_frame, FrameDecoder, FrameError, FrameErrorCounts, FrameErrorKind};
@@ -50,6 +52,7 @@ pub use info::{DeviceInfo, LinkCounters};
 pub use messages::{AckResult, DeviceMsg, ErrorCode, HostMsg, Request};
 pub use model::{ContactParamsWire, HandTarget, LocalModel, SurfaceKind, SurfaceShape};
 pub use state::{ContactState, Mode, StateSample, TickStatsWire};
+pub use status::{DeviceStatus, FieldRange};
 
 /// The protocol version this crate speaks. A change of any message layout increments it.
 ///
@@ -57,6 +60,10 @@ pub use state::{ContactState, Mode, StateSample, TickStatsWire};
 /// [`SurfaceKind`] and [`SurfaceShape`] (postcard encodes the variant index, so every earlier
 /// message encodes as before). A peer built before that decodes a message carrying a new kind
 /// (a model, or a device info listing one) as a counted decode error, never as another kind.
+/// Likewise appended: [`Request::GetStatus`] with its answer [`DeviceMsg::Status`], and
+/// [`DeviceMsg::Rejected`] (a refusal naming the field and its range); a device built before them
+/// answers `GetStatus` with a decode [`DeviceMsg::FrameError`], one built with them that does not
+/// implement it with `Unsupported`.
 pub const PROTOCOL_VERSION: u8 = 1;
 
 /// Largest frame on the wire, delimiter included, bytes.

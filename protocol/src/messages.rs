@@ -4,6 +4,7 @@ use crate::frame::FrameErrorKind;
 use crate::info::{DeviceInfo, LinkCounters};
 use crate::model::{ContactParamsWire, HandTarget, LocalModel};
 use crate::state::StateSample;
+use crate::status::{DeviceStatus, FieldRange};
 use crate::PROTOCOL_VERSION;
 use serde::{Deserialize, Serialize};
 
@@ -67,6 +68,8 @@ pub enum Request {
     DriveHand(HandTarget),
     /// Virtual device: the simulated hand follows the scene's script again.
     ReleaseHand,
+    /// Answered by [`DeviceMsg::Status`] (appended, see [`crate::PROTOCOL_VERSION`]).
+    GetStatus,
 }
 
 /// Why a request was refused.
@@ -150,6 +153,24 @@ pub enum DeviceMsg {
         kind: FrameErrorKind,
         /// The device's protocol version.
         device_version: u8,
+    },
+    /// Answer to [`Request::GetStatus`] (appended).
+    Status {
+        /// The request's sequence number.
+        seq: u16,
+        /// Mode, flags and the model in force.
+        status: DeviceStatus,
+    },
+    /// Answer to a command refused for one value: the [`Ack`](DeviceMsg::Ack) error `code`
+    /// (usually [`ErrorCode::InvalidValue`]) with the field and the range it accepts. Nothing
+    /// changed (appended).
+    Rejected {
+        /// The request's sequence number.
+        seq: u16,
+        /// Why.
+        code: ErrorCode,
+        /// Which value, and what it may be.
+        field: FieldRange,
     },
 }
 

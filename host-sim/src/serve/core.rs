@@ -12,10 +12,12 @@ use crate::plant::Plant;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::control::controller::ContactStage;
-use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec};
-use softfinger_core::control::pipeline::{Command, Pipeline, PipelineConfig};
+use softfinger_core::control::local_model::{
+    LocalModelScene, LocalModelSpec, ModelKind, ModelPose,
+};
+use softfinger_core::control::pipeline::{Command, CommandError, Pipeline, PipelineConfig};
 use softfinger_core::{Fast, Flags, Vec3};
-use softfinger_protocol::{AckResult, Mode};
+use softfinger_protocol::Mode;
 
 /// The communication watchdog's timeout on the virtual device at start, s. 200 ms: ten times
 /// the host library's 20 ms heartbeat (a client that is alive is never near it, even with the
@@ -56,13 +58,19 @@ pub trait DeviceCore: Send {
     /// One control tick: read the plant's counters, run, drive the plant's bridges for a tick.
     fn tick(&mut self, plant: &mut Plant) -> CoreOutput;
     /// An operator command, at a tick boundary.
-    fn request(&mut self, command: Command) -> AckResult;
+    fn request(&mut self, command: Command) -> Result<(), CommandError>;
     /// A valid message arrived from some client (the communication watchdog's food).
     fn message_received(&mut self);
     /// The contact parameters in force.
     fn contact_params(&self) -> ContactParams;
     /// The watchdog timeout in force, s (0: off).
     fn watchdog_s(&self) -> f32;
+    /// Faults latched until `ClearFaults`.
+    fn latched(&self) -> Flags;
+    /// The mode now (a command's change shows before the next tick).
+    fn mode(&self) -> Mode;
+    /// The local model in force.
+    fn model(&self) -> LocalModelSpec;
 }
 
 /// The virtual device's core: the pipeline on the local-model scene.
@@ -133,8 +141,8 @@ impl DeviceCore for PipelineCore {
         }
     }
 
-    fn request(&mut self, command: Command) -> AckResult {
-        self.pipe.command(command).into()
+    fn request(&mut self, command: Command) -> Result<(), CommandError> {
+        self.pipe.command(command)
     }
 
     fn message_received(&mut self) {
@@ -148,6 +156,18 @@ impl DeviceCore for PipelineCore {
     fn watchdog_s(&self) -> f32 {
         self.pipe.controller().contact().watchdog_s()
     }
+
+    fn latched(&self) -> Flags {
+        self.pipe.latched()
+    }
+
+    fn mode(&self) -> Mode {
+        self.pipe.mode()
+    }
+
+    fn model(&self) -> LocalModelSpec {
+        *self.pipe.controller().contact().renderer().model()
+    }
 }
 
 /// The initial model and contact parameters of a scene (plane top; sphere, bowl or cylinder centre
@@ -155,7 +175,37 @@ impl DeviceCore for PipelineCore {
 pub fn scene_model(
     scene: &crate::scene::Scene,
 ) -> Result<(ContactParams, LocalModelSpec), crate::closed_loop::ClosedLoopError> {
-    Ok(softfinger_scene::model::scene_model(scene)?)
+    let contact = crate::closed_loop::contact_params(scene)?;
+    let top = crate::closed_loop::surface_top_z_m() as f32;
+    let (kind, z) = match scene.surface {
+        crate::scene::SurfaceSpec::Plane => (ModelKind::Plane, top),
+        crate::scene::SurfaceSpec::Sphere { radius_m } => (
+            ModelKind::Sphere {
+                radius_m: radius_m as f32,
+            },
+            top - radius_m as f32,
+        ),
+        // The bowl's centre is its radius above its bottom (the first contact), as in
+        // `closed_loop::bowl_config`; the local model checks that it holds the fingertip.
+        crate::scene::SurfaceSpec::Bowl { radius_m } => (
+            ModelKind::Bowl {
+                radius_m: radius_m as f32,
+            },
+            top + radius_m as f32,
+        ),
+        // The cylinder's axis (object x, along base x) is its radius below its top.
+        crate::scene::SurfaceSpec::Cylinder { radius_m } => (
+            ModelKind::Cylinder {
+                radius_m: radius_m as f32,
+            },
+            top - radius_m as f32,
+        ),
+    };
+    let spec = LocalModelSpec {
+        kind,
+        ..LocalModelSpec::plane(0, ModelPose::at(Vec3::new(0.0, 0.0, z)), &contact)
+    };
+    Ok((contact, spec))
 }
 
 #[cfg(test)]

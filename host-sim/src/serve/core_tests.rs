@@ -2,7 +2,7 @@ use super::*;
 use crate::scene::Scene;
 use softfinger_core::control::local_model::ModelPose;
 use softfinger_core::control::pipeline::passivity::PassivityConfig;
-use softfinger_protocol::ErrorCode;
+use softfinger_protocol::{AckResult, ErrorCode};
 
 /// A core on the default scene and its plant, powered up for 10 ms.
 fn powered(watchdog_s: f32) -> (PipelineCore, Plant) {
@@ -33,11 +33,11 @@ fn no_force_before_homing_and_arming_then_the_real_homing() {
         (Mode::Unhomed, Vec3::ZERO, false)
     );
     assert_eq!(
-        core.request(Command::Arm),
+        AckResult::from(core.request(Command::Arm)),
         AckResult::Err(ErrorCode::WrongMode)
     );
     plant.release_hand();
-    assert_eq!(core.request(Command::Home), AckResult::Ok);
+    assert_eq!(AckResult::from(core.request(Command::Home)), AckResult::Ok);
     let mut homing_ticks = 0;
     while core.tick(&mut plant).mode == Mode::Homing {
         homing_ticks += 1;
@@ -54,7 +54,7 @@ fn no_force_before_homing_and_arming_then_the_real_homing() {
     let mut next = crate::serve::hand::following(&plant, &script, device).unwrap();
     next.continue_counters_from(&plant);
     plant = next;
-    assert_eq!(core.request(Command::Arm), AckResult::Ok);
+    assert_eq!(AckResult::from(core.request(Command::Arm)), AckResult::Ok);
     let mut most = 0.0f32;
     let end = (plant.script().duration_s() * 10_000.0) as u32;
     for _ in 0..end {
@@ -90,13 +90,16 @@ fn a_fault_cuts_the_force_at_once_and_latches() {
         (Vec3::ZERO, false)
     );
     assert_eq!(
-        core.request(Command::Arm),
+        AckResult::from(core.request(Command::Arm)),
         AckResult::Err(ErrorCode::Faulted)
     );
     // The counter reads true again (a jump back, while latched), then the operator clears.
     let out = ticks(&mut core, &mut plant, 10);
     assert_eq!((out.mode, out.enable), (Mode::Faulted, false));
-    assert_eq!(core.request(Command::ClearFaults), AckResult::Ok);
+    assert_eq!(
+        AckResult::from(core.request(Command::ClearFaults)),
+        AckResult::Ok
+    );
     let out = ticks(&mut core, &mut plant, 10);
     assert_eq!((out.mode, out.enable), (Mode::Unhomed, false));
 }
@@ -107,7 +110,7 @@ fn a_fault_cuts_the_force_at_once_and_latches() {
 fn the_watchdog_fades_and_latches_until_rearmed() {
     let (mut core, mut plant) = armed(0.0);
     assert_eq!(
-        core.request(Command::SetWatchdog { timeout_s: 0.010 }),
+        AckResult::from(core.request(Command::SetWatchdog { timeout_s: 0.010 })),
         AckResult::Ok
     );
     assert_eq!(core.watchdog_s(), 0.010);
@@ -128,11 +131,11 @@ fn the_watchdog_fades_and_latches_until_rearmed() {
     core.message_received();
     assert!(core.tick(&mut plant).flags.contains(Flags::COMM_TIMEOUT));
     core.message_received();
-    assert_eq!(core.request(Command::Arm), AckResult::Ok);
+    assert_eq!(AckResult::from(core.request(Command::Arm)), AckResult::Ok);
     core.message_received();
     assert!(!core.tick(&mut plant).flags.contains(Flags::COMM_TIMEOUT));
     assert_eq!(
-        core.request(Command::SetWatchdog { timeout_s: 60.01 }),
+        AckResult::from(core.request(Command::SetWatchdog { timeout_s: 60.01 })),
         AckResult::Err(ErrorCode::InvalidValue)
     );
 }
@@ -151,7 +154,7 @@ fn models_are_refused_with_typed_codes() {
     let (contact, spec) = scene_model(&Scene::default_scene()).unwrap();
     let old = LocalModelSpec { seq: 0, ..spec };
     assert_eq!(
-        core.request(Command::SetLocalModel(old)),
+        AckResult::from(core.request(Command::SetLocalModel(old))),
         AckResult::Err(ErrorCode::StaleSequence)
     );
     let bad = LocalModelSpec {
@@ -160,11 +163,14 @@ fn models_are_refused_with_typed_codes() {
         ..spec
     };
     assert_eq!(
-        core.request(Command::SetLocalModel(bad)),
+        AckResult::from(core.request(Command::SetLocalModel(bad))),
         AckResult::Err(ErrorCode::InvalidValue)
     );
     let good = LocalModelSpec { seq: 2, ..spec };
-    assert_eq!(core.request(Command::SetLocalModel(good)), AckResult::Ok);
+    assert_eq!(
+        AckResult::from(core.request(Command::SetLocalModel(good))),
+        AckResult::Ok
+    );
     assert_eq!(core.contact_params(), contact);
 }
 
@@ -226,7 +232,10 @@ fn moving_plane_largest_step_n(damps: bool) -> f32 {
                 pose: ModelPose::at(Vec3::new(0.0, 0.0, z)),
                 ..model
             };
-            assert_eq!(core.request(Command::SetLocalModel(spec)), AckResult::Ok);
+            assert_eq!(
+                AckResult::from(core.request(Command::SetLocalModel(spec))),
+                AckResult::Ok
+            );
         }
         let f = core.tick(&mut plant).force_n;
         largest = largest.max((f - prev).norm::<Fast>());

@@ -10,11 +10,14 @@ use crate::plant::{HandScript, Plant, Waypoint};
 use crate::serve::core::{CoreOutput, DeviceCore};
 use crate::serve::hand::{self, HandMode};
 use crate::serve::link::{Event, LinkStats, Outbox};
-use softfinger_core::control::pipeline::Command;
+use crate::serve::log::EventLog;
+use softfinger_core::contact::params::ContactParams;
+use softfinger_core::control::pipeline::{Command, CommandError};
 use softfinger_core::device::DeviceParams;
+use softfinger_core::Flags;
 use softfinger_protocol::{
-    AckResult, ContactParamsWire, DeviceInfo, DeviceMsg, ErrorCode, HostMsg, Mode, Request,
-    StateSample, SurfaceKind, TickStatsWire, PROTOCOL_VERSION,
+    AckResult, ContactParamsWire, DeviceInfo, DeviceMsg, DeviceStatus, ErrorCode, FieldRange,
+    HostMsg, LocalModel, Mode, Request, StateSample, SurfaceKind, TickStatsWire, PROTOCOL_VERSION,
 };
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -76,6 +79,11 @@ pub struct DeviceLoop {
     tick: u64,
     timing: TickTiming,
     last: CoreOutput,
+    /// The largest force limit a client may set, N: the one the device started with.
+    force_limit_n: f32,
+    log: EventLog,
+    /// Faults latched and watchdog/model flags raised at the previous tick (logged on change).
+    noted: Flags,
 }
 
 impl std::fmt::Debug for DeviceLoop {
@@ -107,6 +115,7 @@ impl DeviceLoop {
             surfaces: heapless::Vec::from_slice(&SurfaceKind::ALL).unwrap_or_default(),
             watchdog_ms: 0,
         };
+        let force_limit_n = info.max_force_n;
         let _ = info.name.push_str("virtual omega-like");
         let _ = info
             .firmware_version
@@ -125,7 +134,17 @@ impl DeviceLoop {
             tick: 0,
             timing: TickTiming::default(),
             last: CoreOutput::default(),
+            force_limit_n,
+            log: EventLog::new(rate, None),
+            noted: Flags::NONE,
         }
+    }
+
+    /// Log each connection, mode change, model or parameter change and fault into `out` (one
+    /// line each, with the device time); `None`: silent.
+    pub fn with_log(mut self, out: Option<crate::serve::log::LogSink>) -> DeviceLoop {
+        self.log = EventLog::new(self.core.rate_hz(), out);
+        self
     }
 
     /// Run in real time until `stop` is set or `events` closes.
@@ -162,6 +181,10 @@ impl DeviceLoop {
         loop {
             match events.try_recv() {
                 Ok(Event::Connected { id, out }) => {
+                    self.log.line(
+                        self.tick,
+                        format_args!("connection {id} opened ({} open)", self.clients.len() + 1),
+                    );
                     self.clients.insert(
                         id,
                         Client {
@@ -173,6 +196,10 @@ impl DeviceLoop {
                 }
                 Ok(Event::Disconnected { id }) => {
                     self.clients.remove(&id);
+                    self.log.line(
+                        self.tick,
+                        format_args!("connection {id} closed ({} open)", self.clients.len()),
+                    );
                 }
                 Ok(Event::Message { id, msg }) => self.handle(id, msg),
                 Err(TryRecvError::Empty) => return true,
@@ -188,8 +215,18 @@ impl DeviceLoop {
         let ns = t0.elapsed().as_nanos().min(u32::MAX as u128) as u32;
         self.timing.record(ns, (rate / 10.0) as u32);
         self.timing.last.overruns = overruns;
+        let before = self.last.mode;
         self.last = out;
         self.tick += 1;
+        if out.mode != before {
+            self.log.mode(self.tick, before, out.mode, out.flags);
+        }
+        let noted = self.core.latched() | (out.flags & EventLog::NOTED);
+        if noted != self.noted {
+            self.log
+                .flags_raised(self.tick, noted.0 & !self.noted.0, out.mode);
+            self.noted = noted;
+        }
         if self.homing && out.mode != Mode::Homing {
             // Homing ended (done, aborted or failed): the hand takes the handle again.
             self.homing = false;
@@ -257,13 +294,22 @@ impl DeviceLoop {
         let result = match &req {
             Request::GetInfo => {
                 self.info.watchdog_ms = (self.core.watchdog_s() * 1000.0).round() as u16;
-                self.info.max_force_n = self.core.contact_params().max_force_n;
                 let info = self.info.clone();
                 return self.reply(id, DeviceMsg::Info { seq, info });
             }
             Request::GetCounters => {
                 let counters = self.stats.snapshot();
                 return self.reply(id, DeviceMsg::Counters { seq, counters });
+            }
+            Request::GetStatus => {
+                let status = DeviceStatus {
+                    tick: self.tick,
+                    mode: self.core.mode(),
+                    flags: self.last.flags.0,
+                    latched: self.core.latched().0,
+                    model: LocalModel::of(&self.core.model()),
+                };
+                return self.reply(id, DeviceMsg::Status { seq, status });
             }
             Request::GetContactParams => {
                 let params = ContactParamsWire::of(&self.core.contact_params());
@@ -290,20 +336,62 @@ impl DeviceLoop {
                 self.take_handle()
             }
             other => match other.command(&self.core.contact_params()) {
-                Some(r) => {
-                    let result = self.core.request(r);
-                    if r == Command::Home && result == AckResult::Ok {
-                        // The real homing against the plant: the hand lets go of the handle
-                        // until the arms have found their stops.
-                        self.homing = true;
-                        self.plant.release_hand();
+                Some(r) => match self.command(id, r) {
+                    Ok(()) => AckResult::Ok,
+                    Err((code, Some(field))) => {
+                        return self.reply(id, DeviceMsg::Rejected { seq, code, field });
                     }
-                    result
-                }
+                    Err((code, None)) => AckResult::Err(code),
+                },
                 None => AckResult::Err(ErrorCode::Unsupported),
             },
         };
         self.reply(id, DeviceMsg::Ack { seq, result });
+    }
+
+    /// A pipeline command from client `id`: done, or refused with its code and, for a value out
+    /// of range, the field and the range the device accepts. A force limit above the one the
+    /// device started with is refused here (the hardware's limit, whatever the core allows).
+    fn command(
+        &mut self,
+        id: u32,
+        command: Command,
+    ) -> Result<(), (ErrorCode, Option<FieldRange>)> {
+        if let Command::SetContactParams(p) = &command {
+            if p.max_force_n.is_finite() && p.max_force_n > self.force_limit_n {
+                let range = FieldRange::new(
+                    "max_force_n",
+                    ContactParams::MIN_MAX_FORCE_N,
+                    false,
+                    self.force_limit_n,
+                );
+                return Err((ErrorCode::InvalidValue, Some(range)));
+            }
+        }
+        match self.core.request(command) {
+            Ok(()) => {}
+            Err(e) => {
+                let field = match (&e, &command) {
+                    (CommandError::InvalidParams(pe), Command::SetContactParams(p)) => {
+                        FieldRange::of_param_error(pe, p, self.force_limit_n)
+                    }
+                    _ => None,
+                };
+                return Err((e.into(), field));
+            }
+        }
+        match command {
+            Command::Home => {
+                // The real homing against the plant: the hand lets go of the handle until the
+                // arms have found their stops.
+                self.homing = true;
+                self.plant.release_hand();
+            }
+            Command::SetLocalModel(m) => self.log.model(self.tick, id, &m),
+            Command::SetContactParams(p) => self.log.params(self.tick, id, &p),
+            _ => {}
+        }
+        Ok(())
     }
 
     fn set_stream(&mut self, id: u32, divisor: u16) -> AckResult {

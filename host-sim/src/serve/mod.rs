@@ -12,6 +12,7 @@ pub mod core;
 pub mod device;
 pub mod hand;
 pub mod link;
+pub mod log;
 
 use crate::scene::Scene;
 use clap::Parser;
@@ -45,6 +46,10 @@ pub struct Args {
     /// Stop after this many seconds (default: run until killed).
     #[arg(long)]
     pub duration_s: Option<f64>,
+    /// Do not log connections, mode changes, model changes and faults (one line each on
+    /// stdout, with the device time).
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// A running virtual device.
@@ -83,8 +88,19 @@ pub enum ServeError {
 }
 
 impl Server {
-    /// Bind, build the device from the scene, and start the threads.
+    /// Bind, build the device from the scene, and start the threads; the event log on stdout
+    /// unless `--quiet`.
     pub fn start(args: &Args) -> Result<Server, ServeError> {
+        let out: Option<log::LogSink> = if args.quiet {
+            None
+        } else {
+            Some(Arc::new(Mutex::new(std::io::stdout())))
+        };
+        Server::start_logging(args, out)
+    }
+
+    /// [`Server::start`] with the event log into `log` (`None`: silent, whatever `--quiet`).
+    pub fn start_logging(args: &Args, log: Option<log::LogSink>) -> Result<Server, ServeError> {
         let scene = Scene::load(&args.scene)?;
         let (contact, _) = core::scene_model(&scene)?;
         let device = softfinger_core::device::OMEGA_LIKE.params;
@@ -113,7 +129,8 @@ impl Server {
         let stop = Arc::new(AtomicBool::new(false));
         let stats = Arc::new(link::LinkStats::default());
         let (events_tx, events_rx) = channel();
-        let dev = device::DeviceLoop::new(Box::new(core), device, plant, script, stats.clone());
+        let dev = device::DeviceLoop::new(Box::new(core), device, plant, script, stats.clone())
+            .with_log(log);
         let stop_dev = stop.clone();
         let device_thread = thread::spawn(move || dev.run(events_rx, stop_dev));
         let stop_acc = stop.clone();

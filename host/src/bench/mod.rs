@@ -6,14 +6,17 @@
 //! Phases: (1) one client streams at 1 kHz for `stream_s` while a second pings and a third sends
 //! bad frames of every kind; (2) a fourth client holds the simulated hand pressed on the surface,
 //! arms, streams every tick and sends local models: still, at 1 kHz, and as 1 mm jumps;
-//! (3) it enables the watchdog and goes silent.
+//! (3) it enables the watchdog and goes silent. Then the device is put back as found
+//! ([`restore`]: parameters, model, watchdog, hand and mode), also after a failed phase.
 
 mod bad_input;
 mod models;
+mod restore;
 mod stream;
 
 pub use bad_input::{run as bad_input_phase, BadInputReport};
 pub use models::{run as models_phase, ModelReport, WatchdogReport};
+pub use restore::{restore, snapshot, RestoreReport, Snapshot};
 pub use stream::{rtt as rtt_phase, stream as stream_phase, RttReport, StreamReport};
 
 use crate::{Device, LinkError, Target};
@@ -51,6 +54,7 @@ pub struct BenchReport {
     pub bad_input: BadInputReport,
     pub models: ModelReport,
     pub watchdog: WatchdogReport,
+    pub restored: RestoreReport,
 }
 
 /// True for a loopback TCP target (the benchmark refuses anything else).
@@ -81,19 +85,35 @@ pub fn run(target: &Target, cfg: &BenchConfig) -> Result<BenchReport, LinkError>
             "{target}: the benchmark runs on a loopback virtual device only"
         )));
     }
-    let rate = Device::connect(target)?.info()?.control_rate_hz;
-    let (stream, rtt, bad_input) = std::thread::scope(|s| {
-        let streamer = s.spawn(|| stream::stream(target, cfg.stream_s).map_err(ctx("stream")));
-        let pinger = s.spawn(|| stream::rtt(target, cfg.pings).map_err(ctx("round trips")));
-        let bad = s.spawn(|| bad_input::run(target, cfg.stream_s / 2.0).map_err(ctx("bad input")));
-        Ok::<_, LinkError>((join(streamer)?, join(pinger)?, join(bad)?))
-    })?;
-    let (models, watchdog) = models::run(target, rate, cfg).map_err(ctx("local models"))?;
+    let mut keeper = Device::connect(target)?;
+    let rate = keeper.info()?.control_rate_hz;
+    let found = restore::snapshot(&mut keeper).map_err(ctx("reading the device's state"))?;
+    drop(keeper);
+    let phases = || {
+        let (stream, rtt, bad_input) = std::thread::scope(|s| {
+            let streamer = s.spawn(|| stream::stream(target, cfg.stream_s).map_err(ctx("stream")));
+            let pinger = s.spawn(|| stream::rtt(target, cfg.pings).map_err(ctx("round trips")));
+            let bad =
+                s.spawn(|| bad_input::run(target, cfg.stream_s / 2.0).map_err(ctx("bad input")));
+            Ok::<_, LinkError>((join(streamer)?, join(pinger)?, join(bad)?))
+        })?;
+        let (models, watchdog) = models::run(target, rate, cfg).map_err(ctx("local models"))?;
+        Ok::<_, LinkError>((stream, rtt, bad_input, models, watchdog))
+    };
+    let result = phases();
+    // Back as found, whatever happened (the keeper's connection may have gone with the device).
+    let mut d = match Device::connect(target) {
+        Ok(d) => d,
+        Err(e) => return result.and(Err(ctx("restoring the device")(e))),
+    };
+    let restored = restore::restore(&mut d, &found).map_err(ctx("restoring the device"));
+    let (stream, rtt, bad_input, models, watchdog) = result?;
     Ok(BenchReport {
         stream,
         rtt,
         bad_input,
         models,
         watchdog,
+        restored: restored?,
     })
 }

@@ -67,5 +67,20 @@ pub fn main(spec: &str, a: &Args) -> Result<(), String> {
         "watchdog {} ms: |F| {:.2} N faded to 0 in {:.1} ms after COMM_TIMEOUT; latched until re-armed: {}; recovered after re-arm: {}",
         w.timeout_ms, w.force_before_n, w.fade_ms, w.latched, w.recovered
     );
+    let b = &r.restored;
+    println!(
+        "device left as found: {} (mode {} -> {}, parameters {}, model {}, watchdog {}){}",
+        if b.complete() { "yes" } else { "no" },
+        b.mode_found,
+        b.mode_left,
+        b.params_restored,
+        b.model_restored,
+        b.watchdog_restored,
+        if b.notes.is_empty() {
+            String::new()
+        } else {
+            format!("; {}", b.notes.join("; "))
+        }
+    );
     Ok(())
 }

@@ -1,7 +1,7 @@
-//! `info`, `home`/`arm`/`disarm`/`clear`, `scene set`, `params set`.
+//! `info`, `arm`/`disarm`/`clear`, `scene set`.
 
-use super::connect;
-use clap::{Args as ClapArgs, Subcommand};
+use super::{connect, refusal};
+use clap::Subcommand;
 use softfinger_host::{Device, LinkError};
 use std::time::Duration;
 
@@ -14,53 +14,34 @@ pub enum SceneCmd {
     },
 }
 
-#[derive(Debug, Subcommand)]
-pub enum ParamsCmd {
-    /// Change some contact parameters (the others keep the device's values). Disarm first.
-    Set(ParamsSet),
-    /// Print the contact parameters in force.
-    Get,
-}
-
-/// Fields to change; each optional.
-#[derive(Debug, ClapArgs)]
-pub struct ParamsSet {
-    /// Normal stiffness, N/m.
-    #[arg(long)]
-    pub stiffness: Option<f32>,
-    /// Normal damping, N·s/m.
-    #[arg(long)]
-    pub damping: Option<f32>,
-    /// Static friction coefficient.
-    #[arg(long)]
-    pub mu_s: Option<f32>,
-    /// Kinetic friction coefficient.
-    #[arg(long)]
-    pub mu_k: Option<f32>,
-    /// Spin stiffness, N·m/rad.
-    #[arg(long)]
-    pub spin_stiffness: Option<f32>,
-    /// Fingertip radius, m.
-    #[arg(long)]
-    pub fingertip_radius: Option<f32>,
-    /// Tangential stiffness, N/m.
-    #[arg(long)]
-    pub tangential_stiffness: Option<f32>,
-    /// Tangential damping, N·s/m.
-    #[arg(long)]
-    pub tangential_damping: Option<f32>,
-    /// Force limit, N.
-    #[arg(long)]
-    pub max_force: Option<f32>,
-}
-
+/// Connect and run `f` (the command `action`); a refusal names the device's mode and need.
 pub fn simple(
     spec: &str,
+    action: &str,
     f: impl FnOnce(&mut Device) -> Result<(), LinkError>,
 ) -> Result<(), String> {
     let mut d = connect(spec).map_err(|e| e.to_string())?;
-    f(&mut d).map_err(|e| e.to_string())?;
+    f(&mut d).map_err(|e| refusal::message(action, e, &mut d))?;
     println!("ok");
+    Ok(())
+}
+
+/// `arm`: arm, then warn when the device's watchdog will let go once this process has left.
+pub fn arm(spec: &str) -> Result<(), String> {
+    let mut d = connect(spec).map_err(|e| e.to_string())?;
+    d.arm().map_err(|e| refusal::message("arm", e, &mut d))?;
+    let info = d.info().map_err(|e| e.to_string())?;
+    println!("armed");
+    if info.watchdog_ms != 0 {
+        let others = d
+            .counters()
+            .map(|c| c.connections.saturating_sub(1))
+            .unwrap_or(0);
+        eprintln!(
+            "warning: the device's watchdog ({} ms) fades the force to zero and latches comm-timeout once no connection talks to it; this command has ended ({others} other connection(s) open now). To hold the device armed use `softfinger session`, or arm on the recording's own link with `softfinger stream --arm`",
+            info.watchdog_ms
+        );
+    }
     Ok(())
 }
 
@@ -143,43 +124,10 @@ pub fn scene(spec: &str, cmd: &SceneCmd) -> Result<(), String> {
     let (params, model) = softfinger_host::scene::load(file, seq)?;
     let now = d.contact_params().map_err(|e| e.to_string())?;
     if now != params {
-        d.set_contact_params(params).map_err(|e| match e {
-            LinkError::Refused(softfinger_host::protocol::ErrorCode::WrongMode) => {
-                "the scene changes contact parameters: disarm first".to_string()
-            }
-            e => e.to_string(),
-        })?;
+        d.set_contact_params(params)
+            .map_err(|e| refusal::message("scene set", e, &mut d))?;
     }
     d.set_local_model(model).map_err(|e| e.to_string())?;
     println!("scene '{file}' set (model {seq})");
-    Ok(())
-}
-
-pub fn params(spec: &str, cmd: &ParamsCmd) -> Result<(), String> {
-    let mut d = connect(spec).map_err(|e| e.to_string())?;
-    let mut p = d.contact_params().map_err(|e| e.to_string())?;
-    let s = match cmd {
-        ParamsCmd::Get => {
-            println!("{p:#?}");
-            return Ok(());
-        }
-        ParamsCmd::Set(s) => s,
-    };
-    let set = |field: &mut f32, v: Option<f32>| {
-        if let Some(v) = v {
-            *field = v;
-        }
-    };
-    set(&mut p.normal_stiffness, s.stiffness);
-    set(&mut p.normal_damping, s.damping);
-    set(&mut p.mu_s, s.mu_s);
-    set(&mut p.mu_k, s.mu_k);
-    set(&mut p.spin_stiffness, s.spin_stiffness);
-    set(&mut p.fingertip_radius_m, s.fingertip_radius);
-    set(&mut p.tangential_stiffness, s.tangential_stiffness);
-    set(&mut p.tangential_damping, s.tangential_damping);
-    set(&mut p.max_force_n, s.max_force);
-    d.set_contact_params(p).map_err(|e| e.to_string())?;
-    println!("ok");
     Ok(())
 }

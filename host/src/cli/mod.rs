@@ -1,8 +1,14 @@
 //! The `softfinger` command line: parsing and dispatch. Errors print one line on stderr and exit
-//! with status 2; nothing is left half written.
+//! with status 2 (130 after Ctrl-C); nothing is left half written.
 
 mod bench;
 mod control;
+mod home;
+mod interrupt;
+mod params;
+mod refusal;
+mod session;
+mod status;
 mod stream;
 mod view;
 
@@ -30,9 +36,12 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Find the encoders' reference (needed before arming).
-    Home,
-    /// Start rendering force (ramped in); re-arms the watchdog.
+    /// Mode, local model, flags and latched faults.
+    Status(status::Args),
+    /// Find the encoders' reference (needed before arming); waits for the outcome.
+    Home(home::Args),
+    /// Start rendering force (ramped in); re-arms the watchdog. The device lets go when no
+    /// connection talks to it: `session` or `stream --arm` hold it.
     Arm,
     /// Stop rendering force.
     Disarm,
@@ -46,11 +55,13 @@ pub enum Command {
     /// Contact parameters.
     Params {
         #[command(subcommand)]
-        cmd: control::ParamsCmd,
+        cmd: params::ParamsCmd,
     },
+    /// Hold the device armed until Ctrl-C (homes it first if needed); disarms at the end.
+    Session(session::Args),
     /// Record the state stream to CSV (progress shown; reconnects if the device goes away).
     Stream(stream::Args),
-    /// A live view of the device state, refreshed 10 times a second.
+    /// A live view: force and spin torque over the last seconds, mode, model, flags (q quits).
     View(view::Args),
     /// Measure the link on a virtual device over loopback: stream rate and gaps, round-trip
     /// times, local-model switches at 1 kHz, watchdog fade, bad input.
@@ -75,15 +86,21 @@ where
     };
     let result = match &cli.command {
         Command::Info { json } => control::info(&cli.connect, *json),
-        Command::Home => control::simple(&cli.connect, |d| d.home()),
-        Command::Arm => control::simple(&cli.connect, |d| d.arm()),
-        Command::Disarm => control::simple(&cli.connect, |d| d.disarm()),
-        Command::Clear => control::simple(&cli.connect, |d| d.clear_faults()),
+        Command::Status(a) => status::main(&cli.connect, a),
+        Command::Home(a) => home::main(&cli.connect, a),
+        Command::Arm => control::arm(&cli.connect),
+        Command::Disarm => control::simple(&cli.connect, "disarm", |d| d.disarm()),
+        Command::Clear => control::simple(&cli.connect, "clear", |d| d.clear_faults()),
         Command::Scene { cmd } => control::scene(&cli.connect, cmd),
-        Command::Params { cmd } => control::params(&cli.connect, cmd),
+        Command::Params { cmd } => params::main(&cli.connect, cmd),
+        Command::Session(a) => session::main(&cli.connect, a),
         Command::Stream(a) => stream::main(&cli.connect, a),
         Command::View(a) => view::main(&cli.connect, a),
         Command::Bench(a) => bench::main(&cli.connect, a),
     };
-    host_sim::cli::exit_code("softfinger", result)
+    let code = host_sim::cli::exit_code("softfinger", result);
+    if code != 0 && interrupt::requested() {
+        return interrupt::EXIT_INTERRUPTED;
+    }
+    code
 }

@@ -127,3 +127,80 @@ fn every_surface_kind_once_each_shape_its_own() {
     let kinds = shapes.map(|s| SurfaceKind::of(&s));
     assert_eq!(kinds, SurfaceKind::ALL);
 }
+
+/// The wire form of a spec is the inverse of `spec`.
+#[test]
+fn a_model_round_trips_through_its_spec() {
+    let m = LocalModel {
+        shape: SurfaceShape::Sphere { radius_m: 0.03 },
+        orientation: [0.5, -0.5, 0.5, 0.5],
+        max_age_ms: 250,
+        ..model(7)
+    };
+    assert_eq!(LocalModel::of(&m.spec()), m);
+}
+
+/// Each wire field's range is the one `validate` applies: the ends are accepted, a value just
+/// outside either end is refused with that field, and the error maps back to the range.
+#[test]
+fn every_field_range_is_the_one_validate_applies() {
+    let base = ContactParams::DEFAULT;
+    let limit = 12.0;
+    type Set = fn(&mut ContactParams, f32);
+    let fields: [(&str, Set); 9] = [
+        ("fingertip_radius_m", |p, v| p.fingertip_radius_m = v),
+        ("normal_stiffness", |p, v| p.normal_stiffness = v),
+        ("normal_damping", |p, v| p.normal_damping = v),
+        ("tangential_stiffness", |p, v| p.tangential_stiffness = v),
+        ("tangential_damping", |p, v| p.tangential_damping = v),
+        // μ_s above its range with μ_k kept: the first error is μ_s's own.
+        ("mu_s", |p, v| {
+            p.mu_s = v;
+            p.mu_k = p.mu_k.min(v);
+        }),
+        ("mu_k", |p, v| p.mu_k = v),
+        ("spin_stiffness", |p, v| p.spin_stiffness = v),
+        ("max_force_n", |p, v| p.max_force_n = v),
+    ];
+    for (name, set) in fields {
+        // Find the range from an error far above it.
+        let mut p = base;
+        set(&mut p, 1e30);
+        let e = p.validate().expect_err(name);
+        let r = FieldRange::of_param_error(&e, &p, 1e30).expect(name);
+        assert_eq!(r.field.as_str(), name);
+        let check = |v: f32, ok: bool| {
+            let mut q = base;
+            set(&mut q, v);
+            let got = q.validate();
+            assert_eq!(got.is_ok(), ok, "{name} = {v}: {got:?}");
+            assert_eq!(r.contains(v), ok, "{name} = {v} against {r:?}");
+            if let Err(e) = got {
+                let again = FieldRange::of_param_error(&e, &q, 1e30).expect(name);
+                assert_eq!(again, r, "{name} = {v}");
+            }
+        };
+        let up = |v: f32| v * (1.0 + 1e-6) + 1e-30;
+        check(r.max, true);
+        check(up(r.max), false);
+        if r.min_exclusive {
+            check(r.min, false);
+            check(up(r.min).max(1e-6), true);
+        } else {
+            check(r.min, true);
+            check(r.min - r.min.abs().max(1e-6) * 1e-3, false);
+        }
+    }
+    // The device's own force limit narrows the core's.
+    let mut p = base;
+    p.max_force_n = 1e30;
+    let e = p.validate().unwrap_err();
+    let r = FieldRange::of_param_error(&e, &p, limit).unwrap();
+    assert_eq!((r.min, r.max), (ContactParams::MIN_MAX_FORCE_N, limit));
+    // μ_k above μ_s: the range of μ_k ends at μ_s.
+    p = base;
+    p.mu_k = base.mu_s + 0.1;
+    let r = FieldRange::of_param_error(&p.validate().unwrap_err(), &p, limit).unwrap();
+    assert_eq!((r.field.as_str(), r.max), ("mu_k", base.mu_s));
+    assert_eq!(FieldRange::of_param_error(&ParamError::NotFinite("bogus"), &p, limit), None);
+}

@@ -7,9 +7,9 @@ use softfinger_mcu_bench::check::Checker;
 use softfinger_mcu_bench::link::{feed, frame_of, largest_command, state_sample, typical_command};
 use softfinger_protocol::info::Text;
 use softfinger_protocol::{
-    AckResult, ContactParamsWire, DeviceInfo, DeviceMsg, ErrorCode, FrameDecoder, FrameErrorKind,
-    HandTarget, HostMsg, LinkCounters, LocalModel, Request, SurfaceKind, SurfaceShape,
-    PROTOCOL_VERSION,
+    AckResult, ContactParamsWire, DeviceInfo, DeviceMsg, DeviceStatus, ErrorCode, FieldRange,
+    FrameDecoder, FrameErrorKind, HandTarget, HostMsg, LinkCounters, LocalModel, Mode, Request,
+    SurfaceKind, SurfaceShape, PROTOCOL_VERSION,
 };
 
 const PARAMS: ContactParamsWire = ContactParamsWire {
@@ -64,9 +64,10 @@ fn request_index(r: &Request) -> u32 {
         Request::SetWatchdog { .. } => 14,
         Request::DriveHand(_) => 15,
         Request::ReleaseHand => 16,
+        Request::GetStatus => 17,
     }
 }
-const REQUEST_KINDS: u32 = 17;
+const REQUEST_KINDS: u32 = 18;
 
 fn device_index(m: &DeviceMsg) -> u32 {
     match m {
@@ -80,9 +81,11 @@ fn device_index(m: &DeviceMsg) -> u32 {
         DeviceMsg::ContactParams { .. } => 12,
         DeviceMsg::State(_) => 13,
         DeviceMsg::FrameError { kind, .. } => 14 + frame_error_index(*kind),
+        DeviceMsg::Status { .. } => 19,
+        DeviceMsg::Rejected { .. } => 20,
     }
 }
-const DEVICE_KINDS: u32 = 19;
+const DEVICE_KINDS: u32 = 21;
 
 fn error_index(e: ErrorCode) -> u32 {
     match e {
@@ -168,6 +171,7 @@ fn host_messages(c: &mut Checker) {
             wrist_rad: [0.1, -0.2, 0.3],
         }),
         Request::ReleaseHand,
+        Request::GetStatus,
     ];
     let mut seen = 0u32;
     let extra = [typical_command(), largest_command()];
@@ -269,6 +273,21 @@ fn device_messages(c: &mut Checker) {
             })
             .is_ok();
     }
+    let status = DeviceStatus {
+        tick: 1 << 40,
+        mode: Mode::Armed,
+        flags: 1 << 24,
+        latched: 1 << 10,
+        model: plane_model(),
+    };
+    all &= msgs.push(DeviceMsg::Status { seq: 23, status }).is_ok();
+    all &= msgs
+        .push(DeviceMsg::Rejected {
+            seq: 24,
+            code: ErrorCode::InvalidValue,
+            field: FieldRange::new("normal_stiffness", 0.0, false, 1.0e7),
+        })
+        .is_ok();
     c.ok("round trip: device message list fits", all);
     let mut seen = 0u32;
     for (i, msg) in msgs.iter().enumerate() {
