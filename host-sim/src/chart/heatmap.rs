@@ -182,6 +182,13 @@ fn colour_bar(bar: &Area, vmin: f64, vmax: f64, bar_label: &str) -> Result<(), C
         )
     }))
     .map_err(style::drawing_err)?;
+    // The top of the scale is the data's largest value: name it at the bar's top.
+    bar.draw(&Text::new(
+        format!("top: {} rad (largest)", fmt_num(10f64.powf(vmax))),
+        (4, 24),
+        (FONT, 12).into_font(),
+    ))
+    .map_err(style::drawing_err)?;
     let (_, bh) = bar.dim_in_pixel();
     bar.draw(&Rectangle::new(
         [(10, bh as i32 - 40), (26, bh as i32 - 24)],

@@ -69,6 +69,9 @@ pub struct Axes {
     pub y: (f64, f64),
     pub x_log: bool,
     pub y_log: bool,
+    /// Ticks of a log y axis (empty: the decades plotters picks; give them when the axis spans
+    /// more than a decade but the data need labels between decades).
+    pub y_ticks: Vec<f64>,
     /// Drawn pale behind the series, with legend entries before theirs.
     pub bands: Vec<Band>,
     /// Vertical marks across the plot, each labelled at its top (e.g. where a script phase
@@ -180,7 +183,24 @@ fn panel(area: &Area, axes: &Axes, series: &[Series]) -> Result<(), ChartError> 
         (x, y) = equal_ranges(x, y, plot);
     }
     let r = (x, y);
+    let ticks = axes.y_ticks.clone();
     match (axes.x_log, axes.y_log) {
+        (true, true) if !ticks.is_empty() => draw_panel(
+            &inner,
+            axes,
+            r,
+            series,
+            (x.0..x.1).log_scale(),
+            (y.0..y.1).log_scale().with_key_points(ticks),
+        ),
+        (false, true) if !ticks.is_empty() => draw_panel(
+            &inner,
+            axes,
+            r,
+            series,
+            x.0..x.1,
+            (y.0..y.1).log_scale().with_key_points(ticks),
+        ),
         (true, true) => draw_panel(
             &inner,
             axes,

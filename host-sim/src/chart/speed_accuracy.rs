@@ -164,28 +164,33 @@ pub fn svg(points: &[Point]) -> Result<String, ChartError> {
     })
 }
 
-/// The rk45/restart plateau explained below the legend: the tolerances at which every sample was one
-/// RK45 step (taken from the points' step counts).
+/// The rk45/restart plateau explained below the legend: per rate, the tolerances at which every
+/// sample was one RK45 step (taken from the points' step counts; re-centrings add a few).
 fn plateau_note(area: &super::style::Area, points: &[Point], y: i32) -> Result<(), ChartError> {
-    let one_step: Vec<f64> = points
-        .iter()
-        .filter(|p| p.series == Series::Rk45(Rk45Call::Restart) && p.rate_hz == 100.0)
-        .filter(|p| p.steps_per_sample.is_some_and(|s| s < 1.1))
-        .filter_map(|p| p.rtol)
-        .collect();
-    let (Some(lo), Some(hi)) = (
-        one_step.iter().copied().reduce(f64::min),
-        one_step.iter().copied().reduce(f64::max),
-    ) else {
-        return Ok(());
-    };
-    let lines = [
-        format!("Why rk45/restart is flat at 100 Hz for rtol {hi:.0e} … {lo:.0e}:"),
-        "each sample restarts the integrator, and its first step spans".to_string(),
-        "the whole 10 ms sample and passes the error test at all these".to_string(),
-        "tolerances: the same steps, so the same error (one step's).".to_string(),
-        "Tighter rtol rejects and splits steps, and the error falls.".to_string(),
+    let mut lines = vec![
+        "Why rk45/restart is flat: each sample restarts the integrator,".to_string(),
+        "and its first step spans the whole sample and passes the error".to_string(),
+        "test, so every such rtol takes the same steps and gives the same".to_string(),
+        "error (one step's). Tighter rtol splits steps; the error falls.".to_string(),
+        "One step per sample at:".to_string(),
     ];
+    for rate in rates(points) {
+        let one_step: Vec<f64> = points
+            .iter()
+            .filter(|p| p.series == Series::Rk45(Rk45Call::Restart) && p.rate_hz == rate)
+            .filter(|p| p.steps_per_sample.is_some_and(|s| s < 1.1))
+            .filter_map(|p| p.rtol)
+            .collect();
+        if let (Some(lo), Some(hi)) = (
+            one_step.iter().copied().reduce(f64::min),
+            one_step.iter().copied().reduce(f64::max),
+        ) {
+            lines.push(format!("  {}: rtol {hi:.0e} … {lo:.0e}", rate_label(rate)));
+        }
+    }
+    if lines.len() == 5 {
+        return Ok(());
+    }
     for (k, l) in lines.iter().enumerate() {
         area.draw(&Text::new(
             l.clone(),
@@ -311,20 +316,25 @@ fn draw_rk45<'a, 'b: 'a>(
                 EmptyElement::at(p) + Polygon::new(Shape::Diamond.offsets(4), color.filled())
             }))
             .map_err(drawing_err)?;
-        let ends = [pts.first(), pts.last()];
-        for p in ends.into_iter().flatten() {
-            if let Some(r) = p.rtol {
-                chart
-                    .draw_series(std::iter::once(
-                        EmptyElement::at(xy(p))
-                            + Text::new(
-                                format!("{r:.0e}"),
-                                (7, -4),
-                                (FONT, 11).into_font().color(&color),
-                            ),
-                    ))
-                    .map_err(drawing_err)?;
-            }
+        // The loosest and tightest rtol beside their points; one label when they coincide.
+        let (Some(first), Some(last)) = (pts.first(), pts.last()) else {
+            continue;
+        };
+        let (a, b) = (xy(first), xy(last));
+        let apart = (a.0 / b.0).log10().abs() > 0.15 || (a.1 / b.1).log10().abs() > 0.5;
+        let rt = |p: &Point| p.rtol.map_or(String::new(), |r| format!("{r:.0e}"));
+        let labels = if apart {
+            vec![(a, rt(first)), (b, rt(last))]
+        } else {
+            vec![(b, format!("{} … {}", rt(first), rt(last)))]
+        };
+        for (p, t) in labels {
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at(p)
+                        + Text::new(t, (7, -4), (FONT, 11).into_font().color(&color)),
+                ))
+                .map_err(drawing_err)?;
         }
     }
     Ok(())

@@ -231,7 +231,7 @@ where
 }
 
 /// Width (px) of a legend of `labels` at `font_size` beside a plot: the longest label at about
-/// 0.6 of the font size per character, plus the key and the box's padding.
+/// 0.55 of the font size per character, plus the key and the box's padding.
 pub fn legend_width<'s>(labels: impl IntoIterator<Item = &'s str>, font_size: u32) -> u32 {
     let chars = labels
         .into_iter()
@@ -241,7 +241,7 @@ pub fn legend_width<'s>(labels: impl IntoIterator<Item = &'s str>, font_size: u3
     if chars == 0 {
         return 0;
     }
-    (chars as f64 * 0.6 * f64::from(font_size)).ceil() as u32 + 56
+    (chars as f64 * 0.55 * f64::from(font_size)).ceil() as u32 + 56
 }
 
 /// What a legend entry's key looks like.
@@ -249,6 +249,8 @@ pub fn legend_width<'s>(labels: impl IntoIterator<Item = &'s str>, font_size: u3
 pub enum Key {
     /// A pale filled box (a band behind the data).
     Band(RGBColor),
+    /// A filled box (a bar).
+    Fill(RGBColor),
     /// A line, solid or dashed (`Some((dash, gap))`, px).
     Line(RGBColor, Option<(u32, u32)>),
     /// A marker of that shape.
@@ -293,6 +295,9 @@ pub fn draw_side_legend(area: &Area, entries: &[Entry], font_size: u32) -> Resul
                     [(x0, y - 6), (x1, y + 6)],
                     c.mix(0.45).filled(),
                 ))
+                .map_err(drawing_err)?,
+            Key::Fill(c) => area
+                .draw(&Rectangle::new([(x0, y - 6), (x1, y + 6)], c.filled()))
                 .map_err(drawing_err)?,
             Key::Line(c, dash) => {
                 let st = ShapeStyle::from(&c).stroke_width(2);
@@ -344,9 +349,18 @@ pub fn split_for_legend<'a>(
     font_size: u32,
 ) -> (Area<'a>, Option<Area<'a>>) {
     let lw = legend_width(entries.iter().map(|e| e.label.as_str()), font_size);
-    let (w, _) = area.dim_in_pixel();
-    if lw == 0 || lw + 100 >= w {
+    let (w, h) = area.dim_in_pixel();
+    if lw == 0 {
         return (area.clone(), None);
+    }
+    if f64::from(lw) > 0.35 * f64::from(w) {
+        // Too wide beside the plot: below it, across the panel.
+        let lh = (legend_row(font_size) * entries.len() as i32 + 14) as u32;
+        if lh + 150 >= h {
+            return (area.clone(), None);
+        }
+        let (plot, legend) = area.split_vertically(h - lh);
+        return (plot, Some(legend.margin(4, 0, 80, 0)));
     }
     let (plot, legend) = area.split_horizontally(w - lw);
     (plot, Some(legend.margin(8, 0, 4, 0)))

@@ -218,7 +218,11 @@ pub fn timing_chart(out: &Path, d: &Device, rows: &[TimingRow]) -> Result<(), Ch
     } else {
         (0.1, 10.0)
     };
-    let axes = rate_axes(title, "K_max / (2b/T)", y);
+    let mut axes = rate_axes(title, "K_max / (2b/T)", y);
+    axes.y_ticks = [0.2, 1.0 / 3.0, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0]
+        .into_iter()
+        .filter(|t| *t >= y.0 && *t <= y.1)
+        .collect();
     line_chart(
         &out.join("haptic_kmax_timing.svg"),
         1000,
@@ -291,7 +295,7 @@ pub fn impact_chart(out: &Path, d: &Device, imp: &Impact) -> Result<(), ChartErr
         &[
             panel(
                 "Does the hit settle? Penetration",
-                "penetration x (mm)",
+                "x (mm; > 0 inside the wall, < 0 bounced off)",
                 &pos,
             ),
             panel(

@@ -104,7 +104,9 @@ pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), 
                 x_label: "rotation magnitude |w| (rad)".into(),
                 y_label: "worst error |(dpsi, dtheta, dphi) - w| (rad)".into(),
                 x: (decomp_map::MAG_MIN, std::f64::consts::PI),
-                y: (ERR_FLOOR, 100.0),
+                y: crate::chart::style::log_range(
+                    series.iter().flat_map(|s| s.points.iter().map(|p| p.1)),
+                ),
                 x_log: true,
                 y_log: true,
                 ..Axes::default()
