@@ -187,11 +187,11 @@ fn path_chart(file: &Path, res: &RunResult) -> Result<(), ChartError> {
         620,
         &[
             panel(
-                format!("{name}: contact path on the object (object frame)"),
+                format!("{name}: where did the contact travel on the object? (object frame)"),
                 path_series(&res.rows, |r| r.object_point_m),
             ),
             panel(
-                format!("{name}: contact path on the fingertip (fingertip frame)"),
+                format!("{name}: and on the fingertip? (fingertip frame)"),
                 path_series(&res.rows, |r| r.finger_point_m),
             ),
         ],

@@ -323,16 +323,19 @@ fn draw_rk45<'a, 'b: 'a>(
         let (a, b) = (xy(first), xy(last));
         let apart = (a.0 / b.0).log10().abs() > 0.15 || (a.1 / b.1).log10().abs() > 0.5;
         let rt = |p: &Point| p.rtol.map_or(String::new(), |r| format!("{r:.0e}"));
+        // Restart's labels below its points, single-call's above, so the two never meet; the
+        // loosest left of its point, the tightest right of it.
+        let dy = if call == Rk45Call::Restart { 6 } else { -16 };
         let labels = if apart {
-            vec![(a, rt(first)), (b, rt(last))]
+            vec![(a, rt(first), -34), (b, rt(last), 7)]
         } else {
-            vec![(b, format!("{} … {}", rt(first), rt(last)))]
+            vec![(b, format!("{} … {}", rt(first), rt(last)), 7)]
         };
-        for (p, t) in labels {
+        for (p, t, dx) in labels {
             chart
                 .draw_series(std::iter::once(
                     EmptyElement::at(p)
-                        + Text::new(t, (7, -4), (FONT, 11).into_font().color(&color)),
+                        + Text::new(t, (dx, dy), (FONT, 11).into_font().color(&color)),
                 ))
                 .map_err(drawing_err)?;
         }

@@ -244,6 +244,12 @@ pub fn legend_width<'s>(labels: impl IntoIterator<Item = &'s str>, font_size: u3
     (chars as f64 * 0.55 * f64::from(font_size)).ceil() as u32 + 56
 }
 
+/// `c` drawn at opacity `alpha` on white, as one opaque colour (for a legend key of a pale line).
+pub fn on_white(c: RGBColor, alpha: f64) -> RGBColor {
+    let m = |v: u8| (f64::from(v) * alpha + 255.0 * (1.0 - alpha)).round() as u8;
+    RGBColor(m(c.0), m(c.1), m(c.2))
+}
+
 /// What a legend entry's key looks like.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Key {

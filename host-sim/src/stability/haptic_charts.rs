@@ -72,7 +72,7 @@ fn kmax_chart(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), ChartError
         }),
     ];
     let title = format!(
-        "Virtual wall K_max vs control rate (m = {} kg, b = {} N s/m, B = 0)",
+        "How stiff can a sampled wall be? K_max vs control rate (m = {} kg, b = {} N s/m, B = 0)",
         d.mass_kg, d.damping
     );
     let axes = rate_axes(
@@ -135,7 +135,7 @@ fn energy_panel(rows: &[RateRow], delay: usize) -> (Axes, Vec<Series>) {
     (
         Axes {
             title: format!(
-                "Energy late / early after a wall hit, {}",
+                "Does a wall hit gain energy? Late / early energy, {}",
                 if delay == 0 {
                     "no delay"
                 } else {

@@ -255,8 +255,14 @@ pub fn drift_charts(out: &Path, runs: &[DriftRun]) -> Result<(), ChartError> {
         760,
         560,
         &[
-            (axes("Plane contact point drift (f32)"), mk(false)),
-            (axes("Fingertip contact point drift (f32)"), mk(true)),
+            (
+                axes("Does f32 drift over a long run? Plane contact point"),
+                mk(false),
+            ),
+            (
+                axes("Does f32 drift over a long run? Fingertip contact point"),
+                mk(true),
+            ),
         ],
     )
 }
