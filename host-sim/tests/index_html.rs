@@ -173,8 +173,10 @@ fn chart_and_stability_pages_show_every_chart_in_a_browser() {
         "stability",
         "--drift-steps",
         "1000",
+        // 0.2 s is too short to find a passive wall at 10 kHz (the command then fails); 0.3 s
+        // finds one.
         "--haptic-seconds",
-        "0.2",
+        "0.3",
         "--skip-closed-loop",
         "--chatter-steps",
         "1000",
