@@ -159,6 +159,9 @@ fn chart_writes_its_svgs_and_skips_the_mcu_chart_without_json() {
         "host-sim",
         "chart",
         "--quick",
+        // Two rates (RK45 runs at every rate; 20 kHz takes minutes in a debug build).
+        "--rates-hz",
+        "100,1000",
         "--out",
         dir.to_str().unwrap(),
         "--mcu-json",

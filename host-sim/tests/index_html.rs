@@ -1,6 +1,6 @@
-//! `host-sim run`'s `index.html`, opened in a headless browser: every chart the run wrote is on
-//! the page and loads with a non-zero size, and the page's own check notices a missing or broken
-//! chart. Needs Debian's `chromium-headless-shell` (or `chromium`); without one the browser part is
+//! `host-sim run`'s, `chart`'s and `stability`'s `index.html`, opened in a headless browser: every
+//! chart the command wrote is on the page and loads with a non-zero size, and the page's own check
+//! notices a missing or broken chart. Needs Debian's `chromium-headless-shell` (or `chromium`); without one the browser part is
 //! skipped with a message, unless the environment variable `CI` is set, where it is required.
 
 use std::path::{Path, PathBuf};
@@ -147,4 +147,70 @@ fn index_html_shows_the_summary_and_every_chart_in_a_browser() {
     assert_eq!(bad.total, svgs.len());
     assert_eq!(bad.broken, ["forces.svg", "contact_path.svg"]);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `chart` (one rate, quick timing) and `stability` (short runs) write an index.html showing every
+/// chart they wrote, and every chart loads in the browser.
+#[test]
+fn chart_and_stability_pages_show_every_chart_in_a_browser() {
+    let root = std::env::temp_dir().join(format!("softfinger-pages-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    let (chart, stability) = (root.join("chart"), root.join("stability"));
+    let code = host_sim::cli::run([
+        "host-sim",
+        "chart",
+        "--quick",
+        "--rates-hz",
+        "100",
+        "--mcu-json",
+        root.join("none.json").to_str().unwrap(),
+        "--out",
+        chart.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0);
+    let code = host_sim::cli::run([
+        "host-sim",
+        "stability",
+        "--drift-steps",
+        "1000",
+        // 0.2 s is too short to find a passive wall at 10 kHz (the command then fails); 0.3 s
+        // finds one.
+        "--haptic-seconds",
+        "0.3",
+        "--skip-closed-loop",
+        "--chatter-steps",
+        "1000",
+        "--out",
+        stability.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0);
+    let browser = find_browser();
+    for dir in [&chart, &stability] {
+        let index = dir.join("index.html");
+        let html = std::fs::read_to_string(&index).unwrap();
+        let svgs = svgs_in(dir);
+        assert!(svgs.len() >= 3, "{svgs:?}");
+        for f in &svgs {
+            assert!(html.contains(&format!("<img src=\"{f}\"")), "{f} not shown");
+        }
+        let Some(browser) = &browser else {
+            assert!(
+                std::env::var_os("CI").is_none(),
+                "CI is set and no headless browser found (tried {BROWSERS:?})"
+            );
+            eprintln!("SKIPPED the browser check: no headless browser found");
+            continue;
+        };
+        let ok = browser_check(browser, &index, &dir.join(".browser-profile"));
+        assert_eq!(
+            ok,
+            Check {
+                total: svgs.len(),
+                broken: vec![]
+            },
+            "{}",
+            dir.display()
+        );
+    }
+    let _ = std::fs::remove_dir_all(&root);
 }

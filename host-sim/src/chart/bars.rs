@@ -1,6 +1,8 @@
 //! Grouped bar charts on a log y axis, in the style of [`super::style`].
 
-use super::style::{draw_legend, drawing_err, fmt_num, render_svg, Area, FONT};
+use super::style::{
+    draw_side_legend, drawing_err, fmt_num, render_svg, split_for_legend, Area, Entry, Key, FONT,
+};
 use crate::error::ChartError;
 use plotters::prelude::*;
 use std::path::Path;
@@ -22,7 +24,7 @@ pub struct BarChart<'a> {
 impl BarChart<'_> {
     /// Renders the chart and writes it atomically to `path`.
     pub fn write(&self, path: &Path) -> Result<(), ChartError> {
-        render_svg(path, (1000, 560), |root| self.draw(root))
+        render_svg(path, (1200, 560), |root| self.draw(root))
     }
 
     fn draw(&self, root: &Area) -> Result<(), ChartError> {
@@ -37,8 +39,21 @@ impl BarChart<'_> {
         } = *self;
         let e = drawing_err;
         let nc = categories.len() as f64;
+        // The legend beside the bars, off the data.
+        let entries: Vec<Entry> = groups
+            .iter()
+            .map(|(label, color)| Entry {
+                label: label.clone(),
+                key: Key::Fill(*color),
+            })
+            .collect();
+        let root = &root.titled(title, (FONT, 20)).map_err(e)?;
+        let (root, legend) = split_for_legend(root, &entries, 12);
+        if let Some(l) = &legend {
+            draw_side_legend(&l.margin(10, 0, 0, 0), &entries, 12)?;
+        }
+        let root = &root;
         let mut chart = ChartBuilder::on(root)
-            .caption(title, (FONT, 20))
             .margin(14)
             .x_label_area_size(50)
             .y_label_area_size(78)
@@ -103,6 +118,6 @@ impl BarChart<'_> {
             ))
             .map_err(e)?;
         }
-        draw_legend(&mut chart, SeriesLabelPosition::UpperLeft, 12)
+        Ok(())
     }
 }

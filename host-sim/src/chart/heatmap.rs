@@ -69,18 +69,20 @@ fn edges(c: &[f64], log: bool) -> Vec<f64> {
     e
 }
 
-/// Heatmaps side by side plus a colour bar labelled `bar_label` over [vmin, vmax], written
-/// atomically to `path`.
+/// Heatmaps side by side under the figure's `title`, plus a colour bar labelled `bar_label` over
+/// [vmin, vmax] (log10 of the value), written atomically to `path`.
 pub fn heatmap(
     path: &Path,
+    title: &str,
     panels: &[HeatPanel],
     vmin: f64,
     vmax: f64,
     bar_label: &str,
 ) -> Result<(), ChartError> {
     let n = panels.len().max(1) as u32;
-    let (pw, h, bar_w) = (520u32, 520u32, 150u32);
-    render_svg(path, (pw * n + bar_w, h), |root| {
+    let (pw, h, bar_w, title_h) = (520u32, 520u32, 190u32, 40u32);
+    render_svg(path, (pw * n + bar_w, h + title_h), |root| {
+        let root = root.titled(title, (FONT, 21)).map_err(style::drawing_err)?;
         let (maps, bar) = root.split_horizontally(pw * n);
         for (area, p) in maps.split_evenly((1, n as usize)).iter().zip(panels) {
             heat_panel(area, p, vmin, vmax)?;
@@ -125,10 +127,11 @@ fn heat_panel(area: &Area, p: &HeatPanel, vmin: f64, vmax: f64) -> Result<(), Ch
             } else {
                 viridis((v - vmin) / (vmax - vmin))
             };
-            cells.push(Rectangle::new(
-                [(xe[ix], ye[iy]), (xe[ix + 1], ye[iy + 1])],
-                color.filled(),
-            ));
+            // Filled and outlined in its own colour: neighbours overlap by the outline, so no
+            // background shows between cells (seams) when the viewer antialiases their edges.
+            let corners = [(xe[ix], ye[iy]), (xe[ix + 1], ye[iy + 1])];
+            cells.push(Rectangle::new(corners, color.filled()));
+            cells.push(Rectangle::new(corners, color.stroke_width(1)));
             if failed {
                 marks.push((p.x[ix], p.y[iy]));
             }
@@ -146,8 +149,12 @@ fn heat_panel(area: &Area, p: &HeatPanel, vmin: f64, vmax: f64) -> Result<(), Ch
     Ok(())
 }
 
-/// The colour bar over [vmin, vmax] labelled `bar_label`, with the failure colour's key below.
+/// The colour bar over [vmin, vmax] (log10 of the value) labelled `bar_label` above it, ticks
+/// written as the value itself, with the failure colour's key below.
 fn colour_bar(bar: &Area, vmin: f64, vmax: f64, bar_label: &str) -> Result<(), ChartError> {
+    // The label horizontal above the bar (a rotated one is tiny and hard to read).
+    bar.draw(&Text::new(bar_label, (4, 8), (FONT, 14).into_font()))
+        .map_err(style::drawing_err)?;
     let mut cb = ChartBuilder::on(bar)
         .margin_top(40)
         .margin_bottom(60)
@@ -160,7 +167,7 @@ fn colour_bar(bar: &Area, vmin: f64, vmax: f64, bar_label: &str) -> Result<(), C
     cb.configure_mesh()
         .disable_mesh()
         .disable_x_axis()
-        .y_desc(bar_label)
+        .y_label_formatter(&|v| format!("{} rad", fmt_num(10f64.powf(*v))))
         .label_style((FONT, 12))
         .axis_desc_style((FONT, 13))
         .draw()
@@ -174,6 +181,13 @@ fn colour_bar(bar: &Area, vmin: f64, vmax: f64, bar_label: &str) -> Result<(), C
             viridis(i as f64 / (steps - 1) as f64).filled(),
         )
     }))
+    .map_err(style::drawing_err)?;
+    // The top of the scale is the data's largest value: name it at the bar's top.
+    bar.draw(&Text::new(
+        format!("top: {} rad (largest)", fmt_num(10f64.powf(vmax))),
+        (4, 24),
+        (FONT, 12).into_font(),
+    ))
     .map_err(style::drawing_err)?;
     let (_, bh) = bar.dim_in_pixel();
     bar.draw(&Rectangle::new(

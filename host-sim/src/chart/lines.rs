@@ -5,7 +5,10 @@
 //! as long on x as on y). Log axes cannot show zero or negative values: callers clamp to a stated
 //! floor.
 
-use super::style::{draw_axes, draw_legend, drawing_err, render_svg, Area, ContactPhase, FONT};
+use super::style::{
+    draw_axes, draw_legend, draw_side_legend, drawing_err, render_svg, split_for_legend, Area,
+    ContactPhase, Entry, Key, Shape, FONT,
+};
 use crate::error::ChartError;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
@@ -49,6 +52,13 @@ pub struct Band {
     pub label: String,
 }
 
+/// A labelled vertical line at `x` (x units), e.g. the start of a script phase.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mark {
+    pub x: f64,
+    pub label: String,
+}
+
 /// Axes of one panel. Ranges are (min, max); log axes need min > 0.
 #[derive(Clone, Debug, Default)]
 pub struct Axes {
@@ -59,11 +69,18 @@ pub struct Axes {
     pub y: (f64, f64),
     pub x_log: bool,
     pub y_log: bool,
+    /// Ticks of a log y axis (empty: the decades plotters picks; give them when the axis spans
+    /// more than a decade but the data need labels between decades).
+    pub y_ticks: Vec<f64>,
     /// Drawn pale behind the series, with legend entries before theirs.
     pub bands: Vec<Band>,
+    /// Vertical marks across the plot, each labelled at its top (e.g. where a script phase
+    /// begins).
+    pub marks: Vec<Mark>,
     /// Widen the shorter range so one unit is as long on x as on y (linear axes only).
     pub equal_scale: bool,
-    /// Where the legend goes (default upper left).
+    /// Where the legend goes: `None` (the default) beside the plot, off the data; `Some` inside
+    /// the plot at that corner (only for a corner the data leave empty).
     pub legend_at: Option<SeriesLabelPosition>,
 }
 
@@ -148,6 +165,15 @@ fn panel(area: &Area, axes: &Axes, series: &[Series]) -> Result<(), ChartError> 
         .titled(&axes.title, (FONT, 20))
         .map_err(drawing_err)?;
     let (mut x, mut y) = (axes.x, axes.y);
+    let entries = if axes.legend_at.is_none() {
+        legend_entries(axes, series)
+    } else {
+        Vec::new()
+    };
+    let (inner, legend) = split_for_legend(&inner, &entries, LEGEND_FONT);
+    if let Some(l) = &legend {
+        draw_side_legend(l, &entries, LEGEND_FONT)?;
+    }
     if axes.equal_scale && !axes.x_log && !axes.y_log {
         let (w, h) = inner.dim_in_pixel();
         let plot = (
@@ -157,7 +183,24 @@ fn panel(area: &Area, axes: &Axes, series: &[Series]) -> Result<(), ChartError> 
         (x, y) = equal_ranges(x, y, plot);
     }
     let r = (x, y);
+    let ticks = axes.y_ticks.clone();
     match (axes.x_log, axes.y_log) {
+        (true, true) if !ticks.is_empty() => draw_panel(
+            &inner,
+            axes,
+            r,
+            series,
+            (x.0..x.1).log_scale(),
+            (y.0..y.1).log_scale().with_key_points(ticks),
+        ),
+        (false, true) if !ticks.is_empty() => draw_panel(
+            &inner,
+            axes,
+            r,
+            series,
+            x.0..x.1,
+            (y.0..y.1).log_scale().with_key_points(ticks),
+        ),
         (true, true) => draw_panel(
             &inner,
             axes,
@@ -173,6 +216,37 @@ fn panel(area: &Area, axes: &Axes, series: &[Series]) -> Result<(), ChartError> 
 }
 
 type Ranges = ((f64, f64), (f64, f64));
+
+/// Font size of the legends, px.
+const LEGEND_FONT: u32 = 12;
+
+/// The legend beside a panel: each band label once, then each labelled series.
+fn legend_entries(axes: &Axes, series: &[Series]) -> Vec<Entry> {
+    let mut out: Vec<Entry> = Vec::new();
+    for b in &axes.bands {
+        if !out.iter().any(|e| e.label == b.label) {
+            out.push(Entry {
+                label: b.label.clone(),
+                key: Key::Band(b.color),
+            });
+        }
+    }
+    for s in series.iter().filter(|s| !s.label.is_empty()) {
+        let c = s.color;
+        let key = match s.style {
+            Style::Line => Key::Line(c, None),
+            Style::Dashed => Key::Line(c, Some((6, 4))),
+            Style::Dotted => Key::Line(c, Some((2, 3))),
+            Style::Markers => Key::Marker(c, Shape::Circle),
+            Style::LineMarkers => Key::LineMarker(c, Shape::Circle),
+        };
+        out.push(Entry {
+            label: s.label.clone(),
+            key,
+        });
+    }
+    out
+}
 
 fn draw_panel<X, Y>(
     area: &Area,
@@ -195,6 +269,7 @@ where
         .map_err(drawing_err)?;
     draw_axes(&mut chart, &axes.x_label, &axes.y_label)?;
     draw_bands(&mut chart, &axes.bands, xr, yr)?;
+    draw_marks(&mut chart, &axes.marks, xr, yr)?;
     let inside = |&(px, py): &(f64, f64)| {
         px.is_finite() && py.is_finite() && px >= xr.0 && px <= xr.1 && py >= yr.0 && py <= yr.1
     };
@@ -202,13 +277,10 @@ where
         let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(inside).collect();
         draw_series(&mut chart, s, pts)?;
     }
-    draw_legend(
-        &mut chart,
-        axes.legend_at
-            .clone()
-            .unwrap_or(SeriesLabelPosition::UpperLeft),
-        12,
-    )
+    match axes.legend_at.clone() {
+        Some(at) => draw_legend(&mut chart, at, LEGEND_FONT),
+        None => Ok(()),
+    }
 }
 
 /// The bands, pale, clipped to the x range, each label once in the legend.
@@ -234,6 +306,53 @@ where
             anno.label(b.label.as_str())
                 .legend(move |(lx, ly)| Rectangle::new([(lx, ly - 6), (lx + 16, ly + 6)], key));
         }
+    }
+    Ok(())
+}
+
+/// The marks: a dashed dark line each, its label at the plot's top just right of it; a label
+/// that would run into the one before it goes one row lower (up to three rows).
+fn draw_marks<'a, 'b: 'a, X, Y>(
+    chart: &mut ChartContext<'a, SVGBackend<'b>, Cartesian2d<X, Y>>,
+    marks: &[Mark],
+    xr: (f64, f64),
+    yr: (f64, f64),
+) -> Result<(), ChartError>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    const ROW_PX: i32 = 15;
+    let dark = RGBColor(60, 60, 60);
+    let mut row_end: [i32; 3] = [i32::MIN; 3];
+    // A mark in the last 1 % of the range would put its label past the plot's edge.
+    let end = xr.1 - 0.01 * (xr.1 - xr.0);
+    for m in marks.iter().filter(|m| m.x >= xr.0 && m.x < end) {
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(m.x, yr.0), (m.x, yr.1)],
+                4,
+                3,
+                ShapeStyle::from(&dark).stroke_width(1),
+            ))
+            .map_err(drawing_err)?;
+        let px = chart.backend_coord(&(m.x, yr.1)).0;
+        let width = (m.label.chars().count() as f64 * 0.6 * 12.0).ceil() as i32 + 6;
+        let row = (0..row_end.len())
+            .find(|&r| row_end[r] < px)
+            .unwrap_or(row_end.len() - 1);
+        row_end[row] = px + width;
+        chart
+            .plotting_area()
+            .draw(
+                &(EmptyElement::at((m.x, yr.1))
+                    + Text::new(
+                        m.label.clone(),
+                        (3, 3 + ROW_PX * row as i32),
+                        (FONT, 12).into_font().color(&dark),
+                    )),
+            )
+            .map_err(drawing_err)?;
     }
     Ok(())
 }

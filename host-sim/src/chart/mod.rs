@@ -3,9 +3,11 @@
 //! and its `index.html` ([`index_page`]), and the `chart` command: speed against accuracy, as SVG
 //! charts.
 //!
-//! - `speed-accuracy.svg`: time per step (ns, log) against the largest contact-path error (mm, log) for
-//!   every method × math backend × sampling rate ([`points::RATES_HZ`], the paper's motion for 1 s), and
-//!   the classical RK45 at `rtol` 1e-3 … 1e-12 as its own curves; the Pareto front drawn as a staircase.
+//! - `speed-accuracy.svg`: time per step (ns, log) against the largest contact-path error (mm, log), one
+//!   panel per sampling rate ([`points::RATES_HZ`], the paper's motion for 1 s): every method × math
+//!   backend and the classical RK45 at `rtol` 1e-3 … 1e-12, each point with its timing quartiles; the
+//!   Pareto front of each rate as a staircase, ties kept where the timing spreads overlap.
+//! - `index.html`: the printed summary and every chart ([`index_page`]).
 //! - `fig3-trajectories.svg`: the paper's Fig. 3, contact paths on the plane and on the sphere, classical
 //!   against ours (exact, rpy), as x-y and x-z projections.
 //! - `mcu-speed-accuracy.svg`: instructions per step on the emulated Cortex-M4F (from `scripts/mcu-bench
@@ -66,7 +68,8 @@ pub struct ChartReport {
     pub files: Vec<PathBuf>,
     /// The speed–accuracy points.
     pub points: Vec<Point>,
-    /// Indices of `points` on the Pareto front, by increasing time.
+    /// Indices of `points` on each rate's Pareto front ([`speed_accuracy::front`]), by rate then
+    /// increasing time.
     pub front: Vec<usize>,
     /// The MCU points, if an mcu-bench JSON was found.
     pub mcu: Option<Vec<mcu::McuPoint>>,
@@ -159,13 +162,21 @@ pub fn run(args: &Args) -> Result<ChartReport, ChartCommandError> {
         ));
         None
     };
-    Ok(ChartReport {
+    let mut report = ChartReport {
         files,
         points: pts,
         front,
         mcu,
         notes,
-    })
+    };
+    let page = index_page::write(
+        &args.out,
+        "host-sim chart: speed against accuracy",
+        &summary(&report),
+        &report.files,
+    )?;
+    report.files.push(page);
+    Ok(report)
 }
 
 /// The paper scene's paths for Fig. 3: the RK45 reference, ours exact/libm and rpy/libm.
@@ -197,25 +208,33 @@ fn fig3() -> Result<trajectories::Trajectories, ChartCommandError> {
 /// The printed summary: files, the plotted points (front marked), the MCU points, notes.
 pub fn summary(r: &ChartReport) -> String {
     let mut out = String::new();
-    let _ = writeln!(out, "Speed vs accuracy points (* = on the Pareto front):");
     let _ = writeln!(
         out,
-        "  {:<28} {:>9} {:>8} {:>10} {:>12}",
-        "series", "rate", "rtol", "ns/step", "max err (mm)"
+        "Speed vs accuracy points (* = on its rate's Pareto front; ns/step median, q1-q3 over the rounds):"
+    );
+    let _ = writeln!(
+        out,
+        "  {:<28} {:>9} {:>8} {:>10} {:>21} {:>12}",
+        "series", "rate", "rtol", "ns/step", "q1-q3", "max err (mm)"
     );
     for (i, p) in r.points.iter().enumerate() {
         let mark = if r.front.contains(&i) { "*" } else { " " };
         let _ = writeln!(
             out,
-            "{mark} {:<28} {:>9} {:>8} {:>10.1} {:>12.2e}",
+            "{mark} {:<28} {:>9} {:>8} {:>10.1} {:>21} {:>12.2e}",
             p.series.name(),
             speed_accuracy::rate_label(p.rate_hz),
             p.rtol.map_or("-".to_string(), |r| format!("{r:.0e}")),
             p.ns_per_step,
+            format!("{:.1}-{:.1}", p.ns_quartiles.0, p.ns_quartiles.1),
             p.error_mm
         );
     }
-    let _ = writeln!(out, "\nPareto front, by increasing time:");
+    let _ = writeln!(
+        out,
+        "\nPareto front per rate, by increasing time (points whose timing quartiles overlap and \
+         whose errors are equal are both kept):"
+    );
     for &i in &r.front {
         let p = &r.points[i];
         let _ = writeln!(

@@ -7,11 +7,10 @@
 //!   (fingertip frame) in two panels, x-y, each with equal axes (1 mm is as long on x as on y), the
 //!   path coloured by the state it was traced in and its start marked.
 
-use super::lines::{line_chart, phase_bands, stacked_chart, Axes, Series, Style};
+use super::lines::{line_chart, phase_bands, stacked_chart, Axes, Mark, Series, Style};
 use super::style::{linear_range, state_color, ContactPhase, PALETTE};
 use crate::error::ChartError;
 use crate::run::{Row, RunResult};
-use plotters::prelude::SeriesLabelPosition;
 use plotters::style::BLACK;
 use softfinger_core::contact::state::ContactState;
 use std::path::{Path, PathBuf};
@@ -51,6 +50,7 @@ fn force_chart(file: &Path, res: &RunResult) -> Result<(), ChartError> {
         series("Fy", PALETTE[4], &|r| f64::from(r.force_n[1])),
         series("Fz", BLACK, &|r| f64::from(r.force_n[2])),
     ];
+    let marks = phase_marks(rows, 1.0 / res.scene.rate_hz);
     let torque = vec![series("τn", PALETTE[5], &|r| f64::from(r.tau_n_nm) * 1e3)];
     let t = (
         rows.first()
@@ -62,14 +62,14 @@ fn force_chart(file: &Path, res: &RunResult) -> Result<(), ChartError> {
         x_label: "time since arming (s)".into(),
         y_label: y_label.into(),
         x: t,
-        // Room above the lines for the legend.
+        // Room on top for the phase names.
         y: linear_range(
             s.iter().flat_map(|s| s.points.iter().map(|p| p.1)),
             0.1,
-            0.45,
+            0.2,
         ),
         bands: bands.clone(),
-        legend_at: Some(SeriesLabelPosition::UpperRight),
+        marks: marks.clone(),
         ..Axes::default()
     };
     let name = &res.scene.name;
@@ -80,7 +80,9 @@ fn force_chart(file: &Path, res: &RunResult) -> Result<(), ChartError> {
         &[
             (
                 axes(
-                    format!("{name}: rendered force (base frame), over the contact state"),
+                    format!(
+                        "{name}: what force was rendered in each script phase (dashed) and contact state (colour)?"
+                    ),
                     "force (N)",
                     &force,
                 ),
@@ -88,7 +90,7 @@ fn force_chart(file: &Path, res: &RunResult) -> Result<(), ChartError> {
             ),
             (
                 axes(
-                    format!("{name}: spin torque about the contact normal"),
+                    format!("{name}: spin torque about the contact normal, same phases and states"),
                     "spin torque τn (mN·m)",
                     &torque,
                 ),
@@ -96,6 +98,22 @@ fn force_chart(file: &Path, res: &RunResult) -> Result<(), ChartError> {
             ),
         ],
     )
+}
+
+/// Where each phase of the scene's script begins: the start of its first tick (`dt` long).
+fn phase_marks(rows: &[Row], dt: f64) -> Vec<Mark> {
+    let mut out: Vec<Mark> = Vec::new();
+    let mut last: Option<&str> = None;
+    for r in rows {
+        if last != Some(r.phase) {
+            out.push(Mark {
+                x: r.t_s - dt,
+                label: r.phase.to_string(),
+            });
+            last = Some(r.phase);
+        }
+    }
+    out
 }
 
 /// One path (mm, x-y) split where the state changes or the contact breaks, each piece in its
@@ -157,8 +175,7 @@ fn path_chart(file: &Path, res: &RunResult) -> Result<(), ChartError> {
             x_label: "x (mm)".into(),
             y_label: "y (mm)".into(),
             x: linear_range(xs, 0.5, 0.0),
-            // Room above the path for the legend.
-            y: linear_range(ys, 0.5, 0.3),
+            y: linear_range(ys, 0.5, 0.0),
             equal_scale: true,
             ..Axes::default()
         };
@@ -170,11 +187,11 @@ fn path_chart(file: &Path, res: &RunResult) -> Result<(), ChartError> {
         620,
         &[
             panel(
-                format!("{name}: contact path on the object (object frame)"),
+                format!("{name}: where did the contact travel on the object? (object frame)"),
                 path_series(&res.rows, |r| r.object_point_m),
             ),
             panel(
-                format!("{name}: contact path on the fingertip (fingertip frame)"),
+                format!("{name}: and on the fingertip? (fingertip frame)"),
                 path_series(&res.rows, |r| r.finger_point_m),
             ),
         ],
@@ -201,6 +218,23 @@ mod tests {
             duties: [0.0; 3],
             hand_force_n: [0.0; 3],
         }
+    }
+
+    /// A mark where each script phase begins, at the start of its first tick.
+    #[test]
+    fn phases_are_marked_where_they_begin() {
+        let mut rows: Vec<Row> = (1..=5)
+            .map(|k| row(0.1 * k as f64, ContactState::Rolling, 0.0))
+            .collect();
+        rows[2].phase = "slide";
+        rows[3].phase = "slide";
+        rows[4].phase = "lift-off";
+        let m = phase_marks(&rows, 0.1);
+        let got: Vec<(i64, &str)> = m
+            .iter()
+            .map(|m| ((m.x * 10.0).round() as i64, m.label.as_str()))
+            .collect();
+        assert_eq!(got, vec![(0, "roll"), (2, "slide"), (4, "lift-off")]);
     }
 
     /// Pieces per state run, joined at state changes, broken ticks left out, each state named

@@ -230,6 +230,148 @@ where
         .map_err(drawing_err)
 }
 
+/// Width (px) of a legend of `labels` at `font_size` beside a plot: the longest label at about
+/// 0.55 of the font size per character, plus the key and the box's padding.
+pub fn legend_width<'s>(labels: impl IntoIterator<Item = &'s str>, font_size: u32) -> u32 {
+    let chars = labels
+        .into_iter()
+        .map(|l| l.chars().count())
+        .max()
+        .unwrap_or(0);
+    if chars == 0 {
+        return 0;
+    }
+    (chars as f64 * 0.55 * f64::from(font_size)).ceil() as u32 + 56
+}
+
+/// `c` drawn at opacity `alpha` on white, as one opaque colour (for a legend key of a pale line).
+pub fn on_white(c: RGBColor, alpha: f64) -> RGBColor {
+    let m = |v: u8| (f64::from(v) * alpha + 255.0 * (1.0 - alpha)).round() as u8;
+    RGBColor(m(c.0), m(c.1), m(c.2))
+}
+
+/// What a legend entry's key looks like.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Key {
+    /// A pale filled box (a band behind the data).
+    Band(RGBColor),
+    /// A filled box (a bar).
+    Fill(RGBColor),
+    /// A line, solid or dashed (`Some((dash, gap))`, px).
+    Line(RGBColor, Option<(u32, u32)>),
+    /// A marker of that shape.
+    Marker(RGBColor, Shape),
+    /// A line with a marker on it.
+    LineMarker(RGBColor, Shape),
+}
+
+/// One legend entry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Entry {
+    pub label: String,
+    pub key: Key,
+}
+
+/// Pixel height of one legend row at `font_size`.
+fn legend_row(font_size: u32) -> i32 {
+    font_size as i32 + 6
+}
+
+/// Draws `entries` as a legend in their own `area` (beside the plot, off the data): a key and
+/// its label per row from the top, in a white box with a black border; returns the legend's
+/// height (px).
+pub fn draw_side_legend(area: &Area, entries: &[Entry], font_size: u32) -> Result<i32, ChartError> {
+    if entries.is_empty() {
+        return Ok(0);
+    }
+    let row = legend_row(font_size);
+    let (w, _) = area.dim_in_pixel();
+    let h = row * entries.len() as i32 + 10;
+    area.draw(&Rectangle::new(
+        [(0, 0), (w as i32 - 4, h)],
+        ShapeStyle::from(&BLACK).stroke_width(1),
+    ))
+    .map_err(drawing_err)?;
+    for (k, e) in entries.iter().enumerate() {
+        let y = 5 + row * k as i32 + row / 2;
+        let (x0, x1) = (8, 28);
+        match e.key {
+            Key::Band(c) => area
+                .draw(&Rectangle::new(
+                    [(x0, y - 6), (x1, y + 6)],
+                    c.mix(0.45).filled(),
+                ))
+                .map_err(drawing_err)?,
+            Key::Fill(c) => area
+                .draw(&Rectangle::new([(x0, y - 6), (x1, y + 6)], c.filled()))
+                .map_err(drawing_err)?,
+            Key::Line(c, dash) => {
+                let st = ShapeStyle::from(&c).stroke_width(2);
+                match dash {
+                    None => area
+                        .draw(&PathElement::new(vec![(x0, y), (x1, y)], st))
+                        .map_err(drawing_err)?,
+                    Some((d, g)) => {
+                        let mut x = x0;
+                        while x < x1 {
+                            let e = (x + d as i32).min(x1);
+                            area.draw(&PathElement::new(vec![(x, y), (e, y)], st))
+                                .map_err(drawing_err)?;
+                            x = e + g as i32;
+                        }
+                    }
+                }
+            }
+            Key::Marker(c, shape) | Key::LineMarker(c, shape) => {
+                if matches!(e.key, Key::LineMarker(..)) {
+                    area.draw(&PathElement::new(
+                        vec![(x0, y), (x1, y)],
+                        ShapeStyle::from(&c).stroke_width(2),
+                    ))
+                    .map_err(drawing_err)?;
+                }
+                area.draw(
+                    &(EmptyElement::at(((x0 + x1) / 2, y))
+                        + Polygon::new(shape.offsets(4), c.filled())),
+                )
+                .map_err(drawing_err)?;
+            }
+        }
+        area.draw(&Text::new(
+            e.label.clone(),
+            (x1 + 8, y - font_size as i32 / 2 - 1),
+            (FONT, font_size).into_font(),
+        ))
+        .map_err(drawing_err)?;
+    }
+    Ok(h)
+}
+
+/// Splits `area` into the plot (left) and a legend column of [`legend_width`] of `entries`
+/// (right; empty when there are no entries).
+pub fn split_for_legend<'a>(
+    area: &Area<'a>,
+    entries: &[Entry],
+    font_size: u32,
+) -> (Area<'a>, Option<Area<'a>>) {
+    let lw = legend_width(entries.iter().map(|e| e.label.as_str()), font_size);
+    let (w, h) = area.dim_in_pixel();
+    if lw == 0 {
+        return (area.clone(), None);
+    }
+    if f64::from(lw) > 0.35 * f64::from(w) {
+        // Too wide beside the plot: below it, across the panel.
+        let lh = (legend_row(font_size) * entries.len() as i32 + 14) as u32;
+        if lh + 150 >= h {
+            return (area.clone(), None);
+        }
+        let (plot, legend) = area.split_vertically(h - lh);
+        return (plot, Some(legend.margin(4, 0, 80, 0)));
+    }
+    let (plot, legend) = area.split_horizontally(w - lw);
+    (plot, Some(legend.margin(8, 0, 4, 0)))
+}
+
 /// Draws a polyline, optionally with a legend entry.
 pub fn draw_line<'a, 'b: 'a, CT>(
     chart: &mut ChartContext<'a, SVGBackend<'b>, CT>,

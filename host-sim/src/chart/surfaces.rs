@@ -6,8 +6,8 @@ use crate::error::ChartError;
 use plotters::prelude::*;
 
 use super::style::{
-    draw_axes, draw_legend, draw_line, drawing_err, log_range, svg_string, ERROR_FLOOR_MM, FONT,
-    SURFACE_COLORS,
+    draw_axes, draw_line, draw_side_legend, drawing_err, log_range, on_white, split_for_legend,
+    svg_string, Entry, Key, ERROR_FLOOR_MM, FONT, SURFACE_COLORS,
 };
 use crate::validate::surfaces::{SurfaceErrors, DURATION_S, FINGER_R, OBJECT_R, RATE_HZ};
 
@@ -49,16 +49,39 @@ pub fn svg(series: &[SurfaceErrors]) -> Result<String, ChartError> {
                 .iter()
                 .flat_map(|(_, o, f)| o.iter().chain(f.iter()).map(|p| p.1)),
         );
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                format!(
-                    "Rolling on every surface vs the Montana-form RK45 reference (rtol 1e-12): \
-                     {DURATION_S} s at {RATE_HZ} Hz, fingertip {} mm, object {} mm, exact method, Fast backend",
+        let root = root
+            .titled(
+                &format!(
+                    "How far does our rolling drift from the Montana-form RK45 reference (rtol 1e-12) on each surface? \
+                     {DURATION_S} s at {RATE_HZ} Hz, fingertip {} mm, object {} mm, exact, Fast backend",
                     FINGER_R * 1e3,
                     OBJECT_R * 1e3
                 ),
-                (FONT, 16),
+                (FONT, 15),
             )
+            .map_err(drawing_err)?;
+        let entries: Vec<Entry> = lines
+            .iter()
+            .enumerate()
+            .flat_map(|(i, (e, _, _))| {
+                let color = SURFACE_COLORS[i % SURFACE_COLORS.len()];
+                [
+                    Entry {
+                        label: format!("{}: object point", e.surface),
+                        key: Key::Line(color, None),
+                    },
+                    Entry {
+                        label: format!("{}: fingertip point", e.surface),
+                        key: Key::Line(on_white(color, 0.6), None),
+                    },
+                ]
+            })
+            .collect();
+        let (root, legend) = split_for_legend(&root, &entries, 13);
+        if let Some(l) = &legend {
+            draw_side_legend(&l.margin(16, 0, 0, 0), &entries, 13)?;
+        }
+        let mut chart = ChartBuilder::on(&root)
             .margin(16)
             .x_label_area_size(50)
             .y_label_area_size(80)
@@ -69,22 +92,11 @@ pub fn svg(series: &[SurfaceErrors]) -> Result<String, ChartError> {
             "time (s)",
             &format!("contact-point error (mm, log; below {ERROR_FLOOR_MM:.0e} drawn at it)"),
         )?;
-        for (i, (e, object, finger)) in lines.iter().enumerate() {
+        for (i, (_, object, finger)) in lines.iter().enumerate() {
             let color = SURFACE_COLORS[i % SURFACE_COLORS.len()];
-            draw_line(
-                &mut chart,
-                object,
-                color.stroke_width(2),
-                Some(&format!("{}: object point", e.surface)),
-            )?;
-            draw_line(
-                &mut chart,
-                finger,
-                color.mix(0.6).stroke_width(1),
-                Some(&format!("{}: fingertip point", e.surface)),
-            )?;
+            draw_line(&mut chart, object, color.stroke_width(2), None)?;
+            draw_line(&mut chart, finger, color.mix(0.6).stroke_width(1), None)?;
         }
-        draw_legend(&mut chart, SeriesLabelPosition::LowerRight, 14)?;
         Ok(())
     })
 }

@@ -3,7 +3,7 @@
 
 use super::haptic::TraceSample;
 use super::haptic::{self, Device, RateRow};
-use super::haptic_timing::{Impact, TimingRow, IMPACT_SECONDS, IMPACT_SPEED};
+use super::haptic_timing::{Impact, TimingRow, IMPACT_SPEED};
 use crate::chart::lines::{line_chart, Axes, Series, Style};
 use crate::chart::style::PALETTE;
 use crate::error::ChartError;
@@ -72,7 +72,7 @@ fn kmax_chart(out: &Path, d: &Device, rows: &[RateRow]) -> Result<(), ChartError
         }),
     ];
     let title = format!(
-        "Virtual wall K_max vs control rate (m = {} kg, b = {} N s/m, B = 0)",
+        "How stiff can a sampled wall be? K_max vs control rate (m = {} kg, b = {} N s/m, B = 0)",
         d.mass_kg, d.damping
     );
     let axes = rate_axes(
@@ -135,7 +135,7 @@ fn energy_panel(rows: &[RateRow], delay: usize) -> (Axes, Vec<Series>) {
     (
         Axes {
             title: format!(
-                "Energy late / early after a wall hit, {}",
+                "Does a wall hit gain energy? Late / early energy, {}",
                 if delay == 0 {
                     "no delay"
                 } else {
@@ -194,15 +194,35 @@ pub fn timing_chart(out: &Path, d: &Device, rows: &[TimingRow]) -> Result<(), Ch
             |r| r.measured_passivity,
         ),
     ];
-    let series: Vec<Series> = table
+    let mut series: Vec<Series> = table
         .iter()
         .map(|&(label, color, style, get)| pts(label, color, style, &get))
         .collect();
+    series.push(Series {
+        label: "1/3: the estimate 2b/(3T) with one tick of delay".into(),
+        color: RGBColor(0, 0, 0),
+        style: Style::Dotted,
+        points: vec![(900.0, 1.0 / 3.0), (22_000.0, 1.0 / 3.0)],
+    });
     let title = format!(
-        "Largest passive wall / (2b/T) vs control rate (m = {} kg, b = {} N s/m)",
+        "How stiff a wall stays passive at the firmware's timing? K_max / (2b/T) vs control rate (m = {} kg, b = {} N s/m)",
         d.mass_kg, d.damping
     );
-    let axes = rate_axes(title, "K_max / (2b/T)", (0.1, 100.0));
+    // Sized to the data (a decade-only log axis would have no tick between 0.1 and 1).
+    let ys = series.iter().flat_map(|s| s.points.iter().map(|p| p.1));
+    let (lo, hi) = ys
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+    let y = if lo <= hi {
+        (lo / 1.4, hi * 1.4)
+    } else {
+        (0.1, 10.0)
+    };
+    let mut axes = rate_axes(title, "K_max / (2b/T)", y);
+    axes.y_ticks = [0.2, 1.0 / 3.0, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0]
+        .into_iter()
+        .filter(|t| *t >= y.0 && *t <= y.1)
+        .collect();
     line_chart(
         &out.join("haptic_kmax_timing.svg"),
         1000,
@@ -211,18 +231,33 @@ pub fn timing_chart(out: &Path, d: &Device, rows: &[TimingRow]) -> Result<(), Ch
     )
 }
 
-/// Position and force against time for the fast impact, without and with passivity.
-pub fn impact_chart(out: &Path, imp: &Impact) -> Result<(), ChartError> {
+/// Length of the impact chart's traces, s: long enough for the run without the passivity stage
+/// to show where it goes (the figures' traces, `haptic_timing::IMPACT_SECONDS`, are 0.1 s).
+pub const IMPACT_CHART_SECONDS: f64 = 1.0;
+
+/// Position and force against time for the fast impact, without and with passivity, over
+/// [`IMPACT_CHART_SECONDS`] (the same runs as `imp`, continued), axes sized to the data.
+pub fn impact_chart(out: &Path, d: &Device, imp: &Impact) -> Result<(), ChartError> {
+    let trace = |pc| {
+        let mut v = Vec::new();
+        let l = super::haptic_timing::firmware_loop(d, imp.rate_hz, imp.delay_ticks, pc);
+        haptic::run_wall(&l, imp.stiffness, IMPACT_SPEED, IMPACT_CHART_SECONDS, |s| {
+            v.push(s)
+        });
+        v
+    };
+    let (without, with) = (trace(false), trace(true));
     let (red, green) = (PALETTE[3], PALETTE[2]);
     let s = |label: &str, color, tr: &[TraceSample], get: &dyn Fn(&TraceSample) -> f64| Series {
         label: label.into(),
         color,
         style: Style::Line,
-        points: tr.iter().map(|p| (p.time_s * 1e3, get(p))).collect(),
+        points: tr
+            .iter()
+            .step_by((tr.len() / 4000).max(1))
+            .map(|p| (p.time_s * 1e3, get(p)))
+            .collect(),
     };
-    let clamp = |v: f64, lim: f64| v.clamp(-lim, lim);
-    let x_lim = 4.0 * imp.ideal_peak_n / imp.stiffness * 1e3;
-    let f_lim = 4.0 * imp.ideal_peak_n;
     let title = |what: &str| {
         format!(
             "{what}: wall {:.0} N/mm hit at {} m/s, {} kHz, delay {:.2} tick",
@@ -232,38 +267,40 @@ pub fn impact_chart(out: &Path, imp: &Impact) -> Result<(), ChartError> {
             imp.delay_ticks
         )
     };
-    let pos = |p: &TraceSample| clamp(p.x_m * 1e3, x_lim);
-    let force = |p: &TraceSample| clamp(-p.force_n, f_lim);
-    let axes = |what: &str, y_label: String, lim: f64| Axes {
-        title: title(what),
-        x_label: "time (ms)".into(),
-        y_label,
-        x: (0.0, IMPACT_SECONDS * 1e3),
-        y: (-lim, lim),
-        ..Axes::default()
-    };
-    let panel = |what: &str, y_label: String, lim: f64, get: &dyn Fn(&TraceSample) -> f64| {
+    let pos = |p: &TraceSample| p.x_m * 1e3;
+    let force = |p: &TraceSample| -p.force_n;
+    let panel = |what: &str, y_label: &str, get: &dyn Fn(&TraceSample) -> f64| {
         let series = vec![
-            s("without passivity", red, &imp.without, get),
-            s("with passivity", green, &imp.with, get),
+            s("without passivity", red, &without, get),
+            s("with passivity", green, &with, get),
         ];
-        (axes(what, y_label, lim), series)
+        let axes = Axes {
+            title: title(what),
+            x_label: "time after the hit (ms)".into(),
+            y_label: y_label.into(),
+            x: (0.0, IMPACT_CHART_SECONDS * 1e3),
+            y: crate::chart::style::linear_range(
+                series.iter().flat_map(|s| s.points.iter().map(|p| p.1)),
+                0.01,
+                0.0,
+            ),
+            ..Axes::default()
+        };
+        (axes, series)
     };
-    line_chart(
+    crate::chart::lines::stacked_chart(
         &out.join("haptic_impact.svg"),
-        800,
-        560,
+        1100,
+        380,
         &[
             panel(
-                "Penetration",
-                format!("penetration x (mm, clipped at ±{x_lim:.2})"),
-                x_lim,
+                "Does the hit settle? Penetration",
+                "x (mm; > 0 inside the wall, < 0 bounced off)",
                 &pos,
             ),
             panel(
                 "Wall force",
-                format!("force on the probe, out of the wall (N, clipped at ±{f_lim:.1})"),
-                f_lim,
+                "force on the probe, out of the wall (N)",
                 &force,
             ),
         ],

@@ -105,6 +105,7 @@ pub fn main(args: &Args) -> Result<(), StabilityError> {
     let out = &args.out;
     std::fs::create_dir_all(out).map_err(FileError::on(out, "cannot create"))?;
     let start = Instant::now();
+    let started = std::time::SystemTime::now();
     let mut summary = Summary {
         print: !args.json,
         text: String::new(),
@@ -123,6 +124,12 @@ pub fn main(args: &Args) -> Result<(), StabilityError> {
         out.display()
     ));
     write_summary(&out.join("summary.txt"), &summary.text)?;
+    crate::chart::index_page::write(
+        out,
+        "host-sim stability",
+        &summary.text,
+        &charts_in(out, started)?,
+    )?;
     if args.json {
         let v = serde_json::json!({ "haptic": haptic_json });
         println!("{}", serde_json::to_string_pretty(&v).map_err(JsonError)?);
@@ -195,7 +202,7 @@ fn haptic_part(args: &Args, summary: &mut Summary) -> Result<HapticJson, Stabili
         .ok_or(StabilityError::NoPassiveWall)?;
     let imp = haptic_timing::impact(&device, 10_000.0, delay10, k10);
     haptic_charts::timing_chart(out, &device, &timing)?;
-    haptic_charts::impact_chart(out, &imp)?;
+    haptic_charts::impact_chart(out, &device, &imp)?;
     summary.emit(haptic_present::timing_table(&device, &timing, args.haptic_seconds).render());
     summary.emit(haptic_present::impact_notes(&imp));
     let (device_rows, scene_diff) = if args.skip_closed_loop {
@@ -253,6 +260,24 @@ fn write_summary(path: &Path, text: &str) -> Result<(), FileError> {
     std::io::Write::write_all(f.writer(), text.as_bytes())
         .map_err(FileError::on(path, "write failed"))?;
     f.commit().map_err(FileError::on(path, "cannot publish"))
+}
+
+/// The SVG charts this run wrote in `out` (modified since `started`; older ones of another run
+/// are left out), by name, and summary.txt, for the index page.
+fn charts_in(out: &Path, started: std::time::SystemTime) -> Result<Vec<PathBuf>, FileError> {
+    let fresh = |e: &std::fs::DirEntry| {
+        e.metadata()
+            .and_then(|m| m.modified())
+            .is_ok_and(|t| t >= started)
+    };
+    let mut v: Vec<PathBuf> = std::fs::read_dir(out)
+        .map_err(FileError::on(out, "cannot read"))?
+        .filter_map(|e| e.ok().filter(fresh).map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "svg"))
+        .collect();
+    v.sort();
+    v.insert(0, out.join("summary.txt"));
+    Ok(v)
 }
 
 fn decompose_methods() -> usize {

@@ -27,44 +27,54 @@ fn backend_style(b: Backend) -> Style {
 
 // ---------------------------------------------------------------- part 1
 
-/// One heatmap SVG per method (a panel per backend) and the worst-error line chart.
+/// `decomp_map.svg`, one panel per method (the worst of its math backends in each cell), and the
+/// worst-error line chart.
 pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), ChartError> {
     let mags = grid.magnitudes();
     let tilts_deg: Vec<f64> = grid.tilts().iter().map(|t| t.to_degrees()).collect();
+    let mut vmax = f64::NEG_INFINITY;
+    let mut panels: Vec<HeatPanel> = Vec::new();
     for m in Method::ALL {
-        let panels: Vec<HeatPanel> = maps
-            .iter()
-            .filter(|mm| mm.method == m)
-            .map(|mm| HeatPanel {
-                title: format!("{} / {}: worst over azimuths", m.name(), mm.backend),
-                x_label: "rotation magnitude |w| (rad)".into(),
-                y_label: "axis angle from the normal z (deg)".into(),
-                x: &mags,
-                y: &tilts_deg,
-                value: mm
-                    .cells
-                    .iter()
-                    .map(|r| {
-                        r.iter()
-                            .map(|c| c.worst_err.max(ERR_FLOOR).log10())
-                            .collect()
-                    })
-                    .collect(),
-                failed: mm
-                    .cells
-                    .iter()
-                    .map(|r| r.iter().map(|c| c.fail_frac > 0.0).collect())
-                    .collect(),
+        let of_m: Vec<&MethodMap> = maps.iter().filter(|mm| mm.method == m).collect();
+        let Some(first) = of_m.first() else {
+            continue;
+        };
+        let cell = |iy: usize, ix: usize| {
+            of_m.iter().fold((0.0f64, false), |(e, f), mm| {
+                let c = &mm.cells[iy][ix];
+                (e.max(c.worst_err), f || c.fail_frac > 0.0)
+            })
+        };
+        let (ny, nx) = (first.cells.len(), first.cells.first().map_or(0, Vec::len));
+        let value: Vec<Vec<f64>> = (0..ny)
+            .map(|iy| {
+                (0..nx)
+                    .map(|ix| cell(iy, ix).0.max(ERR_FLOOR).log10())
+                    .collect()
             })
             .collect();
-        heatmap(
-            &out.join(format!("decomp_map_{}.svg", m.name())),
-            &panels,
-            ERR_FLOOR.log10(),
-            1.0,
-            "log10 error |angles - w| (rad)",
-        )?;
+        vmax = value.iter().flatten().copied().fold(vmax, f64::max);
+        let backends: Vec<String> = of_m.iter().map(|mm| mm.backend.to_string()).collect();
+        panels.push(HeatPanel {
+            title: format!("{}: worst of {}", m.name(), backends.join(", ")),
+            x_label: "rotation magnitude |w| (rad)".into(),
+            y_label: "axis angle from the normal z (deg)".into(),
+            x: &mags,
+            y: &tilts_deg,
+            value,
+            failed: (0..ny)
+                .map(|iy| (0..nx).map(|ix| cell(iy, ix).1).collect())
+                .collect(),
+        });
     }
+    heatmap(
+        &out.join("decomp_map.svg"),
+        "Where does each decomposition fail? Worst error over the axis azimuths and math backends",
+        &panels,
+        ERR_FLOOR.log10(),
+        if vmax.is_finite() { vmax } else { 0.0 },
+        "error |angles - w|",
+    )?;
     let mut series: Vec<Series> = maps
         .iter()
         .map(|mm| Series {
@@ -90,11 +100,13 @@ pub fn decomp_charts(out: &Path, grid: &Grid, maps: &[MethodMap]) -> Result<(), 
         620,
         &[(
             Axes {
-                title: "Worst decomposition error over all axes (f32 vs nalgebra f64)".into(),
+                title: "How large can each decomposition's error get? Worst over all axes (f32 vs nalgebra f64)".into(),
                 x_label: "rotation magnitude |w| (rad)".into(),
                 y_label: "worst error |(dpsi, dtheta, dphi) - w| (rad)".into(),
                 x: (decomp_map::MAG_MIN, std::f64::consts::PI),
-                y: (ERR_FLOOR, 100.0),
+                y: crate::chart::style::log_range(
+                    series.iter().flat_map(|s| s.points.iter().map(|p| p.1)),
+                ),
                 x_log: true,
                 y_log: true,
                 ..Axes::default()
@@ -243,8 +255,14 @@ pub fn drift_charts(out: &Path, runs: &[DriftRun]) -> Result<(), ChartError> {
         760,
         560,
         &[
-            (axes("Plane contact point drift (f32)"), mk(false)),
-            (axes("Fingertip contact point drift (f32)"), mk(true)),
+            (
+                axes("Does f32 drift over a long run? Plane contact point"),
+                mk(false),
+            ),
+            (
+                axes("Does f32 drift over a long run? Fingertip contact point"),
+                mk(true),
+            ),
         ],
     )
 }
@@ -314,14 +332,17 @@ pub fn chatter_chart(out: &Path, runs: &[ChatterRun]) -> Result<(), ChartError> 
             i += 1;
         }
     }
+    // The log axis sized to the data: from the floor to the decade above the largest rate.
+    let top = values.iter().flatten().copied().fold(1.0f64, f64::max);
+    let y_top = 10f64.powf((top * 3.0).log10().ceil());
     BarChart {
-        title: "State-machine transitions with f_T held on the static cone (10 kHz)",
+        title: "Does the state machine chatter with f_T held on the static cone? Transitions per second (10 kHz)",
         x_label: "noise amplitude on f_T (uniform, fraction of mu_s f_N)",
         y_label: "transitions per second",
         categories: &cats,
         groups: &groups,
         values: &values,
-        y_range: (0.05, 1e6),
+        y_range: (0.05, y_top),
     }
     .write(&out.join("chatter.svg"))
 }
