@@ -16,7 +16,7 @@ use crate::contact::decompose::Angles;
 use crate::contact::limit_surface::{patch_radius, project};
 use crate::contact::params::{ContactParams, ParamError};
 use crate::contact::rolling::{RollStep, Rolling};
-use crate::contact::spin::{torsion_limit, SpinSpring};
+use crate::contact::spin::{fast_test_applies, torsion_limit, SpinSpring};
 use crate::contact::state::{next_state, ContactState, Reason, StateInputs, StateParams};
 use crate::contact::surface::Surface;
 use crate::flags::Flags;
@@ -91,6 +91,8 @@ pub struct ContactModel<M: Math, S: Surface> {
     patch_key_n: f32,
     /// (patch radius a in m, static torsion limit τ_max in N·m) at `patch_key_n`.
     patch: (f32, f32),
+    /// [`fast_test_applies`] for k_z and the τ_max of `patch` (evaluated with it).
+    spin_fast_ok: bool,
     _m: PhantomData<M>,
 }
 
@@ -119,6 +121,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             // Both functions give 0 at f_N = 0.
             patch_key_n: 0.0,
             patch: (0.0, 0.0),
+            spin_fast_ok: fast_test_applies(params.spin_stiffness, 0.0),
             _m: PhantomData,
         })
     }
@@ -161,6 +164,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             let p = &self.params;
             let a = patch_radius(f_n, p.patch_radius_m, p.patch_ref_force_n, p.patch_exponent);
             self.patch = (a, torsion_limit(p.mu_s, f_n, a));
+            self.spin_fast_ok = fast_test_applies(p.spin_stiffness, self.patch.1);
             self.patch_key_n = f_n;
         }
         self.patch
@@ -288,12 +292,13 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
                 // The torsion spring gets what the tangential load leaves of the static limit
                 // surface: τ ≤ τ_max·√(1 − (|f_t|/(μ_s·f_N))²).
                 let f_max = p.mu_s * s.f_n;
-                let (tau, sat) = self.spin.update_within::<M>(
+                let (tau, sat) = self.spin.update_within_prechecked::<M>(
                     dphi,
                     k_z,
                     s.tau_max_s,
                     f_t.norm_squared(),
                     f_max * f_max,
+                    self.spin_fast_ok,
                 );
                 (s.normal * s.f_n + f_t, tau, sat)
             }
