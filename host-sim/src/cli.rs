@@ -44,6 +44,9 @@ pub enum Command {
     Creep(crate::creep::Args),
     /// The ellipsoidal limit surface against the numerically integrated Hertzian one.
     LimitSurface(crate::limit_surface_cmd::Args),
+    /// Which contact model a scene needs: each choice of the model's parts against the full
+    /// model on the scene (force, torque, path and state differences, cost), with the answer.
+    Model(crate::model::Args),
 }
 
 /// Parse `argv` as the command line `P`; on failure clap has printed its message and the exit
@@ -102,6 +105,7 @@ where
         }
         Some(Command::Stability(args)) => crate::stability::main(&args).map_err(Into::into),
         Some(Command::Serve(args)) => crate::serve::main(&args).map_err(Into::into),
+        Some(Command::Model(args)) => crate::model::main(&args).map_err(Into::into),
         None => crate::run::main(&crate::run::Args::default()).map_err(Into::into),
     };
     exit_code("host-sim", result)

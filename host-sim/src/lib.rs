@@ -12,6 +12,7 @@ pub mod faults;
 pub mod hold_quantisation;
 pub mod limit_path;
 pub mod limit_surface_cmd;
+pub mod model;
 pub mod pil;
 pub mod plant;
 pub mod reference;

@@ -10,6 +10,7 @@ use crate::closed_loop::{self, prepare, simulate, ClosedLoopError, Prepared, Set
 use crate::scene::{Scene, SceneError, SurfaceSpec};
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::contact::surface::Surface;
+use softfinger_core::control::controller::WithParts;
 use softfinger_core::control::pipeline::{Pipeline, PipelineConfig};
 use softfinger_core::{Fast, Flags, Math};
 use std::io::Write;
@@ -182,16 +183,40 @@ pub fn summarize(rows: &[Row], dt_s: f64) -> Summary {
     s
 }
 
-fn run_with<M: Math, S: Surface>(
+/// Run `scene` with the contact model it names (`model`; [`softfinger_core::contact::parts`]).
+fn run_named<M: Math, S: Surface>(
     scene: Scene,
     config: PipelineConfig<S>,
     ticks: u64,
 ) -> Result<RunResult, RunError> {
+    use softfinger_core::contact::{Full, ModelChoice, PointFriction, WithRolling, WithSpin};
+    let model = scene.model().map_err(ClosedLoopError::from)?;
+    match model {
+        ModelChoice::PointFriction => run_with::<M, S, PointFriction>(scene, config, ticks),
+        ModelChoice::Spin => run_with::<M, S, WithSpin>(scene, config, ticks),
+        ModelChoice::SpinRolling => run_with::<M, S, WithRolling>(scene, config, ticks),
+        ModelChoice::Full => run_with::<M, S, Full>(scene, config, ticks),
+    }
+}
+
+fn run_with<M: Math, S: Surface, P: softfinger_core::contact::Parts>(
+    scene: Scene,
+    config: PipelineConfig<S>,
+    ticks: u64,
+) -> Result<RunResult, RunError> {
+    let config = PipelineConfig {
+        device: config.device,
+        timing: config.timing,
+        contact: config.contact,
+        surface: WithParts::<S, P>::new(config.surface),
+        object_origin_m: config.object_origin_m,
+        log_rate_hz: config.log_rate_hz,
+    };
     let in_scene = |source| RunError::InScene {
         scene: scene.name.clone(),
         source,
     };
-    let mut pipe: Pipeline<M, S> = Pipeline::new(config).map_err(|e| in_scene(e.into()))?;
+    let mut pipe: Pipeline<M, WithParts<S, P>> = Pipeline::new(config).map_err(|e| in_scene(e.into()))?;
     let mut plant = closed_loop::plant(&scene, &config.contact).map_err(|e| in_scene(e.into()))?;
     let prepared = prepare(&mut pipe, &mut plant).map_err(|e| in_scene(e.into()))?;
     let dt = 1.0 / f64::from(config.timing.control_hz);
@@ -256,19 +281,19 @@ pub fn simulate_scene(args: &Args) -> Result<RunResult, RunError> {
     match scene.surface {
         SurfaceSpec::Plane => {
             let cfg = closed_loop::plane_config(&scene, contact)?;
-            run_with::<Fast, _>(scene, cfg, ticks)
+            run_named::<Fast, _>(scene, cfg, ticks)
         }
         SurfaceSpec::Sphere { radius_m } => {
             let cfg = closed_loop::sphere_config(&scene, contact, radius_m)?;
-            run_with::<Fast, _>(scene, cfg, ticks)
+            run_named::<Fast, _>(scene, cfg, ticks)
         }
         SurfaceSpec::Bowl { radius_m } => {
             let cfg = closed_loop::bowl_config(&scene, contact, radius_m)?;
-            run_with::<Fast, _>(scene, cfg, ticks)
+            run_named::<Fast, _>(scene, cfg, ticks)
         }
         SurfaceSpec::Cylinder { radius_m } => {
             let cfg = closed_loop::cylinder_config(&scene, contact, radius_m)?;
-            run_with::<Fast, _>(scene, cfg, ticks)
+            run_named::<Fast, _>(scene, cfg, ticks)
         }
     }
 }

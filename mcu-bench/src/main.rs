@@ -16,7 +16,9 @@ use softfinger_core::contact::rolling::Rolling;
 use softfinger_core::contact::spin::{torsion_limit, SpinSpring};
 use softfinger_core::contact::state::{next_state, ContactState, StateInputs};
 use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
-use softfinger_core::contact::{ContactInput, ContactModel};
+use softfinger_core::contact::{
+    ContactInput, ContactModel, Full, Parts, PointFriction, WithRolling, WithSpin,
+};
 use softfinger_core::control::controller::{Controller, ControllerConfig, TickInput};
 use softfinger_core::control::pipeline::passivity::{Passivity, PassivityConfig};
 use softfinger_core::device::DeviceParams;
@@ -175,6 +177,8 @@ fn pipeline(b: &mut Bencher) {
     contact_step::<Micromath, _>(b, "contact_step_cylinder", Method::Exact, cylinder);
     contact_step::<Fast, _>(b, "contact_step_cylinder", Method::Exact, cylinder);
 
+    model_rows(b);
+
     device_kinematics(b);
     control_tick::<Libm>(b);
     control_tick::<Micromath>(b);
@@ -259,6 +263,41 @@ fn passivity_step(b: &mut Bencher) {
 /// with the normal +z at its contact point, so the pressed probe is 1 mm less than the fingertip
 /// radius above it.
 fn contact_step<M: Math, S: Surface>(b: &mut Bencher, name: &str, method: Method, surface: S) {
+    contact_step_parts::<M, S, Full>(b, name, method, surface);
+}
+
+/// The contact models a scene can name ([`softfinger_core::contact::parts`]), on each surface, with
+/// the fast backend: one row `contact_step_<surface>_<model>` each, measured as
+/// [`contact_step`] is (the `full` rows repeat `contact_step`, `contact_step_sphere`, ... under
+/// the names `host-sim model` reads).
+fn model_rows(b: &mut Bencher) {
+    fn rows<S: Surface>(b: &mut Bencher, surface_name: &str, surface: S) {
+        fn one<S: Surface, P: Parts>(b: &mut Bencher, surface_name: &str, surface: S) {
+            let mut name: heapless::String<64> = heapless::String::new();
+            let _ = core::fmt::Write::write_fmt(
+                &mut name,
+                format_args!("contact_step_{}_{}", surface_name, P::NAME),
+            );
+            contact_step_parts::<Fast, S, P>(b, &name, Method::Exact, surface);
+        }
+        one::<S, PointFriction>(b, surface_name, surface);
+        one::<S, WithSpin>(b, surface_name, surface);
+        one::<S, WithRolling>(b, surface_name, surface);
+        one::<S, Full>(b, surface_name, surface);
+    }
+    rows(b, "plane", Plane::default());
+    rows(b, "sphere", Sphere::new(0.05));
+    rows(b, "bowl", Bowl::new(0.05));
+    rows(b, "cylinder", Cylinder::new(0.05));
+}
+
+/// [`contact_step`] for the model of parts `P`.
+fn contact_step_parts<M: Math, S: Surface, P: Parts>(
+    b: &mut Bencher,
+    name: &str,
+    method: Method,
+    surface: S,
+) {
     let dt_s = 1.0e-4;
     let params = ContactParams {
         method,
@@ -266,7 +305,7 @@ fn contact_step<M: Math, S: Surface>(b: &mut Bencher, name: &str, method: Method
     };
     let q0 = Quat::IDENTITY;
     let (dq, _) = Quat::from_rotation_vector::<Libm>(SCENE_STEP * 0.01);
-    let Ok(mut model) = ContactModel::<M, S>::new(params, surface, q0, dt_s) else {
+    let Ok(mut model) = ContactModel::<M, S, P>::with_parts(params, surface, q0, dt_s) else {
         hprintln!(
             "ERROR {}: ContactModel::new rejected the default parameters",
             name

@@ -5,6 +5,7 @@
 
 use serde::Deserialize;
 use softfinger_core::contact::decompose::Method;
+use softfinger_core::contact::ModelChoice;
 use std::path::{Path, PathBuf};
 
 /// The built-in scenes: (name, TOML text). The first is the default.
@@ -111,6 +112,10 @@ pub struct Scene {
     pub rate_hz: f64,
     #[serde(default = "default_duration")]
     pub duration_s: f64,
+    /// The contact model the scene runs (`softfinger_core::contact::parts`): point-friction, spin,
+    /// spin-rolling or full (absent: full). `host-sim model` tells which one a scene needs.
+    #[serde(default)]
+    pub model: Option<String>,
     pub surface: SurfaceSpec,
     #[serde(default)]
     pub script: ScriptSpec,
@@ -174,6 +179,9 @@ pub enum SceneProblem {
     /// `method` names no decomposition method.
     #[error("unknown method '{0}' (exact, rpy, paper-verbatim)")]
     UnknownMethod(String),
+    /// `model` names no contact model.
+    #[error("unknown model '{0}' (point-friction, spin, spin-rolling, full)")]
+    UnknownModel(String),
     /// `rate_hz` outside 1000..40000.
     #[error("rate_hz must be within 1000..40000, got {0}")]
     Rate(f64),
@@ -259,6 +267,14 @@ impl Scene {
             .ok_or_else(|| SceneProblem::UnknownMethod(self.method.clone()))
     }
 
+    /// The contact model the scene names (full when it names none).
+    pub fn model(&self) -> Result<ModelChoice, SceneProblem> {
+        match &self.model {
+            None => Ok(ModelChoice::Full),
+            Some(m) => ModelChoice::from_name(m).ok_or_else(|| SceneProblem::UnknownModel(m.clone())),
+        }
+    }
+
     /// The scene as TOML text (every field the command line can override, and the rest), for
     /// re-validation after overrides; [`Scene::parse`] of it gives the same scene.
     pub fn to_toml(&self) -> String {
@@ -270,6 +286,10 @@ impl Scene {
             "name = {:?}\ndescription = {:?}\nmethod = {:?}\nrate_hz = {:?}\nduration_s = {:?}\n[surface]\n{surface}",
             self.name, self.description, self.method, self.rate_hz, self.duration_s
         );
+        if let Some(m) = &self.model {
+            // Top-level keys must come before the first table.
+            t = t.replacen("[surface]\n", &format!("model = {m:?}\n[surface]\n"), 1);
+        }
         let sc = &self.script;
         t += "[script]\n";
         for (k, v) in [
@@ -308,6 +328,7 @@ impl Scene {
 
     fn check(&self) -> Result<(), SceneProblem> {
         self.method()?;
+        self.model()?;
         if !(self.rate_hz.is_finite() && (1_000.0..=40_000.0).contains(&self.rate_hz)) {
             return Err(SceneProblem::Rate(self.rate_hz));
         }

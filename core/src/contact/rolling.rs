@@ -180,6 +180,14 @@ impl<S: Surface> Rolling<S> {
     /// singularity) moves nothing but still advances `q_prev`, and is flagged.
     #[inline(always)]
     pub fn step<M: Math>(&mut self, q: Quat) -> RollStep {
+        self.step_parts::<M, true>(q)
+    }
+
+    /// [`Rolling::step`] when `ROLL`; otherwise the same increment and angles (in the contact
+    /// frame at the contact point) with the contact point left where it is: the spin of a model
+    /// without rolling ([`crate::contact::parts::WithSpin`]).
+    #[inline(always)]
+    pub fn step_parts<M: Math, const ROLL: bool>(&mut self, q: Quat) -> RollStep {
         // The exact method's log map is scale-free: a near-unit sample is used as it is (see
         // `Quat::unit_checked`). The Euler methods build a rotation matrix, which is not.
         let (q, qflags) = match self.method {
@@ -200,8 +208,12 @@ impl<S: Surface> Rolling<S> {
                 // in the object frame (odd in dq's vector part), the surface rolls by it, and the
                 // angles are its components in the contact frame over the step.
                 let w = dq.to_rotation_vector::<M>();
-                let d = self.surface.roll::<M>(w, self.radius_m);
-                let wc = self.surface.to_step_contact::<M>(w);
+                let (d, wc) = if ROLL {
+                    let d = self.surface.roll::<M>(w, self.radius_m);
+                    (d, self.surface.to_step_contact::<M>(w))
+                } else {
+                    (Vec3::ZERO, self.surface.to_contact(w))
+                };
                 let a = Angles {
                     phi: wc.z,
                     theta: wc.y,
@@ -211,17 +223,26 @@ impl<S: Surface> Rolling<S> {
             }
             _ => {
                 let (a, f) = self.euler_angles::<M>(dq);
+                if !ROLL {
+                    return self.advance(q, a, Vec3::ZERO, qflags | f);
+                }
                 let w = self
                     .surface
                     .contact_to_object(Vec3::new(a.psi, a.theta, a.phi));
                 (a, self.surface.roll::<M>(w, self.radius_m), f)
             }
         };
+        self.advance(q, angles, object_disp_m, qflags | dflags)
+    }
+
+    /// Take `q` as the previous sample and report the step.
+    #[inline(always)]
+    fn advance(&mut self, q: Quat, angles: Angles, object_disp_m: Vec3, flags: Flags) -> RollStep {
         self.q_prev = q;
         RollStep {
             angles,
             object_disp_m,
-            flags: qflags | dflags,
+            flags,
         }
     }
 }

@@ -46,6 +46,13 @@ fn k_z_in_range(k_z: f32) -> bool {
     k_z.to_bits().wrapping_sub(1) < K_Z_MAX.to_bits()
 }
 
+/// Whether the fast inside test of [`SpinSpring::update_within`] may be used for these k_z (N·m/rad)
+/// and τ_max (N·m): 0 < k_z ≤ 1e3 and τ_max ≥ 1e-30 (false for NaN).
+#[inline(always)]
+pub fn fast_test_applies(k_z: f32, tau_max: f32) -> bool {
+    k_z_in_range(k_z) && tau_max >= TAU_MAX_NORMAL
+}
+
 /// The torsional friction limit τ_max = (3π/16)·μ·f_N·a (N·m). Zero for f_N ≤ 0.
 #[inline]
 pub fn torsion_limit(mu: f32, normal_force_n: f32, patch_radius_m: f32) -> f32 {
@@ -103,11 +110,34 @@ impl SpinSpring {
         ft2: f32,
         fmax2: f32,
     ) -> (f32, bool) {
+        self.update_within_prechecked::<M>(
+            dphi,
+            k_z,
+            tau_max,
+            ft2,
+            fmax2,
+            fast_test_applies(k_z, tau_max),
+        )
+    }
+
+    /// [`SpinSpring::update_within`] with its precondition test [`fast_test_applies`]`(k_z,
+    /// tau_max)` passed in as `fast_ok`, so a caller whose k_z and τ_max change rarely evaluates it
+    /// only when they do. The same answer bit for bit when `fast_ok` is that test's value.
+    #[inline(always)]
+    pub fn update_within_prechecked<M: crate::math::Math>(
+        &mut self,
+        dphi: f32,
+        k_z: f32,
+        tau_max: f32,
+        ft2: f32,
+        fmax2: f32,
+        fast_ok: bool,
+    ) -> (f32, bool) {
         let el = self.wind(dphi);
         let tau = k_z * el;
         let x = tau / tau_max;
         let u = ft2 / fmax2;
-        if k_z_in_range(k_z) && tau_max >= TAU_MAX_NORMAL && x * x + u < 1.0 - INSIDE_MARGIN {
+        if fast_ok && x * x + u < 1.0 - INSIDE_MARGIN {
             self.elastic_rad = el;
             self.accumulated_rad = el + self.offset_rad;
             return (tau, false);

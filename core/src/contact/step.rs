@@ -15,8 +15,9 @@
 use crate::contact::decompose::Angles;
 use crate::contact::limit_surface::{patch_radius, project};
 use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::parts::{Full, Parts};
 use crate::contact::rolling::{RollStep, Rolling};
-use crate::contact::spin::{torsion_limit, SpinSpring};
+use crate::contact::spin::{fast_test_applies, torsion_limit, SpinSpring};
 use crate::contact::state::{next_state, ContactState, Reason, StateInputs, StateParams};
 use crate::contact::surface::Surface;
 use crate::flags::Flags;
@@ -71,9 +72,10 @@ pub struct ContactOutput {
     pub flags: Flags,
 }
 
-/// The contact model with its state. `M`: math backend; `S`: object surface.
+/// The contact model with its state. `M`: math backend; `S`: object surface; `P`: the parts of the
+/// model it runs ([`crate::contact::parts`]; the whole model unless named).
 #[derive(Clone, Copy, Debug)]
-pub struct ContactModel<M: Math, S: Surface> {
+pub struct ContactModel<M: Math, S: Surface, P: Parts = Full> {
     params: ContactParams,
     state_params: StateParams,
     /// Rolling kinematics (contact points, previous orientation).
@@ -91,13 +93,28 @@ pub struct ContactModel<M: Math, S: Surface> {
     patch_key_n: f32,
     /// (patch radius a in m, static torsion limit τ_max in N·m) at `patch_key_n`.
     patch: (f32, f32),
-    _m: PhantomData<M>,
+    /// [`fast_test_applies`] for k_z and the τ_max of `patch` (evaluated with it).
+    spin_fast_ok: bool,
+    _m: PhantomData<(M, P)>,
 }
 
-impl<M: Math, S: Surface> ContactModel<M, S> {
-    /// A model touching nothing yet, at orientation `q0`, stepped every `dt_s` seconds
-    /// ([`MIN_DT_S`] to [`MAX_DT_S`]).
+impl<M: Math, S: Surface> ContactModel<M, S, Full> {
+    /// The whole model touching nothing yet, at orientation `q0`, stepped every `dt_s` seconds
+    /// ([`MIN_DT_S`] to [`MAX_DT_S`]). [`ContactModel::with_parts`] for a reduced model.
     pub fn new(params: ContactParams, surface: S, q0: Quat, dt_s: f32) -> Result<Self, ParamError> {
+        Self::with_parts(params, surface, q0, dt_s)
+    }
+}
+
+impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
+    /// A model of the parts `P` touching nothing yet, at orientation `q0`, stepped every `dt_s`
+    /// seconds ([`MIN_DT_S`] to [`MAX_DT_S`]).
+    pub fn with_parts(
+        params: ContactParams,
+        surface: S,
+        q0: Quat,
+        dt_s: f32,
+    ) -> Result<Self, ParamError> {
         params.validate()?;
         crate::contact::params::positive("dt_s", dt_s)?;
         if !(MIN_DT_S..=MAX_DT_S).contains(&dt_s) {
@@ -119,6 +136,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             // Both functions give 0 at f_N = 0.
             patch_key_n: 0.0,
             patch: (0.0, 0.0),
+            spin_fast_ok: fast_test_applies(params.spin_stiffness, 0.0),
             _m: PhantomData,
         })
     }
@@ -161,6 +179,7 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             let p = &self.params;
             let a = patch_radius(f_n, p.patch_radius_m, p.patch_ref_force_n, p.patch_exponent);
             self.patch = (a, torsion_limit(p.mu_s, f_n, a));
+            self.spin_fast_ok = fast_test_applies(p.spin_stiffness, self.patch.1);
             self.patch_key_n = f_n;
         }
         self.patch
@@ -199,10 +218,20 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
         let (k_t, k_z) = (p.tangential_stiffness, p.spin_stiffness);
         let surface = self.rolling.surface;
         let tau_max_k = torsion_limit(p.mu_k, f_n, patch);
-        let (tau, sat) = self.spin.update(dphi, k_z, tau_max_k);
+        let (tau, sat) = if P::SPIN {
+            self.spin.update(dphi, k_z, tau_max_k)
+        } else {
+            (0.0, false)
+        };
         let (_, e_t) = surface.split(self.anchor() - probe);
         let d = e_t.norm::<M>();
-        let (sf, st) = project(d * k_t, tau, p.mu_k * f_n, tau_max_k, k_t, k_z);
+        let (sf, st) = if P::LIMIT_SURFACE {
+            project(d * k_t, tau, p.mu_k * f_n, tau_max_k, k_t, k_z)
+        } else {
+            // The friction cone alone (the torque met its own limit in `update`).
+            let (f, f_max) = (d * k_t, p.mu_k * f_n);
+            (if f > f_max { f_max / f } else { 1.0 }, 1.0)
+        };
         let e_t = e_t * sf;
         let (tau, slipped) = if st < 1.0 && tau != 0.0 {
             self.spin.slip_to(self.spin.elastic_rad * st);
@@ -288,13 +317,20 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
                 // The torsion spring gets what the tangential load leaves of the static limit
                 // surface: τ ≤ τ_max·√(1 − (|f_t|/(μ_s·f_N))²).
                 let f_max = p.mu_s * s.f_n;
-                let (tau, sat) = self.spin.update_within::<M>(
-                    dphi,
-                    k_z,
-                    s.tau_max_s,
-                    f_t.norm_squared(),
-                    f_max * f_max,
-                );
+                let (tau, sat) = if !P::SPIN {
+                    (0.0, false)
+                } else if !P::LIMIT_SURFACE {
+                    self.spin.update(dphi, k_z, s.tau_max_s)
+                } else {
+                    self.spin.update_within_prechecked::<M>(
+                        dphi,
+                        k_z,
+                        s.tau_max_s,
+                        f_t.norm_squared(),
+                        f_max * f_max,
+                        self.spin_fast_ok,
+                    )
+                };
                 (s.normal * s.f_n + f_t, tau, sat)
             }
             ContactState::Sliding => self.slide(probe, q_now, dphi, s.f_n, s.patch),
@@ -332,8 +368,24 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
                 flags: f,
                 ..Default::default()
             }
+        } else if P::ROLLING {
+            self.rolling.step_parts::<M, true>(input.q)
+        } else if P::SPIN {
+            self.rolling.step_parts::<M, false>(input.q)
         } else {
-            self.rolling.step::<M>(input.q)
+            // No spin and no rolling: only the orientation is tracked (checked as the rolling
+            // step checks it, so a bad sample is flagged the same).
+            let (q, f) = match self.rolling.method {
+                crate::contact::decompose::Method::Exact => input.q.unit_checked::<M>(),
+                _ => input.q.normalized_checked::<M>(),
+            };
+            if !f.intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS) {
+                self.rolling.q_prev = q;
+            }
+            RollStep {
+                flags: f,
+                ..Default::default()
+            }
         }
     }
 
@@ -373,10 +425,19 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             surface.split(f).1
         };
         let f_couple = couple(anchor - probe, anchor_vel - vel);
-        let tilt2 = roll.angles.theta * roll.angles.theta + roll.angles.psi * roll.angles.psi;
+        // The twist threshold on the tilt rate belongs to rolling.
+        let tilt2 = if P::ROLLING {
+            roll.angles.theta * roll.angles.theta + roll.angles.psi * roll.angles.psi
+        } else {
+            0.0
+        };
         // The patch grows with the normal force; its torsional limit joins the tangential one in
-        // one limit surface (see `crate::contact::limit_surface`).
-        let (patch, tau_max_s) = self.patch_at(f_n);
+        // one limit surface (see `crate::contact::limit_surface`). No spin: no patch.
+        let (patch, tau_max_s) = if P::SPIN {
+            self.patch_at(f_n)
+        } else {
+            (0.0, 0.0)
+        };
         let p = &self.params;
         let inputs = StateInputs {
             normal_force_n: f_n,
@@ -392,8 +453,13 @@ impl<M: Math, S: Surface> ContactModel<M, S> {
             roll_disp_m: roll.object_disp_m,
             tilt_rate_sq: tilt2 * inv_dt * inv_dt,
             time_in_state_s: self.time_in_state_s,
-            spin_torque_nm: p.spin_stiffness * (self.spin.elastic_rad + roll.angles.phi),
-            torsion_limit_nm: tau_max_s,
+            // Without the limit surface the state machine sees the friction cone alone.
+            spin_torque_nm: if P::LIMIT_SURFACE {
+                p.spin_stiffness * (self.spin.elastic_rad + roll.angles.phi)
+            } else {
+                0.0
+            },
+            torsion_limit_nm: if P::LIMIT_SURFACE { tau_max_s } else { 0.0 },
         };
         Sensed {
             inputs,

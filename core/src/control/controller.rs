@@ -32,7 +32,7 @@ use crate::math::Math;
 mod config;
 pub mod stage;
 pub use config::{ControllerConfig, Limits, TickLimits};
-pub use stage::{ContactStage, Scene};
+pub use stage::{ContactStage, Scene, WithParts};
 
 /// What the firmware (or the host plant) hands the controller each tick.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -21,6 +21,7 @@ pub mod heatmap;
 pub mod index_page;
 pub mod lines;
 pub mod mcu;
+pub mod model_ablation;
 pub mod pareto;
 pub mod points;
 pub mod run_charts;

@@ -13,6 +13,7 @@
 //! frame.
 
 use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::parts::Parts;
 use crate::contact::state::ContactState;
 use crate::contact::surface::Surface;
 use crate::contact::{ContactInput, ContactModel, ContactOutput};
@@ -96,14 +97,45 @@ impl<S: Surface> Scene for S {
     }
 }
 
-impl<M: Math, S: Surface> ContactStage for ContactModel<M, S> {
+/// A fixed surface `S` rendered with a reduced contact model `P` (the parts a scene names, see
+/// [`crate::contact::parts`]); a bare surface renders the whole model.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WithParts<S: Surface, P: Parts> {
+    /// The surface.
+    pub surface: S,
+    _p: core::marker::PhantomData<P>,
+}
+
+impl<S: Surface, P: Parts> WithParts<S, P> {
+    /// `surface` rendered with the parts `P`.
+    pub fn new(surface: S) -> Self {
+        WithParts {
+            surface,
+            _p: core::marker::PhantomData,
+        }
+    }
+}
+
+impl<S: Surface, P: Parts> Scene for WithParts<S, P> {
+    type Stage<M: Math> = ContactModel<M, S, P>;
+    #[inline]
+    fn stage<M: Math>(
+        &self,
+        contact: ContactParams,
+        dt_s: f32,
+    ) -> Result<Self::Stage<M>, ParamError> {
+        ContactModel::with_parts(contact, self.surface, Quat::IDENTITY, dt_s)
+    }
+}
+
+impl<M: Math, S: Surface, P: Parts> ContactStage for ContactModel<M, S, P> {
     #[inline(always)]
     fn step(&mut self, input: &ContactInput) -> ContactOutput {
         self.contact_step(input)
     }
     fn restart(&mut self) {
         // The surface keeps its geometry; its contact point is placed again at the next touch.
-        if let Ok(c) = ContactModel::new(
+        if let Ok(c) = ContactModel::with_parts(
             *self.params(),
             self.rolling.surface,
             Quat::IDENTITY,
@@ -113,7 +145,7 @@ impl<M: Math, S: Surface> ContactStage for ContactModel<M, S> {
         }
     }
     fn set_contact_params(&mut self, p: ContactParams) -> Result<(), ParamError> {
-        *self = ContactModel::new(p, self.rolling.surface, Quat::IDENTITY, self.dt_s())?;
+        *self = ContactModel::with_parts(p, self.rolling.surface, Quat::IDENTITY, self.dt_s())?;
         Ok(())
     }
     #[inline]

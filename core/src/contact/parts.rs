@@ -1,0 +1,133 @@
+//! The parts of the contact model as compile-time choices: a scene runs no more of the model than
+//! it needs, and a part it leaves out costs no instruction on the MCU (the branches on the
+//! associated constants below are resolved when [`crate::contact::ContactModel`] is compiled for a
+//! choice).
+//!
+//! The choices are nested, as MuJoCo's `condim` is (1 frictionless, 3 sliding friction, 4 adds
+//! torsion, 6 adds rolling), each adding one part to the one before:
+//!
+//! | choice | name | what it adds |
+//! | --- | --- | --- |
+//! | [`PointFriction`] | `point-friction` | a point contact with Coulomb friction (the friction proxy, the normal spring, the state machine); the contact point stays where the touch put it until a slide moves it; no spin torque |
+//! | [`WithSpin`] | `spin` | the spin torque τn = k_z·φ_el about the normal, with its own torsional limit (3π/16)·μ·f_N·a |
+//! | [`WithRolling`] | `spin-rolling` | the contact point rolls on both surfaces as the fingertip turns (eqs. 2-3), and the twist threshold on the tilt rate |
+//! | [`Full`] | `full` | the limit surface: twist and slide share one friction budget ([`crate::contact::limit_surface`]) |
+//!
+//! Without the limit surface the friction cone |f_T| ≤ μ·f_N and the torsional limit act each on
+//! their own (the box the ellipse is inscribed in).
+
+use core::fmt::Debug;
+
+/// One choice of the contact model's parts (a type with no data; see the module table).
+pub trait Parts: Copy + Debug + Default + PartialEq + Send + Sync + 'static {
+    /// The choice's name in scene files and tables.
+    const NAME: &'static str;
+    /// The spin torque about the normal, with its torsional limit.
+    const SPIN: bool;
+    /// Rolling of the contact point (and the twist threshold on the tilt rate).
+    const ROLLING: bool;
+    /// The limit surface coupling twist and slide (needs [`Parts::SPIN`]).
+    const LIMIT_SURFACE: bool;
+}
+
+/// A point contact with friction: no spin torque, no rolling.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PointFriction;
+/// [`PointFriction`] plus the spin torque with its torsional limit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WithSpin;
+/// [`WithSpin`] plus rolling of the contact point.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WithRolling;
+/// The whole model: [`WithRolling`] plus the limit surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Full;
+
+impl Parts for PointFriction {
+    const NAME: &'static str = "point-friction";
+    const SPIN: bool = false;
+    const ROLLING: bool = false;
+    const LIMIT_SURFACE: bool = false;
+}
+impl Parts for WithSpin {
+    const NAME: &'static str = "spin";
+    const SPIN: bool = true;
+    const ROLLING: bool = false;
+    const LIMIT_SURFACE: bool = false;
+}
+impl Parts for WithRolling {
+    const NAME: &'static str = "spin-rolling";
+    const SPIN: bool = true;
+    const ROLLING: bool = true;
+    const LIMIT_SURFACE: bool = false;
+}
+impl Parts for Full {
+    const NAME: &'static str = "full";
+    const SPIN: bool = true;
+    const ROLLING: bool = true;
+    const LIMIT_SURFACE: bool = true;
+}
+
+/// A choice named at run time (a scene file's `model`), to pick the compiled [`Parts`] type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum ModelChoice {
+    /// [`PointFriction`].
+    PointFriction,
+    /// [`WithSpin`].
+    Spin,
+    /// [`WithRolling`].
+    SpinRolling,
+    /// [`Full`].
+    Full,
+}
+
+impl ModelChoice {
+    /// Every choice, least first.
+    pub const ALL: [ModelChoice; 4] = [
+        ModelChoice::PointFriction,
+        ModelChoice::Spin,
+        ModelChoice::SpinRolling,
+        ModelChoice::Full,
+    ];
+
+    /// The name used in scene files ([`Parts::NAME`]).
+    pub const fn name(self) -> &'static str {
+        match self {
+            ModelChoice::PointFriction => PointFriction::NAME,
+            ModelChoice::Spin => WithSpin::NAME,
+            ModelChoice::SpinRolling => WithRolling::NAME,
+            ModelChoice::Full => Full::NAME,
+        }
+    }
+
+    /// The choice of that name, if any.
+    pub fn from_name(name: &str) -> Option<ModelChoice> {
+        ModelChoice::ALL.into_iter().find(|c| c.name() == name)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_the_choices_nest() {
+        for c in ModelChoice::ALL {
+            assert_eq!(ModelChoice::from_name(c.name()), Some(c));
+        }
+        assert_eq!(ModelChoice::from_name("fulll"), None);
+        // Each choice adds a part to the one before; the limit surface needs the spin.
+        let parts = [
+            (PointFriction::SPIN, PointFriction::ROLLING, PointFriction::LIMIT_SURFACE),
+            (WithSpin::SPIN, WithSpin::ROLLING, WithSpin::LIMIT_SURFACE),
+            (WithRolling::SPIN, WithRolling::ROLLING, WithRolling::LIMIT_SURFACE),
+            (Full::SPIN, Full::ROLLING, Full::LIMIT_SURFACE),
+        ];
+        let count = |p: (bool, bool, bool)| p.0 as u8 + p.1 as u8 + p.2 as u8;
+        for (k, p) in parts.iter().enumerate() {
+            assert_eq!(count(*p), k as u8, "choice {k} adds one part");
+            assert!(!p.2 || p.0, "limit surface without spin");
+        }
+    }
+}

@@ -1,0 +1,226 @@
+//! `host-sim model --scene NAME|FILE [--json] [--svg FILE]`: which contact model a scene needs.
+//!
+//! The scene runs in closed loop once per model choice ([`softfinger_core::contact::parts`]); each
+//! run is compared with the full model's run ([`ablation`]) and held against the perceptual
+//! [`yardstick`]. The answer is the least choice whose differences stay below it. Each row also
+//! gives the choice's cost: instructions per contact step on the emulated Cortex-M4F (the
+//! `contact_step_<surface>_<model>` rows of `mcu-bench/budget.json`, written by
+//! `scripts/mcu-bench --update-budget`) and ns per step on this host.
+
+pub mod ablation;
+pub mod yardstick;
+
+use crate::closed_loop::SetupError;
+use crate::error::{ChartError, JsonError};
+use crate::scene::{Scene, SceneError};
+use ablation::{difference, transitions, Difference, Run};
+use softfinger_core::contact::ModelChoice;
+use std::path::PathBuf;
+
+/// Why the model command failed.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    /// The scene could not be loaded.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// A run of the named scene failed.
+    #[error("scene '{scene}': {source}")]
+    InScene {
+        /// Scene name.
+        scene: String,
+        /// The stage and its reason.
+        source: SetupError,
+    },
+    /// The JSON could not be serialised.
+    #[error(transparent)]
+    Json(#[from] JsonError),
+    /// The chart could not be drawn or written.
+    #[error(transparent)]
+    Chart(#[from] ChartError),
+}
+
+#[derive(Debug, Clone, clap::Args)]
+pub struct Args {
+    /// A built-in scene name (finger-on-plane, finger-on-sphere, finger-in-bowl,
+    /// finger-on-cylinder, finger-slide-twist) or a scene TOML file.
+    #[arg(long, default_value = "finger-on-plane")]
+    pub scene: String,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    /// Also draw cost against difference for each choice into this SVG file.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+}
+
+/// One row of the table: a choice, its cost and its difference from the full model.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Row {
+    /// The choice's name.
+    pub model: &'static str,
+    /// Instructions per contact step on the emulated Cortex-M4F (fast backend), from the budget
+    /// file; `None` when the budget has no row for it.
+    pub instructions: Option<u32>,
+    /// Host time per contact step, ns (on the full run's inputs; least of several passes).
+    pub host_ns_per_step: f64,
+    /// The differences from the full model.
+    #[serde(flatten)]
+    pub diff: Difference,
+    /// All differences below the yardstick.
+    pub within_yardstick: bool,
+}
+
+/// The whole answer for a scene.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Report {
+    /// The scene's name.
+    pub scene: String,
+    /// The surface kind.
+    pub surface: &'static str,
+    /// The least choice within the yardstick.
+    pub least_model: &'static str,
+    /// The choice the scene file names.
+    pub named_model: &'static str,
+    /// The named choice is within the yardstick.
+    pub named_within_yardstick: bool,
+    /// Transitions of the full model's run.
+    pub full_transitions: usize,
+    /// The yardstick and its sources.
+    pub yardstick: &'static str,
+    /// One row per choice, least first.
+    pub rows: Vec<Row>,
+}
+
+/// The mcu-bench budget the instruction counts come from.
+const BUDGET_JSON: &str = include_str!("../../../mcu-bench/budget.json");
+
+/// Instructions per contact step of `model` on `surface` (fast backend), from the budget.
+pub fn instructions(surface: &str, model: ModelChoice) -> Option<u32> {
+    let v: serde_json::Value = serde_json::from_str(BUDGET_JSON).ok()?;
+    let name = format!("contact_step_{surface}_{}", model.name());
+    v.get("baseline")?
+        .as_array()?
+        .iter()
+        .find(|r| r["name"] == name.as_str() && r["backend"] == "fast")?
+        .get("instructions")?
+        .as_u64()
+        .map(|n| n as u32)
+}
+
+/// The report of `scene` from its runs (`full` and one per choice, least first).
+pub fn report(scene: &Scene, full: &Run, runs: &[Run]) -> Result<Report, ModelError> {
+    let named = scene.model().map_err(|problem| SceneError::Invalid {
+        origin: scene.name.clone(),
+        problem,
+    })?;
+    let rows: Vec<Row> = runs
+        .iter()
+        .map(|r| {
+            let diff = difference(r, full, scene.rate_hz);
+            Row {
+                model: r.choice.name(),
+                instructions: instructions(scene.surface.kind(), r.choice),
+                host_ns_per_step: r.host_ns_per_step,
+                diff,
+                within_yardstick: diff.within_yardstick(),
+            }
+        })
+        .collect();
+    let least = rows
+        .iter()
+        .find(|r| r.within_yardstick)
+        .map(|r| r.model)
+        .unwrap_or(ModelChoice::Full.name());
+    let named_within = rows
+        .iter()
+        .find(|r| r.model == named.name())
+        .is_some_and(|r| r.within_yardstick);
+    Ok(Report {
+        scene: scene.name.clone(),
+        surface: scene.surface.kind(),
+        least_model: least,
+        named_model: named.name(),
+        named_within_yardstick: named_within,
+        full_transitions: transitions(&full.ticks),
+        yardstick: yardstick::STATEMENT,
+        rows,
+    })
+}
+
+/// Run every choice on the scene named `name_or_path` and report.
+pub fn ablate(name_or_path: &str) -> Result<Report, ModelError> {
+    let scene = Scene::load(name_or_path)?;
+    let (full, runs) =
+        ablation::runs(&scene, &ModelChoice::ALL).map_err(|source| ModelError::InScene {
+            scene: scene.name.clone(),
+            source,
+        })?;
+    report(&scene, &full, &runs)
+}
+
+/// The table and the answer, as text.
+pub fn table(r: &Report) -> String {
+    let mut t = format!(
+        "scene {} ({}): least model {}; the scene names {} ({})\n",
+        r.scene,
+        r.surface,
+        r.least_model,
+        r.named_model,
+        if r.named_within_yardstick {
+            "within the yardstick"
+        } else {
+            "EXCEEDS the yardstick"
+        }
+    );
+    t += &format!(
+        "{:<15} {:>7} {:>8} {:>9} {:>9} {:>10} {:>10} {:>9} {:>8} {:>6} {:>7} {:>7} {:>6}\n",
+        "model",
+        "instr",
+        "host ns",
+        "max dF N",
+        "rms dF N",
+        "max dT mNm",
+        "rms dT mNm",
+        "path mm",
+        "state %",
+        "trans",
+        "F/JND",
+        "T/JND",
+        "felt"
+    );
+    for row in &r.rows {
+        let d = &row.diff;
+        t += &format!(
+            "{:<15} {:>7} {:>8.1} {:>9.4} {:>9.4} {:>10.4} {:>10.4} {:>9.4} {:>8.2} {:>6} {:>7.2} {:>7.2} {:>6}\n",
+            row.model,
+            row.instructions.map_or("-".to_string(), |n| n.to_string()),
+            row.host_ns_per_step,
+            d.max_force_diff_n,
+            d.rms_force_diff_n,
+            d.max_torque_diff_mnm,
+            d.rms_torque_diff_mnm,
+            d.max_path_diff_mm,
+            d.state_diff_percent,
+            d.transitions,
+            d.force_ratio,
+            d.torque_ratio,
+            if row.within_yardstick { "no" } else { "yes" }
+        );
+    }
+    t += &format!("(full model: {} transitions) {}\n", r.full_transitions, r.yardstick);
+    t
+}
+
+/// `host-sim model`.
+pub fn main(args: &Args) -> Result<(), ModelError> {
+    let r = ablate(&args.scene)?;
+    if let Some(path) = &args.svg {
+        crate::chart::model_ablation::write(path, &r)?;
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&r).map_err(JsonError)?);
+    } else {
+        print!("{}", table(&r));
+    }
+    Ok(())
+}
