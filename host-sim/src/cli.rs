@@ -44,6 +44,9 @@ pub enum Command {
     Creep(crate::creep::Args),
     /// The ellipsoidal limit surface against the numerically integrated Hertzian one.
     LimitSurface(crate::limit_surface_cmd::Args),
+    /// Two soft fingertips hold an object: lifted and twisted, torsion on or off; summary or
+    /// JSON, charts and index.html.
+    Grasp(crate::grasp::Args),
 }
 
 /// Parse `argv` as the command line `P`; on failure clap has printed its message and the exit
@@ -102,6 +105,7 @@ where
         }
         Some(Command::Stability(args)) => crate::stability::main(&args).map_err(Into::into),
         Some(Command::Serve(args)) => crate::serve::main(&args).map_err(Into::into),
+        Some(Command::Grasp(args)) => crate::grasp::main(&args).map_err(Into::into),
         None => crate::run::main(&crate::run::Args::default()).map_err(Into::into),
     };
     exit_code("host-sim", result)
