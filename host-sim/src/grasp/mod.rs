@@ -138,6 +138,20 @@ pub struct Report {
     pub tick_ns: f64,
     /// The configuration run.
     pub config: GraspConfig,
+    /// The twist sweep (none with `--sweep-points` below 2).
+    pub twist_sweep: Option<TwistSweep>,
+}
+
+/// The twist sweep of the report: torques from 0 to twice the combined torsional limit, no
+/// gravity and no lift, torsion on and off.
+#[derive(Debug, serde::Serialize)]
+pub struct TwistSweep {
+    /// Both contacts' torsional limit at the grip, N·m.
+    pub combined_limit_nm: f64,
+    /// Torsion on: each torque's verdict.
+    pub torsion_on: Vec<sweep::SweepPoint>,
+    /// Torsion off.
+    pub torsion_off: Vec<sweep::SweepPoint>,
 }
 
 /// The report of a run and its verdict.
@@ -156,6 +170,7 @@ pub fn report(run: &GraspRun, v: &Verdict) -> Report {
         flags: format!("{flags:#x}"),
         tick_ns: run.tick_ns,
         config: *c,
+        twist_sweep: None,
     }
 }
 
@@ -194,7 +209,7 @@ pub fn main(args: &Args) -> Result<(), GraspCmdError> {
     let config = args.config();
     let run = simulate::run(&config)?;
     let v = verdict::judge(&run);
-    let r = report(&run, &v);
+    let mut r = report(&run, &v);
     std::fs::create_dir_all(&args.out)
         .map_err(|e| GraspCmdError::OutDir(args.out.display().to_string(), e))?;
     let hysteresis = f64::from(config.contact_params().tolerances.hysteresis);
@@ -204,6 +219,11 @@ pub fn main(args: &Args) -> Result<(), GraspCmdError> {
         let f = args.out.join("twist_sweep.svg");
         charts::twist_sweep(&f, &on, &off, limit)?;
         files.push(f);
+        r.twist_sweep = Some(TwistSweep {
+            combined_limit_nm: limit,
+            torsion_on: on,
+            torsion_off: off,
+        });
     }
     let text = summary(&r);
     crate::chart::index_page::write(
