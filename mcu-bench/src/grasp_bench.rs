@@ -21,14 +21,56 @@ use softfinger_mcu_bench::{bb, bench};
 pub fn benches(b: &mut Bencher) {
     let sphere = BodyParams::solid_sphere(0.1, 0.03);
     let cyl = BodyParams::solid_cylinder_x(0.1, 0.025, 0.08);
-    grasp_tick::<Libm, _>(b, "grasp_tick_sphere", sphere, Sphere::new(0.03), 0.03, Quat::IDENTITY);
-    grasp_tick::<Micromath, _>(b, "grasp_tick_sphere", sphere, Sphere::new(0.03), 0.03, Quat::IDENTITY);
-    grasp_tick::<Fast, _>(b, "grasp_tick_sphere", sphere, Sphere::new(0.03), 0.03, Quat::IDENTITY);
+    grasp_tick::<Libm, _>(
+        b,
+        "grasp_tick_sphere",
+        sphere,
+        Sphere::new(0.03),
+        0.03,
+        Quat::IDENTITY,
+    );
+    grasp_tick::<Micromath, _>(
+        b,
+        "grasp_tick_sphere",
+        sphere,
+        Sphere::new(0.03),
+        0.03,
+        Quat::IDENTITY,
+    );
+    grasp_tick::<Fast, _>(
+        b,
+        "grasp_tick_sphere",
+        sphere,
+        Sphere::new(0.03),
+        0.03,
+        Quat::IDENTITY,
+    );
     // The cylinder's axis (body x) vertical: a turn of −90° about y.
     let q = Quat::from_axis_angle::<Libm>(Vec3::Y, -core::f32::consts::FRAC_PI_2);
-    grasp_tick::<Libm, _>(b, "grasp_tick_cylinder", cyl, Cylinder::new(0.025), 0.025, q);
-    grasp_tick::<Micromath, _>(b, "grasp_tick_cylinder", cyl, Cylinder::new(0.025), 0.025, q);
-    grasp_tick::<Fast, _>(b, "grasp_tick_cylinder", cyl, Cylinder::new(0.025), 0.025, q);
+    grasp_tick::<Libm, _>(
+        b,
+        "grasp_tick_cylinder",
+        cyl,
+        Cylinder::new(0.025),
+        0.025,
+        q,
+    );
+    grasp_tick::<Micromath, _>(
+        b,
+        "grasp_tick_cylinder",
+        cyl,
+        Cylinder::new(0.025),
+        0.025,
+        q,
+    );
+    grasp_tick::<Fast, _>(
+        b,
+        "grasp_tick_cylinder",
+        cyl,
+        Cylinder::new(0.025),
+        0.025,
+        q,
+    );
 }
 
 fn grasp_tick<M: Math, S: Surface>(

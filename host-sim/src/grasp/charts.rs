@@ -41,7 +41,7 @@ fn stride(n: usize) -> usize {
     (n / 2000).max(1)
 }
 
-fn pick<'a>(s: &'a [Sample]) -> impl Iterator<Item = &'a Sample> {
+fn pick(s: &[Sample]) -> impl Iterator<Item = &Sample> {
     s.iter().step_by(stride(s.len()))
 }
 
