@@ -1,6 +1,6 @@
 //! The grasp body's integrator (core `grasp::body`, semi-implicit Euler with the exponential-map
 //! quaternion update, f32) against an independent f64 reference of the same equations: classical
-//! RK4 in nalgebra at 10 µs (its own error is below 1e-9 here, checked by halving the step).
+//! RK4 in nalgebra at 20 µs (its own error is below 1e-8 here, checked by halving the step).
 //!
 //! The motion: a body with three different principal moments tumbling (Euler's equations with the
 //! gyroscopic term), under gravity, a constant world torque, and both dampers, for 1 s.
@@ -18,7 +18,7 @@ const V0: [f64; 3] = [0.1, 0.0, 0.3];
 const TORQUE: [f64; 3] = [0.0, 2.0e-5, 1.0e-5];
 const G: f64 = -9.81;
 /// The reference's step, s.
-const REF_STEP_S: f64 = 1.0e-5;
+const REF_STEP_S: f64 = 2.0e-5;
 
 #[derive(Clone, Copy)]
 struct S {
@@ -128,7 +128,7 @@ fn errors(h: f64) -> (f64, f64, f64) {
 fn the_reference_is_converged() {
     let a = rk4(1.0, REF_STEP_S);
     let b = rk4(1.0, REF_STEP_S / 2.0);
-    assert!((a.x - b.x).norm() < 1e-9 && (a.q - b.q).norm() < 1e-9 && (a.w - b.w).norm() < 1e-9);
+    assert!((a.x - b.x).norm() < 1e-8 && (a.q - b.q).norm() < 1e-8 && (a.w - b.w).norm() < 1e-8);
 }
 
 #[test]
