@@ -22,6 +22,7 @@ pub mod contact;
 pub mod control;
 pub mod device;
 pub mod flags;
+pub mod grasp;
 pub mod math;
 pub mod prelude;
 

@@ -47,6 +47,9 @@ pub enum Command {
     /// Which contact model a scene needs: each choice of the model's parts against the full
     /// model on the scene (force, torque, path and state differences, cost), with the answer.
     Model(crate::model::Args),
+    /// Two soft fingertips hold an object: lifted and twisted, torsion on or off; summary or
+    /// JSON, charts and index.html.
+    Grasp(crate::grasp::Args),
 }
 
 /// Parse `argv` as the command line `P`; on failure clap has printed its message and the exit
@@ -106,6 +109,7 @@ where
         Some(Command::Stability(args)) => crate::stability::main(&args).map_err(Into::into),
         Some(Command::Serve(args)) => crate::serve::main(&args).map_err(Into::into),
         Some(Command::Model(args)) => crate::model::main(&args).map_err(Into::into),
+        Some(Command::Grasp(args)) => crate::grasp::main(&args).map_err(Into::into),
         None => crate::run::main(&crate::run::Args::default()).map_err(Into::into),
     };
     exit_code("host-sim", result)

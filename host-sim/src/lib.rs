@@ -9,6 +9,7 @@ pub mod closed_loop;
 pub mod creep;
 pub mod error;
 pub mod faults;
+pub mod grasp;
 pub mod hold_quantisation;
 pub mod limit_path;
 pub mod limit_surface_cmd;

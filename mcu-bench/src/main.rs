@@ -27,6 +27,7 @@ use softfinger_mcu_bench::bench::Bencher;
 use softfinger_mcu_bench::counter::Counter;
 use softfinger_mcu_bench::{bb, bench, exit::exit, install_fault_handler};
 
+mod grasp_bench;
 mod link_bench;
 
 install_fault_handler!();
@@ -43,6 +44,7 @@ fn main() -> ! {
     rotations(&mut b);
     pipeline(&mut b);
     link_bench::benches(&mut b);
+    grasp_bench::benches(&mut b);
 
     exit(b.ok())
 }
