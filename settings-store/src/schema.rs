@@ -269,17 +269,19 @@ mod tests {
     use super::*;
 
     fn calibrated() -> Settings {
-        let mut s = Settings::default();
-        s.calibration = Some(Calibration {
-            homing_offset_counts: [10, -20, 30],
-            wrist_zero_counts: [1, 2, 3],
-            encoder_direction: [1, -1, 1, 1, -1, 1],
-            motors: [MotorConstants {
-                torque_constant_nm_per_a: 0.03,
-                resistance_ohm: 1.2,
-            }; 3],
-        });
-        s
+        let motor = MotorConstants {
+            torque_constant_nm_per_a: 0.03,
+            resistance_ohm: 1.2,
+        };
+        Settings {
+            calibration: Some(Calibration {
+                homing_offset_counts: [10, -20, 30],
+                wrist_zero_counts: [1, 2, 3],
+                encoder_direction: [1, -1, 1, 1, -1, 1],
+                motors: [motor; 3],
+            }),
+            ..Settings::default()
+        }
     }
 
     #[test]
