@@ -307,7 +307,7 @@ impl UpdateSession {
             return Err(UpdateError::OutOfOrder { expected: received });
         }
         let last = offset + n == len;
-        if !last && n % 8 != 0 {
+        if !last && !n.is_multiple_of(8) {
             return Err(UpdateError::ChunkLen { offset });
         }
         let mut buf = [0xFFu8; CHUNK_LEN];
