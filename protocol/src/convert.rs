@@ -66,7 +66,16 @@ impl Request {
             | Request::Ping
             | Request::SetStream { .. }
             | Request::DriveHand(_)
-            | Request::ReleaseHand => return None,
+            | Request::ReleaseHand
+            | Request::ConfigGet(_)
+            | Request::ConfigSet(_)
+            | Request::ConfigSave
+            | Request::ConfigReset
+            | Request::UpdateBegin { .. }
+            | Request::UpdateChunk(_)
+            | Request::UpdateFinish
+            | Request::UpdateStatus
+            | Request::Reboot => return None,
         })
     }
 }

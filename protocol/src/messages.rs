@@ -67,6 +67,33 @@ pub enum Request {
     DriveHand(HandTarget),
     /// Virtual device: the simulated hand follows the scene's script again.
     ReleaseHand,
+    // Appended (compatible within version 1): persistent settings and updates.
+    /// Read a settings section: [`DeviceMsg::Config`].
+    ConfigGet(crate::config::ConfigSection),
+    /// Change a section of the settings in force (not saved): [`AckResult::Ok`] or
+    /// [`DeviceMsg::ConfigRefused`].
+    ConfigSet(crate::config::ConfigValue),
+    /// Write the settings in force to flash (disarmed only): Ok or [`DeviceMsg::ConfigRefused`].
+    ConfigSave,
+    /// Erase the store and put the defaults in force (disarmed only).
+    ConfigReset,
+    /// Begin or resume an update: [`DeviceMsg::Update`] (its phase tells the offset to send from)
+    /// or [`DeviceMsg::UpdateRefused`].
+    UpdateBegin {
+        /// The image's length, bytes.
+        len: u32,
+        /// Its ed25519 signature (64 bytes).
+        signature: heapless::Vec<u8, 64>,
+    },
+    /// A chunk of the image: [`DeviceMsg::Update`] or [`DeviceMsg::UpdateRefused`].
+    UpdateChunk(crate::update::UpdateChunk),
+    /// Check the signature and mark the image: [`DeviceMsg::Update`] or [`DeviceMsg::UpdateRefused`].
+    UpdateFinish,
+    /// [`DeviceMsg::Update`].
+    UpdateStatus,
+    /// Reset the device (disarmed only): an image marked by `UpdateFinish` is swapped in.
+    /// Acknowledged before the reset.
+    Reboot,
 }
 
 /// Why a request was refused.
@@ -150,6 +177,35 @@ pub enum DeviceMsg {
         kind: FrameErrorKind,
         /// The device's protocol version.
         device_version: u8,
+    },
+    // Appended (compatible within version 1): persistent settings and updates.
+    /// Answer to [`Request::ConfigGet`].
+    Config {
+        /// The request's sequence number.
+        seq: u16,
+        /// The section.
+        value: crate::config::ConfigValue,
+    },
+    /// A configuration request refused, naming the key and the reason.
+    ConfigRefused {
+        /// The request's sequence number.
+        seq: u16,
+        /// What and why.
+        refusal: crate::config::ConfigRefusal,
+    },
+    /// Answer to the update requests.
+    Update {
+        /// The request's sequence number.
+        seq: u16,
+        /// Where it stands.
+        status: crate::update::UpdateStatus,
+    },
+    /// An update request refused.
+    UpdateRefused {
+        /// The request's sequence number.
+        seq: u16,
+        /// Why.
+        refusal: crate::update::UpdateRefusal,
     },
 }
 
