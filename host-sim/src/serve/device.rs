@@ -76,6 +76,8 @@ pub struct DeviceLoop {
     tick: u64,
     timing: TickTiming,
     last: CoreOutput,
+    /// The flash: settings store and firmware update (see [`super::persist`]).
+    persist: super::persist::Persist,
 }
 
 impl std::fmt::Debug for DeviceLoop {
@@ -125,7 +127,14 @@ impl DeviceLoop {
             tick: 0,
             timing: TickTiming::default(),
             last: CoreOutput::default(),
+            persist: super::persist::Persist::in_ram(),
         }
+    }
+
+    /// The same device with `persist` as its flash.
+    pub fn with_persist(mut self, persist: super::persist::Persist) -> DeviceLoop {
+        self.persist = persist;
+        self
     }
 
     /// Run in real time until `stop` is set or `events` closes.
@@ -254,6 +263,10 @@ impl DeviceLoop {
             }
             HostMsg::Request { seq, req } => (seq, req),
         };
+        let armed = matches!(self.last.mode, Mode::Armed | Mode::Homing);
+        if let Some(reply) = self.persist.handle(seq, &req, armed) {
+            return self.reply(id, reply);
+        }
         let result = match &req {
             Request::GetInfo => {
                 self.info.watchdog_ms = (self.core.watchdog_s() * 1000.0).round() as u16;
