@@ -167,6 +167,15 @@ impl Request {
             | Request::DriveHand(_)
             | Request::ReleaseHand
             | Request::GetStatus => return None,
+            | Request::ConfigGet(_)
+            | Request::ConfigSet(_)
+            | Request::ConfigSave
+            | Request::ConfigReset
+            | Request::UpdateBegin { .. }
+            | Request::UpdateChunk(_)
+            | Request::UpdateFinish
+            | Request::UpdateStatus
+            | Request::Reboot => return None,
         })
     }
 }

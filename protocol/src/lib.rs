@@ -36,6 +36,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod config;
 pub mod convert;
 pub mod endpoint;
 pub mod flag_names;
@@ -45,6 +46,7 @@ pub mod messages;
 pub mod model;
 pub mod state;
 pub mod status;
+pub mod update;
 
 pub use endpoint::DeviceEndpoint;
 pub use frame::{encode_frame, FrameDecoder, FrameError, FrameErrorCounts, FrameErrorKind};

@@ -70,6 +70,33 @@ pub enum Request {
     ReleaseHand,
     /// Answered by [`DeviceMsg::Status`] (appended, see [`crate::PROTOCOL_VERSION`]).
     GetStatus,
+    // Appended (compatible within version 1): persistent settings and updates.
+    /// Read a settings section: [`DeviceMsg::Config`].
+    ConfigGet(crate::config::ConfigSection),
+    /// Change a section of the settings in force (not saved): [`AckResult::Ok`] or
+    /// [`DeviceMsg::ConfigRefused`].
+    ConfigSet(crate::config::ConfigValue),
+    /// Write the settings in force to flash (disarmed only): Ok or [`DeviceMsg::ConfigRefused`].
+    ConfigSave,
+    /// Erase the store and put the defaults in force (disarmed only).
+    ConfigReset,
+    /// Begin or resume an update: [`DeviceMsg::Update`] (its phase tells the offset to send from)
+    /// or [`DeviceMsg::UpdateRefused`].
+    UpdateBegin {
+        /// The image's length, bytes.
+        len: u32,
+        /// Its ed25519 signature (64 bytes).
+        signature: heapless::Vec<u8, 64>,
+    },
+    /// A chunk of the image: [`DeviceMsg::Update`] or [`DeviceMsg::UpdateRefused`].
+    UpdateChunk(crate::update::UpdateChunk),
+    /// Check the signature and mark the image: [`DeviceMsg::Update`] or [`DeviceMsg::UpdateRefused`].
+    UpdateFinish,
+    /// [`DeviceMsg::Update`].
+    UpdateStatus,
+    /// Reset the device (disarmed only): an image marked by `UpdateFinish` is swapped in.
+    /// Acknowledged before the reset.
+    Reboot,
 }
 
 /// Why a request was refused.
@@ -171,6 +198,22 @@ pub enum DeviceMsg {
         code: ErrorCode,
         /// Which value, and what it may be.
         field: FieldRange,
+    // Appended (compatible within version 1): persistent settings and updates.
+    /// Answer to [`Request::ConfigGet`].
+    Config {
+        /// The section.
+        value: crate::config::ConfigValue,
+    /// A configuration request refused, naming the key and the reason.
+    ConfigRefused {
+        /// What and why.
+        refusal: crate::config::ConfigRefusal,
+    /// Answer to the update requests.
+    Update {
+        /// Where it stands.
+        status: crate::update::UpdateStatus,
+    /// An update request refused.
+    UpdateRefused {
+        refusal: crate::update::UpdateRefusal,
     },
 }
 

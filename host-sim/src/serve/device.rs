@@ -84,6 +84,8 @@ pub struct DeviceLoop {
     log: EventLog,
     /// Faults latched and watchdog/model flags raised at the previous tick (logged on change).
     noted: Flags,
+    /// The flash: settings store and firmware update (see [`super::persist`]).
+    persist: super::persist::Persist,
 }
 
 impl std::fmt::Debug for DeviceLoop {
@@ -137,7 +139,14 @@ impl DeviceLoop {
             force_limit_n,
             log: EventLog::new(rate, None),
             noted: Flags::NONE,
+            persist: super::persist::Persist::in_ram(),
         }
+    }
+
+    /// The same device with `persist` as its flash.
+    pub fn with_persist(mut self, persist: super::persist::Persist) -> DeviceLoop {
+        self.persist = persist;
+        self
     }
 
     /// Log each connection, mode change, model or parameter change and fault into `out` (one
@@ -291,6 +300,10 @@ impl DeviceLoop {
             }
             HostMsg::Request { seq, req } => (seq, req),
         };
+        let armed = matches!(self.last.mode, Mode::Armed | Mode::Homing);
+        if let Some(reply) = self.persist.handle(seq, &req, armed) {
+            return self.reply(id, reply);
+        }
         let result = match &req {
             Request::GetInfo => {
                 self.info.watchdog_ms = (self.core.watchdog_s() * 1000.0).round() as u16;

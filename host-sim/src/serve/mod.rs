@@ -13,6 +13,7 @@ pub mod device;
 pub mod hand;
 pub mod link;
 pub mod log;
+pub mod persist;
 
 use crate::scene::Scene;
 use clap::Parser;
@@ -43,6 +44,11 @@ pub struct Args {
     /// Home and arm at start, watchdog off (bench mode: force without a client).
     #[arg(long)]
     pub auto_arm: bool,
+    /// Keep the device's flash (settings store, firmware slots) in FILE, the G474's 512 KiB with
+    /// its page size and write granularity: settings and updates survive a restart. Without it,
+    /// RAM. With it, arming needs a calibration read from the store.
+    #[arg(long, value_name = "FILE")]
+    pub flash: Option<std::path::PathBuf>,
     /// Stop after this many seconds (default: run until killed).
     #[arg(long)]
     pub duration_s: Option<f64>,
@@ -82,6 +88,9 @@ pub enum ServeError {
     /// The listening socket could not be set up.
     #[error("{0}: cannot listen: {1}")]
     Listen(String, std::io::Error),
+    /// The `--flash` file could not be opened or booted from.
+    #[error("{0}")]
+    Flash(String),
     /// `--duration-s` was not a positive number.
     #[error("--duration-s must be positive, got {0}")]
     Duration(f64),
@@ -129,8 +138,13 @@ impl Server {
         let stop = Arc::new(AtomicBool::new(false));
         let stats = Arc::new(link::LinkStats::default());
         let (events_tx, events_rx) = channel();
+        let persist = match &args.flash {
+            Some(path) => persist::Persist::open(path).map_err(ServeError::Flash)?,
+            None => persist::Persist::in_ram(),
+        };
         let dev = device::DeviceLoop::new(Box::new(core), device, plant, script, stats.clone())
-            .with_log(log);
+            .with_log(log)
+            .with_persist(persist);
         let stop_dev = stop.clone();
         let device_thread = thread::spawn(move || dev.run(events_rx, stop_dev));
         let stop_acc = stop.clone();
