@@ -184,14 +184,16 @@ impl From<CommandError> for ErrorCode {
     /// The code of a command the pipeline refused.
     fn from(e: CommandError) -> ErrorCode {
         match e {
-            CommandError::NotHomed | CommandError::Armed | CommandError::Homing => {
-                ErrorCode::WrongMode
-            }
+            CommandError::NotHomed
+            | CommandError::Armed
+            | CommandError::Homing
+            | CommandError::InsideSurface => ErrorCode::WrongMode,
             CommandError::Faulted => ErrorCode::Faulted,
             CommandError::InvalidParams(_) => ErrorCode::InvalidValue,
             CommandError::InvalidModel(ModelError::StaleSequence) => ErrorCode::StaleSequence,
             CommandError::InvalidModel(_) => ErrorCode::InvalidValue,
             CommandError::Unsupported => ErrorCode::Unsupported,
+            CommandError::WatchdogRequired => ErrorCode::InvalidValue,
         }
     }
 }

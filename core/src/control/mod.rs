@@ -6,10 +6,12 @@
 //! | [`output_guard`] | the last check on every output: limits, faults, zero torque |
 //! | [`pipeline`] | the one control pipeline the firmware and the simulator run |
 //! | [`local_model`] | local models an application streams to the device |
+//! | [`operator`] | the operator's button: what a press means in each mode |
 //! | [`telemetry`] | the per-tick records the firmware logs and the host reads |
 
 pub mod controller;
 pub mod local_model;
+pub mod operator;
 pub mod output_guard;
 pub mod pipeline;
 pub mod telemetry;

@@ -15,7 +15,7 @@ use crate::math::Vec3;
 ///
 /// Homing: up (θ decreasing) at 1 rad/s and at most 0.15 N·m to the upper stops at −40°, stall
 /// 2 counts for 0.1 s after 0.05 rad of travel, park at 0 rad within 0.03 rad, timeout 5 s.
-/// Driver wake 1 ms; arming ramp 0.5 s. Derivation: docs/design.md#homing-limits.
+/// Driver wake 2 ms from the nSLEEP edge (the DRV8876's t_WAKE is 1 ms: 2x margin); arming ramp 0.5 s. Derivation: docs/design.md#homing-limits.
 pub const OMEGA_LIKE: DeviceDefinition = DeviceDefinition {
     name: "omega-like",
     params: DeviceParams::OMEGA_LIKE,
@@ -32,7 +32,7 @@ pub const OMEGA_LIKE: DeviceDefinition = DeviceDefinition {
         park_angle_rad: 0.0,
         park_tolerance_rad: 0.03,
     },
-    driver_wake_s: 1.0e-3,
+    driver_wake_s: 2.0e-3,
     arm_ramp_s: 0.5,
 };
 

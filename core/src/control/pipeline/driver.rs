@@ -5,6 +5,10 @@
 //! pump until it is up), so reading the line then would latch a fault that is not one. Zero
 //! torque in normal operation goes through PWM/EN; sleeping is reserved for faults, because
 //! sleeping also clears the driver's own fault latch and a wake costs the wake time.
+//!
+//! The wake time counts from the nSLEEP edge: a wake requested between ticks reaches the pin
+//! with the next tick's writes, so that tick does not count (the DRV8876's t_WAKE is 1 ms; the
+//! device definitions ask 2 ms, the margin the bring-up review asked for).
 
 /// Sleep/wake state and the nFAULT mask.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -13,6 +17,8 @@ pub struct DriverPower {
     awake: bool,
     wake_ticks: u32,
     waking_left: u32,
+    /// A wake was requested and nSLEEP has not been written high yet.
+    edge_pending: bool,
 }
 
 impl DriverPower {
@@ -23,6 +29,7 @@ impl DriverPower {
             awake: false,
             wake_ticks,
             waking_left: 0,
+            edge_pending: false,
         }
     }
 
@@ -31,6 +38,7 @@ impl DriverPower {
         if !self.awake {
             self.awake = true;
             self.waking_left = self.wake_ticks;
+            self.edge_pending = self.wake_ticks > 0;
         }
     }
 
@@ -38,6 +46,7 @@ impl DriverPower {
     pub fn sleep(&mut self) {
         self.awake = false;
         self.waking_left = 0;
+        self.edge_pending = false;
     }
 
     /// nSLEEP level to write (true: awake or waking).
@@ -51,10 +60,13 @@ impl DriverPower {
     }
 
     /// Advance one tick with the nFAULT level as read (`true`: asserted). Returns whether it counts
-    /// as a driver fault: only when the driver was already ready at the start of this tick.
+    /// as a driver fault: only when the driver was already ready at the start of this tick. The
+    /// tick that first writes nSLEEP high (the edge) does not count towards the wake time.
     pub fn tick(&mut self, fault_line: bool) -> bool {
         let counts = self.ready() && fault_line;
-        if self.awake && self.waking_left > 0 {
+        if self.edge_pending {
+            self.edge_pending = false;
+        } else if self.awake && self.waking_left > 0 {
             self.waking_left -= 1;
         }
         counts
@@ -73,12 +85,12 @@ mod tests {
         }
         d.wake();
         assert!(d.awake() && !d.ready());
-        // Ticks 1..=3 after the wake: masked.
-        for k in 0..3 {
+        // The edge tick (nSLEEP written high) and the 3 ticks after it: masked.
+        for k in 0..4 {
             assert!(!d.ready(), "tick {k}");
             assert!(!d.tick(true), "tick {k}");
         }
-        // Tick 4: ready, and the line counts.
+        // Tick 5: ready (3 full periods after the edge), and the line counts.
         assert!(d.ready());
         assert!(d.tick(true));
         assert!(!d.tick(false));
@@ -99,6 +111,8 @@ mod tests {
         let mut d = DriverPower::new(2);
         d.wake();
         let _ = d.tick(false);
+        let _ = d.tick(false);
+        assert!(!d.ready(), "the edge tick does not count");
         let _ = d.tick(false);
         assert!(d.ready());
         d.wake();

@@ -61,12 +61,14 @@ fn armed(scene: LocalModelScene) -> (Pipeline<Libm, LocalModelScene>, Arms) {
     let mut p = scene_pipeline(scene);
     let mut arms = Arms::new(0.3);
     let _ = home(&mut p, &mut arms);
-    arms.hand = Some(HOLD);
+    // Arm with the handle lifted out of the surface (arms 0.05 rad up), then press in.
+    arms.hand = Some(HOLD.map(|t| t - 0.05));
     for _ in 0..5_000 {
         let out = tick(&mut p, &mut arms, |_| {});
         assert_eq!(out.control.force_n, Vec3::ZERO, "disarmed: no force");
     }
     assert_eq!(p.command(Command::Arm), Ok(()));
+    arms.hand = Some(HOLD);
     for _ in 0..6_000 {
         let out = tick(&mut p, &mut arms, |_| {});
         assert_eq!(out.mode, Mode::Armed);
@@ -351,4 +353,33 @@ fn bowls_and_cylinders_render() {
         assert_eq!(p.controller().contact().model_seq(), m.seq);
         assert!(out.latched.is_empty());
     }
+}
+
+/// A host's Arm turns the communication watchdog on (0.2 s) when it was off, and while that host
+/// keeps the device armed it cannot turn it off; after Disarm it can.
+#[test]
+fn a_host_arm_turns_the_watchdog_on_and_keeps_it_on() {
+    let mut p = scene_pipeline(LocalModelScene::new(plane(1, 0.003)));
+    let mut arms = Arms::new(0.3);
+    let _ = home(&mut p, &mut arms);
+    arms.hand = Some(HOLD.map(|t| t - 0.05));
+    for _ in 0..100 {
+        let _ = tick(&mut p, &mut arms, |_| {});
+    }
+    assert_eq!(p.controller().contact().watchdog_s(), 0.0);
+    assert_eq!(p.link_command(Command::Arm), Ok(()));
+    assert_eq!(p.controller().contact().watchdog_s(), HOST_WATCHDOG_S);
+    assert_eq!(
+        p.link_command(Command::SetWatchdog { timeout_s: 0.0 }),
+        Err(CommandError::WatchdogRequired)
+    );
+    assert_eq!(
+        p.link_command(Command::SetWatchdog { timeout_s: 0.5 }),
+        Ok(())
+    );
+    assert_eq!(p.link_command(Command::Disarm), Ok(()));
+    assert_eq!(
+        p.link_command(Command::SetWatchdog { timeout_s: 0.0 }),
+        Ok(())
+    );
 }

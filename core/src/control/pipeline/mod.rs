@@ -31,6 +31,7 @@ pub mod bridge;
 pub mod config;
 pub mod driver;
 pub mod homing;
+pub mod link;
 pub mod mode;
 pub mod output_timing;
 pub mod passivity;
@@ -42,10 +43,12 @@ pub use board::{BoardTiming, TimingError};
 pub use bridge::{BridgeCommands, BridgeMapper};
 pub use config::{PipelineConfig, PipelineError};
 pub use homing::HomingSpec;
+pub use link::{HOST_WATCHDOG_S, LINK_FADE_S};
 pub use mode::{Command, CommandError, Mode};
 pub use record::PipelineRecord;
 pub use timing::TimingSummary;
 
+use crate::contact::state::ContactState;
 use crate::contact::surface::Plane;
 use crate::control::controller::{guarded_output, ContactStage, Controller, Scene, TickOutput};
 use crate::control::output_guard::{GuardConfig, OutputGuard};
@@ -56,6 +59,7 @@ use crate::math::Math;
 
 use driver::DriverPower;
 use homing::{ticks_for, Homing, HomingStep};
+use link::LinkHold;
 use ramp::ArmRamp;
 use timing::{TickTiming, TimingVerdict};
 
@@ -119,6 +123,11 @@ pub struct Pipeline<M: Math, S: Scene = Plane> {
     decimator: Decimator,
     drops: DropCounter,
     tick: u32,
+    /// The probe was in contact with the surface on the last disarmed tick (Arm is refused).
+    inside: bool,
+    link: LinkHold,
+    /// `COMM_TIMEOUT` of a lost link this tick.
+    link_flags: Flags,
 }
 
 impl<M: Math, S: Scene> Pipeline<M, S> {
@@ -163,6 +172,9 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
             decimator: Decimator::new(t.control_hz, config.log_rate_hz),
             drops: DropCounter::new(),
             tick: 0,
+            inside: false,
+            link: LinkHold::new(rate),
+            link_flags: Flags::NONE,
             config,
         })
     }
@@ -222,6 +234,47 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
         self.controller.contact_mut().note_link_activity();
     }
 
+    /// A command that arrived over the host link: link activity, then [`Self::command`] under
+    /// the host's rules ([`link`]): an accepted `Arm` turns the communication watchdog on
+    /// ([`HOST_WATCHDOG_S`]) when it is off and makes the link hold the force; while it does,
+    /// `SetWatchdog` cannot turn the watchdog off ([`CommandError::WatchdogRequired`]).
+    pub fn link_command(&mut self, command: Command) -> Result<(), CommandError> {
+        self.note_link_activity();
+        match command {
+            Command::Arm => {
+                self.command(Command::Arm)?;
+                self.link.armed_by_host();
+                if self.controller.contact().watchdog_s() == 0.0 {
+                    // A fixed scene has no watchdog (Unsupported): the link-loss rule still holds.
+                    let _ = self.controller.contact_mut().set_watchdog(HOST_WATCHDOG_S);
+                }
+                Ok(())
+            }
+            Command::SetWatchdog { timeout_s }
+                if self.link.host_armed()
+                    && self.mode == Mode::Armed
+                    && (timeout_s.is_nan() || timeout_s <= 0.0) =>
+            {
+                Err(CommandError::WatchdogRequired)
+            }
+            c => self.command(c),
+        }
+    }
+
+    /// The host link was lost (USB bus reset, suspend, DTR dropped, or the host not taking the
+    /// device's writes for the firmware's stated time): when a host armed the device, the force
+    /// fades to zero within [`LINK_FADE_S`] and `COMM_TIMEOUT` latches until the next `Arm`.
+    pub fn link_lost(&mut self) {
+        if self.mode == Mode::Armed {
+            let _ = self.link.lose();
+        }
+    }
+
+    /// A host holds the arming (it armed the device over the link and it is still armed).
+    pub fn host_armed(&self) -> bool {
+        self.link.host_armed() && self.mode == Mode::Armed
+    }
+
     /// Apply an operator command at a tick boundary. See [`Mode`] for the transitions.
     pub fn command(&mut self, command: Command) -> Result<(), CommandError> {
         match command {
@@ -242,7 +295,9 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
                 Mode::Faulted => Err(CommandError::Faulted),
             },
             Command::Arm => match self.mode {
+                Mode::Disarmed if self.inside => Err(CommandError::InsideSurface),
                 Mode::Disarmed => {
+                    self.link.armed_locally();
                     self.controller.contact_mut().rearm();
                     self.ramp.restart();
                     self.controller.set_force_scale(0.0);
@@ -251,6 +306,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
                 }
                 Mode::Armed => {
                     // Re-arming clears a latched communication timeout (the force ramps back).
+                    self.link.armed_locally();
                     self.controller.contact_mut().rearm();
                     Ok(())
                 }
@@ -261,9 +317,14 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
             Command::Disarm => {
                 match self.mode {
                     Mode::Armed => self.mode = Mode::Disarmed,
-                    Mode::Homing => self.mode = Mode::Unhomed,
+                    Mode::Homing => {
+                        // An aborted homing leaves nothing awake.
+                        self.driver.sleep();
+                        self.mode = Mode::Unhomed;
+                    }
                     _ => {}
                 }
+                self.link.released();
                 Ok(())
             }
             Command::ClearFaults => {
@@ -272,6 +333,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
                     self.controller.restart();
                     self.mode = if self.homed {
                         self.driver.wake();
+                        self.inside = true;
                         Mode::Disarmed
                     } else {
                         Mode::Unhomed
@@ -336,7 +398,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
         PipelineOutput {
             bridges: bridges.0,
             mode: self.mode,
-            flags: g.flags | bridges.1,
+            flags: g.flags | bridges.1 | self.link_flags,
             latched: self.guard.latched(),
             control,
             // After the mode's work: on the tick homing ends these are already the homed counts.
@@ -383,6 +445,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
             enable: false,
             ..TickOutput::default()
         };
+        self.link_flags = Flags::NONE;
         match self.mode {
             Mode::Unhomed | Mode::Faulted => (idle, false, 0.0),
             Mode::Homing => {
@@ -404,6 +467,8 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
                         self.offsets[..3].copy_from_slice(&offsets);
                         self.homed = true;
                         self.controller.restart();
+                        // Unknown until a disarmed tick has looked: no Arm before then.
+                        self.inside = true;
                         self.mode = Mode::Disarmed;
                         (idle, false, 0.0)
                     }
@@ -417,10 +482,13 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
                 self.controller.set_force_scale(0.0);
                 let mut out = self.controller.compute(&counts);
                 out.enable = false;
+                self.inside = out.state != ContactState::Broken;
                 (out, false, 0.0)
             }
             Mode::Armed => {
-                let gain = self.ramp.next_gain();
+                let (link_gain, link_flags) = self.link.tick();
+                self.link_flags = link_flags;
+                let gain = self.ramp.next_gain() * link_gain;
                 self.controller.set_force_scale(gain);
                 (self.controller.compute(&counts), true, gain)
             }
@@ -437,6 +505,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
         }
         self.mode = Mode::Faulted;
         self.driver.sleep();
+        self.link.released();
     }
 
     #[must_use]

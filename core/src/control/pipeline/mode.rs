@@ -63,7 +63,8 @@ pub enum Command {
     /// the wrist zero is taken from the wrist encoders at this instant. From `Unhomed` or
     /// `Disarmed` (re-homing).
     Home,
-    /// Render forces (ramping in). From `Disarmed` only.
+    /// Render forces (ramping in). From `Disarmed` only, and only with the probe outside the
+    /// surface (the force then ramps from the surface, never from inside it).
     Arm,
     /// Stop rendering: `Armed` → `Disarmed`; aborts homing (`Homing` → `Unhomed`).
     Disarm,
@@ -120,6 +121,12 @@ pub enum CommandError {
     InvalidModel(ModelError),
     /// The scene cannot do this (a local model or watchdog command on a fixed scene).
     Unsupported,
+    /// `Arm` while the probe is inside the surface (in contact on the last disarmed tick):
+    /// arming would push it out with the contact's force. Lift the handle off first.
+    InsideSurface,
+    /// A host armed the device: its communication watchdog cannot be turned off until it
+    /// disarms.
+    WatchdogRequired,
 }
 
 impl core::fmt::Display for CommandError {
@@ -132,6 +139,12 @@ impl core::fmt::Display for CommandError {
             CommandError::InvalidParams(e) => write!(f, "contact parameters rejected: {e}"),
             CommandError::InvalidModel(e) => write!(f, "local model rejected: {e}"),
             CommandError::Unsupported => f.write_str("the scene does not support this command"),
+            CommandError::InsideSurface => {
+                f.write_str("the probe is inside the surface: lift it off before arming")
+            }
+            CommandError::WatchdogRequired => f.write_str(
+                "a host armed the device: the communication watchdog stays on until it disarms",
+            ),
         }
     }
 }
