@@ -166,7 +166,7 @@ impl Request {
             | Request::SetStream { .. }
             | Request::DriveHand(_)
             | Request::ReleaseHand
-            | Request::GetStatus => return None,
+            | Request::GetStatus
             | Request::ConfigGet(_)
             | Request::ConfigSet(_)
             | Request::ConfigSave

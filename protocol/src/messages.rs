@@ -198,21 +198,34 @@ pub enum DeviceMsg {
         code: ErrorCode,
         /// Which value, and what it may be.
         field: FieldRange,
+    },
     // Appended (compatible within version 1): persistent settings and updates.
     /// Answer to [`Request::ConfigGet`].
     Config {
+        /// The request's sequence number.
+        seq: u16,
         /// The section.
         value: crate::config::ConfigValue,
+    },
     /// A configuration request refused, naming the key and the reason.
     ConfigRefused {
+        /// The request's sequence number.
+        seq: u16,
         /// What and why.
         refusal: crate::config::ConfigRefusal,
+    },
     /// Answer to the update requests.
     Update {
+        /// The request's sequence number.
+        seq: u16,
         /// Where it stands.
         status: crate::update::UpdateStatus,
+    },
     /// An update request refused.
     UpdateRefused {
+        /// The request's sequence number.
+        seq: u16,
+        /// Why.
         refusal: crate::update::UpdateRefusal,
     },
 }
