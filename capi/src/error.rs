@@ -74,7 +74,7 @@ pub(crate) fn code_of(e: &LinkError) -> i32 {
         LinkError::NoDevice => SF_ERR_NO_DEVICE,
         LinkError::Timeout => SF_ERR_TIMEOUT,
         LinkError::Disconnected => SF_ERR_DISCONNECTED,
-        LinkError::Refused(c) => refused(*c),
+        LinkError::Refused(c) | LinkError::Rejected { code: c, .. } => refused(*c),
         LinkError::Frame(_) => SF_ERR_FRAME,
         LinkError::Version { .. } => SF_ERR_VERSION,
         LinkError::Protocol(_) | LinkError::Context(_) => SF_ERR_PROTOCOL,

@@ -29,9 +29,9 @@ create_exception!(
 /// The Python exception of a failed exchange.
 pub fn to_py(e: HostError) -> PyErr {
     match e {
-        HostError::Refused(code) => Python::attach(|py| {
+        HostError::Refused(code) | HostError::Rejected { code, .. } => Python::attach(|py| {
             let name = format!("{code:?}");
-            let err = DeviceRefused::new_err(format!("the device refused: {name}"));
+            let err = DeviceRefused::new_err(e.to_string());
             // Setting an attribute on a fresh exception object cannot fail short of memory.
             let _ = err.value(py).setattr("code", name);
             err
