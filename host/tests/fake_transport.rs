@@ -82,7 +82,11 @@ fn fake_device(mut from_host: PipeReader, mut to_host: PipeWriter, requests: usi
                     },
                 ),
                 HostMsg::Request { seq, req } => {
-                    seen += 1;
+                    // The heartbeat's pings (every 20 ms) are not the test's requests: counted,
+                    // they made the hang-up come early on a loaded machine.
+                    if seq != softfinger_host::device::HEARTBEAT_SEQ {
+                        seen += 1;
+                    }
                     let result = match req {
                         Request::Arm => AckResult::Err(ErrorCode::WrongMode),
                         _ => AckResult::Ok,

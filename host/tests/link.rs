@@ -49,10 +49,14 @@ fn info_counters_and_typed_refusals() {
     d.set_stream(0).unwrap();
     let mut p = d.contact_params().unwrap();
     p.mu_k = p.mu_s + 0.1;
-    assert!(matches!(
-        d.set_contact_params(p),
-        Err(LinkError::Refused(ErrorCode::InvalidValue))
-    ));
+    // Refused naming the field and its range.
+    match d.set_contact_params(p) {
+        Err(LinkError::Rejected { code, field }) => {
+            assert_eq!(code, ErrorCode::InvalidValue);
+            assert_eq!((field.field.as_str(), field.max), ("mu_k", p.mu_s));
+        }
+        other => panic!("{other:?}"),
+    }
     let c = d.counters().unwrap();
     assert_eq!(c.connections, 1);
     assert_eq!(c.rx_errors, 0);

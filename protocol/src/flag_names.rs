@@ -5,25 +5,101 @@ use softfinger_core::Flags;
 
 /// Every named flag in bit order: the bit, its short name, what it means for the user.
 pub const FLAGS: [(Flags, &str, &str); 19] = [
-    (Flags::NON_FINITE_INPUT, "non-finite-input", "an input was NaN or infinite: safe output"),
-    (Flags::ZERO_AXIS, "zero-axis", "a rotation axis was too short to normalise"),
-    (Flags::NON_UNIT_QUAT, "non-unit-quat", "an orientation was renormalised"),
-    (Flags::SINGULAR, "singular", "the paper's decomposition is singular: zero output"),
-    (Flags::GIMBAL_LOCK, "gimbal-lock", "roll-pitch-yaw at its pole"),
-    (Flags::OUT_OF_RANGE, "out-of-range", "a value out of range: safe default used"),
-    (Flags::SPIN_SATURATED, "spin-saturated", "spin torque at the friction limit (slips)"),
-    (Flags::KINEMATICS_SINGULAR, "kinematics-singular", "arm pose singular or unreachable"),
-    (Flags::ENCODER_GLITCH, "encoder-glitch", "an encoder jumped impossibly far"),
-    (Flags::OUTPUT_LIMITED, "output-limited", "force, torque or duty was limited"),
-    (Flags::DRIVER_FAULT, "driver-fault", "the motor driver reported a fault"),
-    (Flags::OVERRUN, "overrun", "control ticks overran their period"),
-    (Flags::NON_FINITE_OUTPUT, "non-finite-output", "an output was non-finite: zeroed"),
-    (Flags::ENCODER_STUCK, "encoder-stuck", "an encoder did not move under drive"),
-    (Flags::PARAM_REJECTED, "param-rejected", "parameters refused: the old ones stay"),
-    (Flags::HOMING_FAILED, "homing-failed", "homing timed out or an arm stalled early"),
-    (Flags::COMM_TIMEOUT, "comm-timeout", "no message in the watchdog time: force 0 until armed"),
-    (Flags::MODEL_STALE, "model-stale", "the local model is older than its maximum age: force fades"),
-    (Flags::MODEL_REJECTED, "model-rejected", "a local model was refused: the old one stays"),
+    (
+        Flags::NON_FINITE_INPUT,
+        "non-finite-input",
+        "an input was NaN or infinite: safe output",
+    ),
+    (
+        Flags::ZERO_AXIS,
+        "zero-axis",
+        "a rotation axis was too short to normalise",
+    ),
+    (
+        Flags::NON_UNIT_QUAT,
+        "non-unit-quat",
+        "an orientation was renormalised",
+    ),
+    (
+        Flags::SINGULAR,
+        "singular",
+        "the paper's decomposition is singular: zero output",
+    ),
+    (
+        Flags::GIMBAL_LOCK,
+        "gimbal-lock",
+        "roll-pitch-yaw at its pole",
+    ),
+    (
+        Flags::OUT_OF_RANGE,
+        "out-of-range",
+        "a value out of range: safe default used",
+    ),
+    (
+        Flags::SPIN_SATURATED,
+        "spin-saturated",
+        "spin torque at the friction limit (slips)",
+    ),
+    (
+        Flags::KINEMATICS_SINGULAR,
+        "kinematics-singular",
+        "arm pose singular or unreachable",
+    ),
+    (
+        Flags::ENCODER_GLITCH,
+        "encoder-glitch",
+        "an encoder jumped impossibly far",
+    ),
+    (
+        Flags::OUTPUT_LIMITED,
+        "output-limited",
+        "force, torque or duty was limited",
+    ),
+    (
+        Flags::DRIVER_FAULT,
+        "driver-fault",
+        "the motor driver reported a fault",
+    ),
+    (
+        Flags::OVERRUN,
+        "overrun",
+        "control ticks overran their period",
+    ),
+    (
+        Flags::NON_FINITE_OUTPUT,
+        "non-finite-output",
+        "an output was non-finite: zeroed",
+    ),
+    (
+        Flags::ENCODER_STUCK,
+        "encoder-stuck",
+        "an encoder did not move under drive",
+    ),
+    (
+        Flags::PARAM_REJECTED,
+        "param-rejected",
+        "parameters refused: the old ones stay",
+    ),
+    (
+        Flags::HOMING_FAILED,
+        "homing-failed",
+        "homing timed out or an arm stalled early",
+    ),
+    (
+        Flags::COMM_TIMEOUT,
+        "comm-timeout",
+        "no message in the watchdog time: force 0 until armed",
+    ),
+    (
+        Flags::MODEL_STALE,
+        "model-stale",
+        "the local model is older than its maximum age: force fades",
+    ),
+    (
+        Flags::MODEL_REJECTED,
+        "model-rejected",
+        "a local model was refused: the old one stays",
+    ),
 ];
 
 /// Flags that hold the rendered force at zero (or fading to it) while the mode stays armed.

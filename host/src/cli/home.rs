@@ -88,7 +88,12 @@ pub fn main(spec: &str, a: &Args) -> Result<(), String> {
     }
     let mut d = connect(spec).map_err(|e| e.to_string())?;
     if let Err(e) = d.home() {
-        return Err(refusal::message("home", e, &mut d));
+        // Homing already running (another `home --no-wait`): wait for that one.
+        let homing = matches!(d.status(), Ok(st) if st.mode == Mode::Homing);
+        if !homing || a.no_wait {
+            return Err(refusal::message("home", e, &mut d));
+        }
+        eprintln!("homing is already in progress: waiting for it");
     }
     if a.no_wait {
         println!("homing started (it takes a few seconds; `softfinger status` shows the mode)");

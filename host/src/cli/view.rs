@@ -5,7 +5,6 @@
 //! Esc, Ctrl-C). Fits 80 × 24. When stdout is not a terminal it prints one line per refresh.
 
 use super::connect;
-use super::status::model_line;
 use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind, KeyModifiers};
 use ratatui::layout::{Constraint, Layout};
 use ratatui::style::{Color, Modifier, Style};
@@ -162,7 +161,7 @@ pub fn draw(f: &mut Frame, v: &ViewState) {
     }
     f.render_widget(Paragraph::new(Line::from(head)), rows[0]);
     let model = match &v.status {
-        Some(st) => model_line(&st.model),
+        Some(st) => short_model_line(&st.model),
         None => format!("model {}", s.model_seq),
     };
     f.render_widget(Paragraph::new(format!(" {model}")), rows[1]);
@@ -213,6 +212,22 @@ pub fn draw(f: &mut Frame, v: &ViewState) {
         ])),
         rows[6],
     );
+}
+
+/// The model within 79 columns: kind and size, position (whole mm), stiffness, friction.
+fn short_model_line(m: &softfinger_host::protocol::LocalModel) -> String {
+    let [x, y, z] = m.position_m;
+    format!(
+        "model {} {} ({:.0},{:.0},{:.0}) mm {} N/m mu {}/{}",
+        m.seq,
+        host_sim::serve::log::shape(&m.shape),
+        x * 1e3,
+        y * 1e3,
+        z * 1e3,
+        m.stiffness_n_per_m,
+        m.mu_s,
+        m.mu_k
+    )
 }
 
 /// The raised flags, one line each with its meaning; those that hold the force at zero and
@@ -301,6 +316,7 @@ pub fn main(spec: &str, a: &Args) -> Result<(), String> {
         }
         let frame_end = Instant::now() + Duration::from_millis(100);
         let mut failed = None;
+        let mut quit = false;
         while let Some(left) = frame_end.checked_duration_since(Instant::now()) {
             match dev.next_state(left.min(Duration::from_millis(20))) {
                 Ok(Some(s)) => {
@@ -310,6 +326,7 @@ pub fn main(spec: &str, a: &Args) -> Result<(), String> {
                 }
                 Ok(None) => {
                     if term.is_some() && quit_pressed(Duration::ZERO) {
+                        quit = true;
                         break;
                     }
                 }
@@ -328,7 +345,7 @@ pub fn main(spec: &str, a: &Args) -> Result<(), String> {
         if let Some(e) = failed {
             break Err(e);
         }
-        if term.is_some() && quit_pressed(Duration::ZERO) {
+        if quit || (term.is_some() && quit_pressed(Duration::ZERO)) {
             break Ok(());
         }
         if window.elapsed() >= Duration::from_secs(1) {
@@ -418,6 +435,24 @@ mod tests {
         }
         let kept = v.history.back().unwrap().0 - v.history.front().unwrap().0;
         assert!((kept - HISTORY_S).abs() <= 0.01, "{kept} s kept");
+        v.status = Some(DeviceStatus {
+            tick: 0,
+            mode: Mode::Armed,
+            flags: 0,
+            latched: 0,
+            model: softfinger_host::protocol::LocalModel {
+                seq: 65_535,
+                shape: softfinger_host::protocol::SurfaceShape::Cylinder { radius_m: 0.125 },
+                position_m: [-0.1234, -0.1234, -0.2255],
+                orientation: [1.0, 0.0, 0.0, 0.0],
+                stiffness_n_per_m: 12_345.0,
+                damping_n_s_per_m: 2.0,
+                mu_s: 0.85,
+                mu_k: 0.65,
+                spin_stiffness_nm_per_rad: 0.01,
+                max_age_ms: 0,
+            },
+        });
         let s = screen(&v);
         let all = s.join("\n");
         println!("{all}");
@@ -441,6 +476,11 @@ mod tests {
         );
         assert!(all.contains("output-limited"), "{all}");
         assert!(s[23].contains("q or Esc quits"), "{}", s[23]);
+        assert!(
+            s[1].trim_end().ends_with("12345 N/m mu 0.85/0.65"),
+            "{}",
+            s[1]
+        );
         // Nothing wraps: every line that reaches the last column is a frame or a plot.
         for l in &s[..3] {
             assert!(l.trim_end().chars().count() < 80, "{l}");

@@ -202,5 +202,8 @@ fn every_field_range_is_the_one_validate_applies() {
     p.mu_k = base.mu_s + 0.1;
     let r = FieldRange::of_param_error(&p.validate().unwrap_err(), &p, limit).unwrap();
     assert_eq!((r.field.as_str(), r.max), ("mu_k", base.mu_s));
-    assert_eq!(FieldRange::of_param_error(&ParamError::NotFinite("bogus"), &p, limit), None);
+    assert_eq!(
+        FieldRange::of_param_error(&ParamError::NotFinite("bogus"), &p, limit),
+        None
+    );
 }
