@@ -11,8 +11,7 @@
 //! # fn main() -> Result<(), softfinger_host::LinkError> {
 //! let mut dev = Device::connect(&"tcp:127.0.0.1:7700".parse::<Target>()?)?;
 //! println!("{}", dev.info()?.name);
-//! dev.home()?;
-//! std::thread::sleep(Duration::from_millis(100)); // homing takes a moment
+//! dev.home_and_wait(Duration::from_secs(10))?; // returns once homed
 //! dev.arm()?;
 //! // A sphere of 5 cm whose top is 7 cm above the base origin; sent at up to 1 kHz.
 //! dev.set_local_model(LocalModel {

@@ -24,6 +24,7 @@ fn server_at(listen: &str) -> Server {
         auto_arm: false,
         duration_s: None,
         quiet: true,
+        flash: None,
     })
     .expect("server starts")
 }

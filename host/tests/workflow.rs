@@ -24,6 +24,7 @@ fn args(listen: &str) -> Args {
         auto_arm: false,
         duration_s: None,
         quiet: true,
+        flash: None,
     }
 }
 

@@ -135,6 +135,7 @@ fn checked(t_s: &[f64], quats: &[Vec<f64>]) -> PyResult<Vec<[f64; 4]>> {
 /// (strings: `rolling`, `singular`, `gimbal-lock`), `object_x_m`, `object_y_m`, `object_z_m`,
 /// `finger_x_m`, `finger_y_m`, `finger_z_m`. Raises `ValueError` for bad input.
 #[pyfunction]
+#[allow(clippy::too_many_arguments)]
 #[pyo3(signature = (
     t_s, quats, method = "exact", surface = "plane", radius_m = 0.01,
     object_radius_m = 0.05, normal_force_n = 1.0
