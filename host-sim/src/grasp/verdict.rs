@@ -89,3 +89,18 @@ pub fn judge(run: &GraspRun) -> Verdict {
         non_finite,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn twist_is_the_turn_about_the_axis_only() {
+        let q0 = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.7);
+        let about_x = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.3) * q0;
+        assert!((twist_about(&q0, &about_x, &Vector3::x()) - 0.3).abs() < 1e-12);
+        assert!((twist_about(&q0, &about_x, &-Vector3::x()) + 0.3).abs() < 1e-12);
+        let about_y = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), 0.3) * q0;
+        assert!(twist_about(&q0, &about_y, &Vector3::x()).abs() < 1e-12);
+    }
+}
