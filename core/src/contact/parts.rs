@@ -119,9 +119,17 @@ mod tests {
         assert_eq!(ModelChoice::from_name("fulll"), None);
         // Each choice adds a part to the one before; the limit surface needs the spin.
         let parts = [
-            (PointFriction::SPIN, PointFriction::ROLLING, PointFriction::LIMIT_SURFACE),
+            (
+                PointFriction::SPIN,
+                PointFriction::ROLLING,
+                PointFriction::LIMIT_SURFACE,
+            ),
             (WithSpin::SPIN, WithSpin::ROLLING, WithSpin::LIMIT_SURFACE),
-            (WithRolling::SPIN, WithRolling::ROLLING, WithRolling::LIMIT_SURFACE),
+            (
+                WithRolling::SPIN,
+                WithRolling::ROLLING,
+                WithRolling::LIMIT_SURFACE,
+            ),
             (Full::SPIN, Full::ROLLING, Full::LIMIT_SURFACE),
         ];
         let count = |p: (bool, bool, bool)| p.0 as u8 + p.1 as u8 + p.2 as u8;
