@@ -216,7 +216,8 @@ fn run_with<M: Math, S: Surface, P: softfinger_core::contact::Parts>(
         scene: scene.name.clone(),
         source,
     };
-    let mut pipe: Pipeline<M, WithParts<S, P>> = Pipeline::new(config).map_err(|e| in_scene(e.into()))?;
+    let mut pipe: Pipeline<M, WithParts<S, P>> =
+        Pipeline::new(config).map_err(|e| in_scene(e.into()))?;
     let mut plant = closed_loop::plant(&scene, &config.contact).map_err(|e| in_scene(e.into()))?;
     let prepared = prepare(&mut pipe, &mut plant).map_err(|e| in_scene(e.into()))?;
     let dt = 1.0 / f64::from(config.timing.control_hz);

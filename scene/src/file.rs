@@ -271,7 +271,9 @@ impl Scene {
     pub fn model(&self) -> Result<ModelChoice, SceneProblem> {
         match &self.model {
             None => Ok(ModelChoice::Full),
-            Some(m) => ModelChoice::from_name(m).ok_or_else(|| SceneProblem::UnknownModel(m.clone())),
+            Some(m) => {
+                ModelChoice::from_name(m).ok_or_else(|| SceneProblem::UnknownModel(m.clone()))
+            }
         }
     }
 
@@ -352,6 +354,26 @@ impl Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_scene_names_a_known_model_or_is_refused() {
+        let text = BUILT_IN[0]
+            .1
+            .replace("model = \"full\"", "model = \"spin-rolling\"");
+        let s = Scene::parse(&text, "x").unwrap();
+        assert_eq!(s.model(), Ok(ModelChoice::SpinRolling));
+        assert_eq!(Scene::parse(&s.to_toml(), "x").unwrap(), s);
+        let bad = BUILT_IN[0]
+            .1
+            .replace("model = \"full\"", "model = \"fulll\"");
+        let e = Scene::parse(&bad, "x").unwrap_err().to_string();
+        assert!(e.contains("unknown model 'fulll'"), "{e}");
+        let none = BUILT_IN[0].1.replace("model = \"full\"", "");
+        assert_eq!(
+            Scene::parse(&none, "x").unwrap().model(),
+            Ok(ModelChoice::Full)
+        );
+    }
 
     #[test]
     fn built_ins_parse() {

@@ -110,6 +110,66 @@ impl ModelChoice {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::state::ContactState;
+    use crate::contact::surface::{Plane, Surface};
+    use crate::contact::{ContactInput, ContactModel, ContactParams};
+    use crate::math::{quat::Quat, vec3::Vec3, Libm};
+
+    /// Press 1 mm into the plane, then turn the fingertip about x (rolling) and about the normal
+    /// (twist) by `n` steps of 1 mrad each; returns the last output and the contact point.
+    fn press_roll_twist<P: Parts>(n: usize) -> (crate::contact::ContactOutput, Vec3) {
+        let p = ContactParams::DEFAULT;
+        let mut m =
+            ContactModel::<Libm, Plane, P>::with_parts(p, Plane::default(), Quat::IDENTITY, 1e-4)
+                .unwrap();
+        let probe_m = Vec3::new(0.0, 0.0, p.fingertip_radius_m - 0.001);
+        let mut q = Quat::IDENTITY;
+        let mut input = ContactInput {
+            q,
+            probe_m,
+            probe_vel: Vec3::ZERO,
+        };
+        for _ in 0..4 {
+            m.contact_step(&input);
+        }
+        let (dq, _) = Quat::from_rotation_vector::<Libm>(Vec3::new(1e-3, 0.0, 1e-3));
+        let mut out = m.contact_step(&input);
+        for _ in 0..n {
+            q = dq * q;
+            input.q = q;
+            out = m.contact_step(&input);
+        }
+        (out, m.rolling().surface().contact_point())
+    }
+
+    /// What each choice leaves out is absent from its output, and what it keeps agrees with the
+    /// full model while nothing slides (20 steps: 20 mrad of roll and twist, well inside the
+    /// friction limits at 2 N).
+    #[test]
+    fn a_choice_renders_what_its_parts_give() {
+        let (full, full_point) = press_roll_twist::<Full>(20);
+        assert_eq!(full.state, ContactState::Rolling);
+        assert!(full.tau_n_nm > 0.0 && full_point.y.abs() > 1e-4, "{full:?}");
+        let (point, point_at) = press_roll_twist::<PointFriction>(20);
+        assert_eq!(
+            (point.tau_n_nm, point_at),
+            (0.0, Vec3::ZERO),
+            "no spin, no rolling"
+        );
+        let (spin, spin_at) = press_roll_twist::<WithSpin>(20);
+        assert_eq!(spin_at, Vec3::ZERO, "no rolling");
+        // Inside the limit surface the limits do not act: the same spin torque (measured 1 ulp
+        // apart at most: the contact frame does not move in the plane, both use the rotation
+        // vector's z).
+        assert!(
+            (spin.tau_n_nm - full.tau_n_nm).abs() <= 1e-9,
+            "{spin:?} {full:?}"
+        );
+        let (roll, roll_at) = press_roll_twist::<WithRolling>(20);
+        assert_eq!(roll.force_n, full.force_n);
+        assert_eq!(roll.tau_n_nm, full.tau_n_nm);
+        assert_eq!(roll_at, full_point);
+    }
 
     #[test]
     fn names_round_trip_and_the_choices_nest() {
@@ -119,9 +179,17 @@ mod tests {
         assert_eq!(ModelChoice::from_name("fulll"), None);
         // Each choice adds a part to the one before; the limit surface needs the spin.
         let parts = [
-            (PointFriction::SPIN, PointFriction::ROLLING, PointFriction::LIMIT_SURFACE),
+            (
+                PointFriction::SPIN,
+                PointFriction::ROLLING,
+                PointFriction::LIMIT_SURFACE,
+            ),
             (WithSpin::SPIN, WithSpin::ROLLING, WithSpin::LIMIT_SURFACE),
-            (WithRolling::SPIN, WithRolling::ROLLING, WithRolling::LIMIT_SURFACE),
+            (
+                WithRolling::SPIN,
+                WithRolling::ROLLING,
+                WithRolling::LIMIT_SURFACE,
+            ),
             (Full::SPIN, Full::ROLLING, Full::LIMIT_SURFACE),
         ];
         let count = |p: (bool, bool, bool)| p.0 as u8 + p.1 as u8 + p.2 as u8;

@@ -5,8 +5,7 @@
 //! marked.
 
 use crate::chart::style::{
-    draw_axes, draw_line, draw_markers, drawing_err, linear_range, render_svg, Shape, FONT,
-    PALETTE,
+    draw_axes, draw_line, draw_markers, drawing_err, linear_range, render_svg, Shape, FONT, PALETTE,
 };
 use crate::error::ChartError;
 use crate::model::Report;

@@ -180,7 +180,9 @@ fn time_choice<S: Surface>(
     inputs: &[ContactInput],
 ) -> Result<f64, ParamError> {
     match choice {
-        ModelChoice::PointFriction => time_steps::<S, PointFriction>(contact, surface, dt_s, inputs),
+        ModelChoice::PointFriction => {
+            time_steps::<S, PointFriction>(contact, surface, dt_s, inputs)
+        }
         ModelChoice::Spin => time_steps::<S, WithSpin>(contact, surface, dt_s, inputs),
         ModelChoice::SpinRolling => time_steps::<S, WithRolling>(contact, surface, dt_s, inputs),
         ModelChoice::Full => time_steps::<S, Full>(contact, surface, dt_s, inputs),
@@ -196,6 +198,7 @@ fn runs_on<S: Surface>(
     contact: ContactParams,
     config: PipelineConfig<S>,
     choices: &[ModelChoice],
+    timed: bool,
 ) -> Result<(Run, Vec<Run>), SetupError> {
     let mut full = run_choice::<S, Full>(scene, contact, config, ModelChoice::Full)?;
     let mut runs = Vec::new();
@@ -217,10 +220,10 @@ fn runs_on<S: Surface>(
             source,
         })
     };
-    for _ in 0..TIMING_REPEATS {
+    for _ in 0..if timed { TIMING_REPEATS } else { 0 } {
         for r in runs.iter_mut().chain(std::iter::once(&mut full)) {
-            let ns = time_choice(r.choice, contact, config.surface, dt_s, &inputs)
-                .map_err(in_scene)?;
+            let ns =
+                time_choice(r.choice, contact, config.surface, dt_s, &inputs).map_err(in_scene)?;
             // NaN (not yet timed) gives way to the time.
             r.host_ns_per_step = r.host_ns_per_step.min(ns);
         }
@@ -228,25 +231,30 @@ fn runs_on<S: Surface>(
     Ok((full, runs))
 }
 
-/// The full model's run of `scene` and the runs of `choices`, in their order.
-pub fn runs(scene: &Scene, choices: &[ModelChoice]) -> Result<(Run, Vec<Run>), SetupError> {
+/// The full model's run of `scene` and the runs of `choices`, in their order; timed on the host
+/// when `timed` (otherwise their `host_ns_per_step` is NaN).
+pub fn runs(
+    scene: &Scene,
+    choices: &[ModelChoice],
+    timed: bool,
+) -> Result<(Run, Vec<Run>), SetupError> {
     let contact = closed_loop::contact_params(scene)?;
     match scene.surface {
         SurfaceSpec::Plane => {
             let cfg = closed_loop::plane_config(scene, contact)?;
-            runs_on(scene, contact, cfg, choices)
+            runs_on(scene, contact, cfg, choices, timed)
         }
         SurfaceSpec::Sphere { radius_m } => {
             let cfg = closed_loop::sphere_config(scene, contact, radius_m)?;
-            runs_on(scene, contact, cfg, choices)
+            runs_on(scene, contact, cfg, choices, timed)
         }
         SurfaceSpec::Bowl { radius_m } => {
             let cfg = closed_loop::bowl_config(scene, contact, radius_m)?;
-            runs_on(scene, contact, cfg, choices)
+            runs_on(scene, contact, cfg, choices, timed)
         }
         SurfaceSpec::Cylinder { radius_m } => {
             let cfg = closed_loop::cylinder_config(scene, contact, radius_m)?;
-            runs_on(scene, contact, cfg, choices)
+            runs_on(scene, contact, cfg, choices, timed)
         }
     }
 }
@@ -286,7 +294,11 @@ impl Difference {
 }
 
 /// Trailing mean over `n` ticks of `f(tick)`.
-fn averaged<const K: usize>(ticks: &[Tick], n: usize, f: impl Fn(&Tick) -> [f64; K]) -> Vec<[f64; K]> {
+fn averaged<const K: usize>(
+    ticks: &[Tick],
+    n: usize,
+    f: impl Fn(&Tick) -> [f64; K],
+) -> Vec<[f64; K]> {
     let mut out = Vec::with_capacity(ticks.len());
     let mut sum = [0.0; K];
     for (k, t) in ticks.iter().enumerate() {
@@ -316,7 +328,10 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 
 /// Transitions of a run.
 pub fn transitions(ticks: &[Tick]) -> usize {
-    ticks.windows(2).filter(|w| w[0].state != w[1].state).count()
+    ticks
+        .windows(2)
+        .filter(|w| w[0].state != w[1].state)
+        .count()
 }
 
 /// `run` against `full` (same scene, same number of ticks), at `rate_hz`.
@@ -324,7 +339,8 @@ pub fn difference(run: &Run, full: &Run, rate_hz: f64) -> Difference {
     let (a, b) = (&run.ticks, &full.ticks);
     let n = a.len().min(b.len());
     let (a, b) = (&a[..n], &b[..n]);
-    let (mut max_f, mut sum_f2, mut max_t, mut sum_t2, mut max_p) = (0.0f64, 0.0, 0.0f64, 0.0, 0.0f64);
+    let (mut max_f, mut sum_f2, mut max_t, mut sum_t2, mut max_p) =
+        (0.0f64, 0.0, 0.0f64, 0.0, 0.0f64);
     let mut state_diff = 0;
     for (x, y) in a.iter().zip(b) {
         let df = norm(sub(x.force_n, y.force_n));
@@ -346,7 +362,8 @@ pub fn difference(run: &Run, full: &Run, rate_hz: f64) -> Difference {
     let mut torque_ratio = 0.0f64;
     for k in 0..n {
         force_ratio = force_ratio.max(norm(sub(fa[k], fb[k])) / force_threshold_n(norm(fb[k])));
-        torque_ratio = torque_ratio.max((ta[k][0] - tb[k][0]).abs() / torque_threshold_nm(tb[k][0]));
+        torque_ratio =
+            torque_ratio.max((ta[k][0] - tb[k][0]).abs() / torque_threshold_nm(tb[k][0]));
     }
     let nf = n.max(1) as f64;
     Difference {

@@ -61,7 +61,8 @@ pub struct Row {
     /// Instructions per contact step on the emulated Cortex-M4F (fast backend), from the budget
     /// file; `None` when the budget has no row for it.
     pub instructions: Option<u32>,
-    /// Host time per contact step, ns (on the full run's inputs; least of several passes).
+    /// Host time per contact step, ns (on the full run's inputs; least of several passes; NaN,
+    /// null in JSON, when not timed).
     pub host_ns_per_step: f64,
     /// The differences from the full model.
     #[serde(flatten)]
@@ -147,11 +148,12 @@ pub fn report(scene: &Scene, full: &Run, runs: &[Run]) -> Result<Report, ModelEr
     })
 }
 
-/// Run every choice on the scene named `name_or_path` and report.
-pub fn ablate(name_or_path: &str) -> Result<Report, ModelError> {
+/// Run every choice on the scene named `name_or_path` and report; each choice is timed on the
+/// host when `timed`.
+pub fn ablate(name_or_path: &str, timed: bool) -> Result<Report, ModelError> {
     let scene = Scene::load(name_or_path)?;
     let (full, runs) =
-        ablation::runs(&scene, &ModelChoice::ALL).map_err(|source| ModelError::InScene {
+        ablation::runs(&scene, &ModelChoice::ALL, timed).map_err(|source| ModelError::InScene {
             scene: scene.name.clone(),
             source,
         })?;
@@ -207,13 +209,16 @@ pub fn table(r: &Report) -> String {
             if row.within_yardstick { "no" } else { "yes" }
         );
     }
-    t += &format!("(full model: {} transitions) {}\n", r.full_transitions, r.yardstick);
+    t += &format!(
+        "(full model: {} transitions) {}\n",
+        r.full_transitions, r.yardstick
+    );
     t
 }
 
 /// `host-sim model`.
 pub fn main(args: &Args) -> Result<(), ModelError> {
-    let r = ablate(&args.scene)?;
+    let r = ablate(&args.scene, true)?;
     if let Some(path) = &args.svg {
         crate::chart::model_ablation::write(path, &r)?;
     }
