@@ -278,7 +278,11 @@ impl Device {
             DeviceMsg::Ack { seq: s, .. }
             | DeviceMsg::Info { seq: s, .. }
             | DeviceMsg::Counters { seq: s, .. }
-            | DeviceMsg::ContactParams { seq: s, .. } => *s == seq,
+            | DeviceMsg::ContactParams { seq: s, .. }
+            | DeviceMsg::Config { seq: s, .. }
+            | DeviceMsg::ConfigRefused { seq: s, .. }
+            | DeviceMsg::Update { seq: s, .. }
+            | DeviceMsg::UpdateRefused { seq: s, .. } => *s == seq,
             _ => false,
         })?;
         match reply {

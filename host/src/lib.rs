@@ -41,11 +41,13 @@
 //! restores the stream and the watchdog.
 
 pub mod bench;
+pub mod config;
 pub mod device;
 pub mod error;
 pub mod flags;
 pub mod scene;
 pub mod target;
+pub mod update;
 pub mod usb;
 
 pub use device::Device;

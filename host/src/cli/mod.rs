@@ -2,8 +2,10 @@
 //! with status 2; nothing is left half written.
 
 mod bench;
+mod config;
 mod control;
 mod stream;
+mod update;
 mod view;
 
 use clap::{Parser, Subcommand};
@@ -55,6 +57,13 @@ pub enum Command {
     /// Measure the link on a virtual device over loopback: stream rate and gaps, round-trip
     /// times, local-model switches at 1 kHz, watchdog fade, bad input.
     Bench(bench::Args),
+    /// The device's persistent settings: get, set, save, reset, export, import.
+    Config {
+        #[command(subcommand)]
+        cmd: config::ConfigCmd,
+    },
+    /// Install a signed firmware update (progress, verification, version before and after).
+    Update(update::Args),
 }
 
 /// Connect to the `--connect` target.
@@ -84,6 +93,8 @@ where
         Command::Stream(a) => stream::main(&cli.connect, a),
         Command::View(a) => view::main(&cli.connect, a),
         Command::Bench(a) => bench::main(&cli.connect, a),
+        Command::Config { cmd } => config::main(&cli.connect, cmd),
+        Command::Update(a) => update::main(&cli.connect, a),
     };
     host_sim::cli::exit_code("softfinger", result)
 }
