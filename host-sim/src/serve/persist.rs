@@ -117,8 +117,15 @@ impl Persist {
         });
         let image_ok = active_trailer(&slots).is_some_and(|t| t.flags & FLAG_SIMULATE_SELF_TEST_FAILURE == 0);
         let test = SelfTest { clock: true, encoders: true, tick: image_ok, store: true };
-        confirm(&slots, &test).map_err(|e| format!("confirm: {e}"))?;
-        self.boot = boot;
+        let confirmed = confirm(&slots, &test).map_err(|e| format!("confirm: {e}"))?;
+        self.boot = if confirmed {
+            boot.min_normal()
+        } else {
+            // A trial image that fails its self-test resets the device (as the firmware does):
+            // the bootloader swaps the previous image back.
+            run_bootloader(&slots).map_err(|e| format!("bootloader: {e}"))?;
+            boot_state(&slots).map_err(|e| format!("boot state: {e}"))?
+        };
         self.live = loaded.settings;
         self.status = loaded.status;
         self.unsaved = false;
@@ -325,6 +332,20 @@ pub fn refusal(e: UpdateError) -> UpdateRefusal {
         UpdateError::BadSignature => UpdateRefusal::BadSignature,
         UpdateError::TrialNotConfirmed => UpdateRefusal::TrialNotConfirmed,
         UpdateError::Flash => UpdateRefusal::Flash,
+    }
+}
+
+trait AfterConfirm {
+    /// The state once confirmed: a trial that passed is a normal boot.
+    fn min_normal(self) -> BootState;
+}
+
+impl AfterConfirm for BootState {
+    fn min_normal(self) -> BootState {
+        match self {
+            BootState::Trial => BootState::Normal,
+            other => other,
+        }
     }
 }
 
