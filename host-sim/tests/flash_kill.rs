@@ -23,8 +23,14 @@ fn start(flash: &std::path::Path) -> (Child, TcpStream) {
         .spawn()
         .expect("host-sim starts");
     let mut line = String::new();
-    BufReader::new(child.stdout.as_mut().unwrap()).read_line(&mut line).unwrap();
-    let addr = line.split_whitespace().find(|w| w.starts_with("127.0.0.1:")).expect("address printed").to_string();
+    BufReader::new(child.stdout.as_mut().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let addr = line
+        .split_whitespace()
+        .find(|w| w.starts_with("127.0.0.1:"))
+        .expect("address printed")
+        .to_string();
     let s = TcpStream::connect(addr).unwrap();
     s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
     (child, s)
@@ -56,9 +62,21 @@ fn identity(serial: u32) -> Identity {
 /// The serial the device reads back and its store status.
 fn read_back(s: &mut TcpStream) -> (u32, StoreStatus) {
     send(s, 1, Request::ConfigGet(ConfigSection::Status)).unwrap();
-    let DeviceMsg::Config { value: ConfigValue::Status { store, .. }, .. } = recv(s).unwrap() else { panic!() };
+    let DeviceMsg::Config {
+        value: ConfigValue::Status { store, .. },
+        ..
+    } = recv(s).unwrap()
+    else {
+        panic!()
+    };
     send(s, 2, Request::ConfigGet(ConfigSection::Identity)).unwrap();
-    let DeviceMsg::Config { value: ConfigValue::Identity(id), .. } = recv(s).unwrap() else { panic!() };
+    let DeviceMsg::Config {
+        value: ConfigValue::Identity(id),
+        ..
+    } = recv(s).unwrap()
+    else {
+        panic!()
+    };
     (id.serial, store)
 }
 
@@ -75,19 +93,38 @@ fn a_sigkill_around_a_save_leaves_the_old_or_the_new_settings() {
         let (mut child, mut s) = start(&flash);
         let (serial, store) = read_back(&mut s);
         match last_saved {
-            None => assert!(matches!(store, StoreStatus::Absent | StoreStatus::Read), "{store:?}"),
+            None => assert!(
+                matches!(store, StoreStatus::Absent | StoreStatus::Read),
+                "{store:?}"
+            ),
             Some(prev) => {
-                assert_eq!(store, StoreStatus::Read, "kill {i}: defaults after a completed save");
-                assert!(serial == prev || serial == prev + 1, "kill {i}: serial {serial}, saved {prev}");
+                assert_eq!(
+                    store,
+                    StoreStatus::Read,
+                    "kill {i}: defaults after a completed save"
+                );
+                assert!(
+                    serial == prev || serial == prev + 1,
+                    "kill {i}: serial {serial}, saved {prev}"
+                );
             }
         }
         if let Some(prev) = last_saved {
-            if serial == prev { got_old += 1 } else { got_new += 1 }
+            if serial == prev {
+                got_old += 1
+            } else {
+                got_new += 1
+            }
         }
         last_saved = Some(serial);
         // Set the next serial, save, and kill after a random delay of 0..2 ms.
         let next = serial + 1;
-        send(&mut s, 3, Request::ConfigSet(ConfigValue::Identity(identity(next)))).unwrap();
+        send(
+            &mut s,
+            3,
+            Request::ConfigSet(ConfigValue::Identity(identity(next))),
+        )
+        .unwrap();
         let _ = recv(&mut s).unwrap();
         x ^= x << 13;
         x ^= x >> 7;
@@ -104,7 +141,11 @@ fn a_sigkill_around_a_save_leaves_the_old_or_the_new_settings() {
             acked += 1;
             let (mut c2, mut s2) = start(&flash);
             let (got, store) = read_back(&mut s2);
-            assert_eq!((got, store), (next, StoreStatus::Read), "kill {i}: an acknowledged save is lost");
+            assert_eq!(
+                (got, store),
+                (next, StoreStatus::Read),
+                "kill {i}: an acknowledged save is lost"
+            );
             c2.kill().unwrap();
             let _ = c2.wait();
             last_saved = Some(next - 1);

@@ -8,8 +8,8 @@ use crate::{Device, LinkError};
 use serde_json::Value;
 use softfinger_protocol::config::{ConfigSection, ConfigValue, StoreStatus};
 use softfinger_protocol::{DeviceMsg, Request};
-pub use softfinger_store::Settings;
 use softfinger_store::schema::PRESETS;
+pub use softfinger_store::Settings;
 
 /// The settings in force on the device and where they came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -47,10 +47,16 @@ impl Device {
     /// Every section.
     pub fn config(&mut self) -> Result<DeviceConfig, LinkError> {
         let mut s = Settings::default();
-        let ConfigValue::Status { store, schema_version, may_arm, unsaved } =
-            self.config_section(ConfigSection::Status)?
+        let ConfigValue::Status {
+            store,
+            schema_version,
+            may_arm,
+            unsaved,
+        } = self.config_section(ConfigSection::Status)?
         else {
-            return Err(LinkError::Protocol("config status: unexpected section".into()));
+            return Err(LinkError::Protocol(
+                "config status: unexpected section".into(),
+            ));
         };
         let wrong = || LinkError::Protocol("config: a section answered with another".into());
         match self.config_section(ConfigSection::Identity)? {
@@ -75,12 +81,19 @@ impl Device {
             ConfigValue::Watchdog(v) => s.watchdog = v,
             _ => return Err(wrong()),
         }
-        Ok(DeviceConfig { settings: s, store, schema_version, may_arm, unsaved })
+        Ok(DeviceConfig {
+            settings: s,
+            store,
+            schema_version,
+            may_arm,
+            unsaved,
+        })
     }
 
     /// Put `next` in force on the device, sending only the sections that differ from `current`.
     pub fn config_apply(&mut self, current: &Settings, next: &Settings) -> Result<(), LinkError> {
-        next.validate().map_err(|e| LinkError::Context(e.to_string()))?;
+        next.validate()
+            .map_err(|e| LinkError::Context(e.to_string()))?;
         let mut values = Vec::new();
         if next.identity != current.identity {
             values.push(ConfigValue::Identity(next.identity.clone()));
@@ -90,7 +103,10 @@ impl Device {
         }
         for i in 0..PRESETS {
             if next.presets[i] != current.presets[i] {
-                values.push(ConfigValue::Preset { index: i as u8, preset: next.presets[i].clone() });
+                values.push(ConfigValue::Preset {
+                    index: i as u8,
+                    preset: next.presets[i].clone(),
+                });
             }
         }
         if next.stream != current.stream {
@@ -133,10 +149,19 @@ pub fn to_json(s: &Settings) -> Value {
 /// Every leaf as `(dotted path, value)`, in order.
 pub fn flatten(v: &Value) -> Vec<(String, Value)> {
     fn walk(prefix: &str, v: &Value, out: &mut Vec<(String, Value)>) {
-        let key = |k: &str| if prefix.is_empty() { k.to_string() } else { format!("{prefix}.{k}") };
+        let key = |k: &str| {
+            if prefix.is_empty() {
+                k.to_string()
+            } else {
+                format!("{prefix}.{k}")
+            }
+        };
         match v {
             Value::Object(m) => m.iter().for_each(|(k, x)| walk(&key(k), x, out)),
-            Value::Array(a) => a.iter().enumerate().for_each(|(i, x)| walk(&key(&i.to_string()), x, out)),
+            Value::Array(a) => a
+                .iter()
+                .enumerate()
+                .for_each(|(i, x)| walk(&key(&i.to_string()), x, out)),
             leaf => out.push((prefix.to_string(), leaf.clone())),
         }
     }
@@ -155,19 +180,24 @@ pub fn set_dotted(settings: &Settings, key: &str, value: &str) -> Result<Setting
             Value::Object(m) => m.get_mut(part),
             Value::Array(a) => part.parse::<usize>().ok().and_then(|i| a.get_mut(i)),
             Value::Null if !part.is_empty() => {
-                return Err(format!("{key}: unknown key (its section is empty: set the whole section)"));
+                return Err(format!(
+                    "{key}: unknown key (its section is empty: set the whole section)"
+                ));
             }
             _ => None,
         }
         .ok_or_else(|| format!("{key}: unknown key (`config get --json` lists the keys)"))?;
     }
     if node.is_object() || node.is_array() {
-        return Err(format!("{key}: not a field but a section; name one of its fields"));
+        return Err(format!(
+            "{key}: not a field but a section; name one of its fields"
+        ));
     }
-    let parsed: Value = serde_json::from_str(value).unwrap_or_else(|_| Value::String(value.to_string()));
+    let parsed: Value =
+        serde_json::from_str(value).unwrap_or_else(|_| Value::String(value.to_string()));
     *node = parsed;
-    let next: Settings =
-        serde_json::from_value(json).map_err(|e| format!("{key}: {value:?} is not a valid value ({e})"))?;
+    let next: Settings = serde_json::from_value(json)
+        .map_err(|e| format!("{key}: {value:?} is not a valid value ({e})"))?;
     next.validate().map_err(|e| e.to_string())?;
     Ok(next)
 }
@@ -178,9 +208,14 @@ pub fn diff(before: &Settings, after: &Settings) -> Vec<(String, String, String)
     let b = flatten(&to_json(after));
     let mut out = Vec::new();
     for (k, vb) in &b {
-        let va = a.iter().find(|(ka, _)| ka == k).map(|(_, v)| v.to_string()).unwrap_or_else(|| "-".into());
-        if va != vb.to_string() {
-            out.push((k.clone(), va, vb.to_string()));
+        let va = a
+            .iter()
+            .find(|(ka, _)| ka == k)
+            .map(|(_, v)| v.to_string())
+            .unwrap_or_else(|| "-".into());
+        let vb = vb.to_string();
+        if va != vb {
+            out.push((k.clone(), va, vb));
         }
     }
     for (k, va) in &a {
@@ -215,14 +250,22 @@ mod tests {
         assert_eq!(diff(&s, &t).len(), 1);
         let t = set_dotted(&s, "identity.name", "bench-a").unwrap();
         assert_eq!(t.identity.name.as_str(), "bench-a");
-        assert!(set_dotted(&s, "presets.9.friction", "0.3").unwrap_err().contains("unknown key"));
-        assert!(set_dotted(&s, "nope", "1").unwrap_err().starts_with("nope: unknown key"));
-        assert!(set_dotted(&s, "presets", "1").unwrap_err().contains("section"));
+        assert!(set_dotted(&s, "presets.9.friction", "0.3")
+            .unwrap_err()
+            .contains("unknown key"));
+        assert!(set_dotted(&s, "nope", "1")
+            .unwrap_err()
+            .starts_with("nope: unknown key"));
+        assert!(set_dotted(&s, "presets", "1")
+            .unwrap_err()
+            .contains("section"));
         assert_eq!(
             set_dotted(&s, "presets.2.friction", "2.5").unwrap_err(),
             "presets.2.friction: out of range"
         );
-        assert!(set_dotted(&s, "watchdog.timeout_ms", "x").unwrap_err().starts_with("watchdog.timeout_ms:"));
+        assert!(set_dotted(&s, "watchdog.timeout_ms", "x")
+            .unwrap_err()
+            .starts_with("watchdog.timeout_ms:"));
     }
 
     #[test]
@@ -232,6 +275,8 @@ mod tests {
         let text = to_toml(&s).unwrap();
         assert_eq!(from_toml(&text).unwrap(), s);
         let bad = text.replace("timeout_ms = 200", "timeout_ms = 5");
-        assert!(from_toml(&bad).unwrap_err().starts_with("watchdog.timeout_ms"));
+        assert!(from_toml(&bad)
+            .unwrap_err()
+            .starts_with("watchdog.timeout_ms"));
     }
 }

@@ -3,7 +3,9 @@
 //! check its signature and mark it, reboot it, and read the version it runs afterwards.
 
 use crate::{Device, LinkError};
-use softfinger_protocol::update::{UpdateChunk, UpdatePhase, UpdateRefusal, UpdateStatus, UPDATE_CHUNK_LEN};
+use softfinger_protocol::update::{
+    UpdateChunk, UpdatePhase, UpdateRefusal, UpdateStatus, UPDATE_CHUNK_LEN,
+};
 use softfinger_protocol::{DeviceMsg, Request};
 use softfinger_update::package::Package;
 use softfinger_update::session::chunk_crc;
@@ -67,8 +69,12 @@ impl Device {
 
     /// Begin (or resume) sending `pkg`; the offset to send from.
     fn update_begin(&mut self, pkg: &Package<'_>) -> Result<u32, LinkError> {
-        let signature = heapless::Vec::from_slice(&pkg.signature).map_err(|_| LinkError::Context("signature".into()))?;
-        let s = answer(self.request(Request::UpdateBegin { len: pkg.image.len() as u32, signature })?)?;
+        let signature = heapless::Vec::from_slice(&pkg.signature)
+            .map_err(|_| LinkError::Context("signature".into()))?;
+        let s = answer(self.request(Request::UpdateBegin {
+            len: pkg.image.len() as u32,
+            signature,
+        })?)?;
         match s.phase {
             UpdatePhase::Receiving { received, .. } => Ok(received),
             other => Err(LinkError::Protocol(format!("update begin: {other:?}"))),
@@ -101,7 +107,8 @@ impl Device {
             let chunk = UpdateChunk {
                 offset: off,
                 crc,
-                data: heapless::Vec::from_slice(data).map_err(|_| LinkError::Context("chunk".into()))?,
+                data: heapless::Vec::from_slice(data)
+                    .map_err(|_| LinkError::Context("chunk".into()))?,
             };
             match self.request(Request::UpdateChunk(chunk)) {
                 Ok(msg) => match refusal_of(&msg) {
@@ -113,7 +120,9 @@ impl Device {
                         p => return Err(LinkError::Protocol(format!("update chunk: {p:?}"))),
                     },
                 },
-                Err(LinkError::Timeout | LinkError::Disconnected | LinkError::Io(_)) if resumed < 5 => {
+                Err(LinkError::Timeout | LinkError::Disconnected | LinkError::Io(_))
+                    if resumed < 5 =>
+                {
                     resumed += 1;
                     self.reconnect()?;
                     off = self.update_begin(&pkg)?;
@@ -140,6 +149,11 @@ impl Device {
                 self.update_status()?
             }
         };
-        Ok(UpdateOutcome { before, after, offered: pkg.trailer.version().to_string(), resumed })
+        Ok(UpdateOutcome {
+            before,
+            after,
+            offered: pkg.trailer.version().to_string(),
+            resumed,
+        })
     }
 }

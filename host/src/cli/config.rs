@@ -49,7 +49,10 @@ pub fn main(spec: &str, cmd: &ConfigCmd) -> Result<(), String> {
                     "may_arm": c.may_arm,
                     "unsaved": c.unsaved,
                 });
-                println!("{}", serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?);
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+                );
             } else {
                 println!(
                     "store: {:?}, schema {}, may arm: {}, unsaved changes: {}",
@@ -65,7 +68,9 @@ pub fn main(spec: &str, cmd: &ConfigCmd) -> Result<(), String> {
             let c = d.config().map_err(err)?;
             let mut next = c.settings.clone();
             for p in pairs {
-                let (k, v) = p.split_once('=').ok_or_else(|| format!("{p}: expected KEY=VALUE"))?;
+                let (k, v) = p
+                    .split_once('=')
+                    .ok_or_else(|| format!("{p}: expected KEY=VALUE"))?;
                 next = set_dotted(&next, k.trim(), v.trim())?;
             }
             d.config_apply(&c.settings, &next).map_err(err)?;
@@ -98,7 +103,8 @@ pub fn main(spec: &str, cmd: &ConfigCmd) -> Result<(), String> {
             Ok(())
         }
         ConfigCmd::Import { file } => {
-            let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
+            let text =
+                std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
             let next = from_toml(&text).map_err(|e| format!("{}: {e}", file.display()))?;
             let c = d.config().map_err(err)?;
             let changes = diff(&c.settings, &next);
@@ -106,7 +112,10 @@ pub fn main(spec: &str, cmd: &ConfigCmd) -> Result<(), String> {
                 println!("{k}: {a} -> {b}");
             }
             d.config_apply(&c.settings, &next).map_err(err)?;
-            println!("{} fields changed, in force, not saved (config save)", changes.len());
+            println!(
+                "{} fields changed, in force, not saved (config save)",
+                changes.len()
+            );
             Ok(())
         }
     }

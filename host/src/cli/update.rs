@@ -35,11 +35,22 @@ pub fn main(spec: &str, a: &Args) -> Result<(), String> {
         .map_err(|e| format!("{}: {e}", a.file.display()))?;
     bar.finish_and_clear();
     println!("before: {} ({:?})", out.before.version, out.before.boot);
-    println!("sent: {} ({} bytes, signature verified by the device){}", out.offered, file.len(),
-        if out.resumed > 0 { format!(", resumed {} times", out.resumed) } else { String::new() });
+    println!(
+        "sent: {} ({} bytes, signature verified by the device){}",
+        out.offered,
+        file.len(),
+        if out.resumed > 0 {
+            format!(", resumed {} times", out.resumed)
+        } else {
+            String::new()
+        }
+    );
     println!("after: {} ({:?})", out.after.version, out.after.boot);
     if out.after.boot == BootStateWire::RolledBack || out.after.version.as_str() != out.offered {
-        return Err(format!("the new image failed its self-test and was rolled back; running {}", out.after.version));
+        return Err(format!(
+            "the new image failed its self-test and was rolled back; running {}",
+            out.after.version
+        ));
     }
     Ok(())
 }
