@@ -367,7 +367,11 @@ impl Device {
             | DeviceMsg::Counters { seq: s, .. }
             | DeviceMsg::ContactParams { seq: s, .. }
             | DeviceMsg::Status { seq: s, .. }
-            | DeviceMsg::Rejected { seq: s, .. } => *s == seq,
+            | DeviceMsg::Rejected { seq: s, .. }
+            | DeviceMsg::Config { seq: s, .. }
+            | DeviceMsg::ConfigRefused { seq: s, .. }
+            | DeviceMsg::Update { seq: s, .. }
+            | DeviceMsg::UpdateRefused { seq: s, .. } => *s == seq,
             _ => false,
         })?;
         match reply {

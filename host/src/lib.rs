@@ -49,10 +49,14 @@ pub mod bench;
 #[cfg(feature = "cli")]
 pub use softfinger_scene::wire as scene;
 
+#[cfg(feature = "settings")]
+pub mod config;
 pub mod device;
 pub mod error;
 pub mod flags;
 pub mod target;
+#[cfg(feature = "settings")]
+pub mod update;
 pub mod usb;
 
 pub use device::{Device, Latest, LatestState, StateQueue};

@@ -22,6 +22,7 @@ fn server_at(listen: &str) -> Server {
         blend_ms: 2.0,
         watchdog_ms: 200.0,
         auto_arm: false,
+        flash: None,
         duration_s: None,
         quiet: true,
         flash: None,

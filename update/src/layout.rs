@@ -48,7 +48,11 @@ impl Layout {
     pub fn check(&self, flash_len: u32) -> Result<(), &'static str> {
         let rs = [&self.active, &self.dfu, &self.state, &self.store];
         for r in rs {
-            if !r.start.is_multiple_of(PAGE) || !r.end.is_multiple_of(PAGE) || r.end <= r.start || r.end > flash_len {
+            if !r.start.is_multiple_of(PAGE)
+                || !r.end.is_multiple_of(PAGE)
+                || r.end <= r.start
+                || r.end > flash_len
+            {
                 return Err("a region is not whole pages inside the flash");
             }
         }

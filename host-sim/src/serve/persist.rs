@@ -45,7 +45,10 @@ pub struct Persist {
 
 impl std::fmt::Debug for Persist {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Persist").field("status", &self.status).field("boot", &self.boot).finish()
+        f.debug_struct("Persist")
+            .field("status", &self.status)
+            .field("boot", &self.boot)
+            .finish()
     }
 }
 
@@ -54,7 +57,8 @@ fn factory_image() -> Vec<u8> {
     let mut img = b"softfinger virtual device image".to_vec();
     img.resize(img.len().div_ceil(8) * 8, 0);
     let v = concat!("host-sim ", env!("CARGO_PKG_VERSION"));
-    let t = ImageTrailer::new(v, 0).unwrap_or_else(|_| ImageTrailer::new("host-sim", 0).expect("short version"));
+    let t = ImageTrailer::new(v, 0)
+        .unwrap_or_else(|_| ImageTrailer::new("host-sim", 0).expect("short version"));
     img.extend_from_slice(&t.to_bytes());
     img
 }
@@ -94,7 +98,8 @@ impl Persist {
         let img = factory_image();
         let slots = self.slots();
         let mut a = slots.active();
-        a.erase(0, 2 * PAGE_SIZE as u32).map_err(|e| format!("flash: {e:?}"))?;
+        a.erase(0, 2 * PAGE_SIZE as u32)
+            .map_err(|e| format!("flash: {e:?}"))?;
         a.write(0, &img).map_err(|e| format!("flash: {e:?}"))
     }
 
@@ -112,13 +117,29 @@ impl Persist {
             let mut f = c.borrow_mut();
             match Store::new(&mut *f, G474.store.clone()) {
                 Ok(mut s) => s.load_blocking(),
-                Err(_) => softfinger_store::Loaded { settings: Settings::default(), status: LoadStatus::FlashError },
+                Err(_) => softfinger_store::Loaded {
+                    settings: Settings::default(),
+                    status: LoadStatus::FlashError,
+                },
             }
         });
-        let image_ok = active_trailer(&slots).is_some_and(|t| t.flags & FLAG_SIMULATE_SELF_TEST_FAILURE == 0);
-        let test = SelfTest { clock: true, encoders: true, tick: image_ok, store: true };
-        confirm(&slots, &test).map_err(|e| format!("confirm: {e}"))?;
-        self.boot = boot;
+        let image_ok =
+            active_trailer(&slots).is_some_and(|t| t.flags & FLAG_SIMULATE_SELF_TEST_FAILURE == 0);
+        let test = SelfTest {
+            clock: true,
+            encoders: true,
+            tick: image_ok,
+            store: true,
+        };
+        let confirmed = confirm(&slots, &test).map_err(|e| format!("confirm: {e}"))?;
+        self.boot = if confirmed {
+            boot.min_normal()
+        } else {
+            // A trial image that fails its self-test resets the device (as the firmware does):
+            // the bootloader swaps the previous image back.
+            run_bootloader(&slots).map_err(|e| format!("bootloader: {e}"))?;
+            boot_state(&slots).map_err(|e| format!("boot state: {e}"))?
+        };
         self.live = loaded.settings;
         self.status = loaded.status;
         self.unsaved = false;
@@ -138,23 +159,33 @@ impl Persist {
 
     /// The running image's version.
     pub fn version(&self) -> String {
-        active_trailer(&self.slots()).map(|t| t.version().to_string()).unwrap_or_default()
+        active_trailer(&self.slots())
+            .map(|t| t.version().to_string())
+            .unwrap_or_default()
     }
 
     /// Answer a settings or update request (`None`: not one of them). `armed`: the device
     /// renders force or homes.
     pub fn handle(&mut self, seq: u16, req: &Request, armed: bool) -> Option<DeviceMsg> {
-        let refuse = |key: &str, reason: &str| DeviceMsg::ConfigRefused { seq, refusal: ConfigRefusal::new(key, reason) };
+        let refuse = |key: &str, reason: &str| DeviceMsg::ConfigRefused {
+            seq,
+            refusal: ConfigRefusal::new(key, reason),
+        };
         let ack = |result| DeviceMsg::Ack { seq, result };
         Some(match req {
-            Request::Arm if self.gate_arming && !self.may_arm() => ack(AckResult::Err(ErrorCode::WrongMode)),
+            Request::Arm if self.gate_arming && !self.may_arm() => {
+                ack(AckResult::Err(ErrorCode::WrongMode))
+            }
             Request::ConfigGet(section) => match self.get(*section) {
                 Some(value) => DeviceMsg::Config { seq, value },
                 None => refuse("presets", "no such preset index"),
             },
             Request::ConfigSet(value) => {
                 if armed {
-                    return Some(refuse(section_key(value), "refused while armed: disarm first"));
+                    return Some(refuse(
+                        section_key(value),
+                        "refused while armed: disarm first",
+                    ));
                 }
                 match self.set(value) {
                     Ok(()) => ack(AckResult::Ok),
@@ -173,7 +204,9 @@ impl Persist {
                 }
                 let r = self.flash.lock(|c| {
                     let mut f = c.borrow_mut();
-                    Store::new(&mut *f, G474.store.clone()).map_err(|_| SaveError::Storage)?.erase_blocking(false)
+                    Store::new(&mut *f, G474.store.clone())
+                        .map_err(|_| SaveError::Storage)?
+                        .erase_blocking(false)
                 });
                 match r {
                     Ok(()) => {
@@ -187,18 +220,31 @@ impl Persist {
             }
             Request::UpdateBegin { len, signature } => {
                 let Ok(sig) = <[u8; 64]>::try_from(signature.as_slice()) else {
-                    return Some(DeviceMsg::UpdateRefused { seq, refusal: UpdateRefusal::BadSignatureLength });
+                    return Some(DeviceMsg::UpdateRefused {
+                        seq,
+                        refusal: UpdateRefusal::BadSignatureLength,
+                    });
                 };
-                let r = self.update.begin(&Slots::new(&self.flash, G474), *len, &sig, armed);
+                let r = self
+                    .update
+                    .begin(&Slots::new(&self.flash, G474), *len, &sig, armed);
                 self.update_reply(seq, r.map(|_| ()))
             }
             Request::UpdateChunk(c) => {
-                let r = self.update.chunk(&Slots::new(&self.flash, G474), c.offset, &c.data, c.crc, armed);
+                let r = self.update.chunk(
+                    &Slots::new(&self.flash, G474),
+                    c.offset,
+                    &c.data,
+                    c.crc,
+                    armed,
+                );
                 self.update_reply(seq, r.map(|_| ()))
             }
             Request::UpdateFinish => {
                 let key = softfinger_update::keys::TRUSTED_PUBLIC_KEY;
-                let r = self.update.finish(&Slots::new(&self.flash, G474), &key, armed);
+                let r = self
+                    .update
+                    .finish(&Slots::new(&self.flash, G474), &key, armed);
                 self.update_reply(seq, r)
             }
             Request::UpdateStatus => self.update_reply(seq, Ok(())),
@@ -247,7 +293,10 @@ impl Persist {
             ConfigValue::Identity(v) => next.identity = v.clone(),
             ConfigValue::Calibration(v) => next.calibration = v.clone(),
             ConfigValue::Preset { index, preset } => {
-                let slot = next.presets.get_mut(usize::from(*index)).ok_or(("presets", "no such preset index"))?;
+                let slot = next
+                    .presets
+                    .get_mut(usize::from(*index))
+                    .ok_or(("presets", "no such preset index"))?;
                 *slot = preset.clone();
             }
             ConfigValue::Stream(v) => next.stream = *v,
@@ -267,7 +316,9 @@ impl Persist {
         let live = self.live.clone();
         self.flash.lock(|c| {
             let mut f = c.borrow_mut();
-            Store::new(&mut *f, G474.store.clone()).map_err(|_| SaveError::Storage)?.save_blocking(&live, armed)
+            Store::new(&mut *f, G474.store.clone())
+                .map_err(|_| SaveError::Storage)?
+                .save_blocking(&live, armed)
         })?;
         self.status = LoadStatus::Read;
         self.unsaved = false;
@@ -276,7 +327,10 @@ impl Persist {
 
     fn update_reply(&self, seq: u16, r: Result<(), UpdateError>) -> DeviceMsg {
         match r {
-            Err(e) => DeviceMsg::UpdateRefused { seq, refusal: refusal(e) },
+            Err(e) => DeviceMsg::UpdateRefused {
+                seq,
+                refusal: refusal(e),
+            },
             Ok(()) => {
                 let phase = match self.update.status() {
                     Status::Idle => UpdatePhase::Idle,
@@ -294,7 +348,14 @@ impl Persist {
                         break;
                     }
                 }
-                DeviceMsg::Update { seq, status: UpdateStatus { phase, boot, version } }
+                DeviceMsg::Update {
+                    seq,
+                    status: UpdateStatus {
+                        phase,
+                        boot,
+                        version,
+                    },
+                }
             }
         }
     }
@@ -325,6 +386,20 @@ pub fn refusal(e: UpdateError) -> UpdateRefusal {
         UpdateError::BadSignature => UpdateRefusal::BadSignature,
         UpdateError::TrialNotConfirmed => UpdateRefusal::TrialNotConfirmed,
         UpdateError::Flash => UpdateRefusal::Flash,
+    }
+}
+
+trait AfterConfirm {
+    /// The state once confirmed: a trial that passed is a normal boot.
+    fn min_normal(self) -> BootState;
+}
+
+impl AfterConfirm for BootState {
+    fn min_normal(self) -> BootState {
+        match self {
+            BootState::Trial => BootState::Normal,
+            other => other,
+        }
     }
 }
 

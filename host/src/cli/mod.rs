@@ -2,6 +2,7 @@
 //! with status 2 (130 after Ctrl-C); nothing is left half written.
 
 mod bench;
+mod config;
 mod control;
 mod home;
 mod interrupt;
@@ -10,6 +11,7 @@ mod refusal;
 mod session;
 mod status;
 mod stream;
+mod update;
 mod view;
 
 use clap::{Parser, Subcommand};
@@ -66,6 +68,13 @@ pub enum Command {
     /// Measure the link on a virtual device over loopback: stream rate and gaps, round-trip
     /// times, local-model switches at 1 kHz, watchdog fade, bad input.
     Bench(bench::Args),
+    /// The device's persistent settings: get, set, save, reset, export, import.
+    Config {
+        #[command(subcommand)]
+        cmd: config::ConfigCmd,
+    },
+    /// Install a signed firmware update (progress, verification, version before and after).
+    Update(update::Args),
 }
 
 /// Connect to the `--connect` target.
@@ -97,6 +106,8 @@ where
         Command::Stream(a) => stream::main(&cli.connect, a),
         Command::View(a) => view::main(&cli.connect, a),
         Command::Bench(a) => bench::main(&cli.connect, a),
+        Command::Config { cmd } => config::main(&cli.connect, cmd),
+        Command::Update(a) => update::main(&cli.connect, a),
     };
     let code = host_sim::cli::exit_code("softfinger", result);
     if code != 0 && interrupt::requested() {
