@@ -74,8 +74,8 @@ impl Rig {
         };
         feed(&mut p, raw);
         p.command(Command::Home).expect("home");
-        for _ in 0..10 {
-            feed(&mut p, raw); // the drivers' wake time
+        for _ in 0..21 {
+            feed(&mut p, raw); // the nSLEEP edge and the drivers' 2 ms wake time
         }
         for _ in 0..500 {
             raw -= 1;

@@ -3,7 +3,7 @@
 use softfinger_core::Flags;
 
 /// Every named flag, in bit order.
-pub const NAMES: [(Flags, &str); 19] = [
+pub const NAMES: [(Flags, &str); 20] = [
     (Flags::NON_FINITE_INPUT, "non-finite-input"),
     (Flags::ZERO_AXIS, "zero-axis"),
     (Flags::NON_UNIT_QUAT, "non-unit-quat"),
@@ -20,6 +20,7 @@ pub const NAMES: [(Flags, &str); 19] = [
     (Flags::ENCODER_STUCK, "encoder-stuck"),
     (Flags::PARAM_REJECTED, "param-rejected"),
     (Flags::HOMING_FAILED, "homing-failed"),
+    (Flags::THREAD_STALLED, "thread-stalled"),
     (Flags::COMM_TIMEOUT, "comm-timeout"),
     (Flags::MODEL_STALE, "model-stale"),
     (Flags::MODEL_REJECTED, "model-rejected"),
