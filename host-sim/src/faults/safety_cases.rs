@@ -48,7 +48,7 @@ pub static SCENARIOS: [Scenario; 6] = [
     },
     Scenario {
         name: "homing_stall_midway",
-        injection: "power-up; Home at 0.8 s with the hand off; 30 ms into homing (the arms barely moving) the hand takes the handle again and holds it at the script's start (the arms stall against it, short of their stops)",
+        injection: "power-up; Home at 0.8 s while the operator holds the handle at the script's start (what the old instructions asked): the arms stall against the hand, short of their stops",
         criterion: "HOMING_FAILED: no zero taken (never Disarmed, not homed), zero torque from the failure to the end; homing torque within its limit",
         injected: true,
         setup: stall_midway_setup,
@@ -278,25 +278,16 @@ fn supply_judge(t: &Trace, _: &ClosedLoop, _: &Ctx) -> Judged {
 }
 
 const STALL_HOME_AT: u64 = 8_000;
-const STALL_GRASP_AT: u64 = STALL_HOME_AT + 300;
 
 fn stall_midway_setup(c: &Ctx) -> Setup {
     let mut s = c.plain(c.touch.script(), 100_000);
     s.start = Start::PowerUp;
     s.act = Box::new(|k, p, plant| {
-        if k == 0 {
-            plant.release_hand();
-        }
         if k == STALL_HOME_AT {
             let _ = p.command(Command::Home);
         }
-        if k == STALL_GRASP_AT {
-            plant.grasp_hand();
-        }
-        if k >= STALL_GRASP_AT {
-            // The hand holds the handle at the script's start.
-            plant.restart_script();
-        }
+        // The hand holds the handle at the script's start from power-up on.
+        plant.restart_script();
     });
     s
 }
@@ -306,7 +297,7 @@ fn stall_midway_judge(t: &Trace, lp: &ClosedLoop, _: &Ctx) -> Judged {
     let detect = t.first_flag(Flags::HOMING_FAILED, 0);
     let Some(d) = detect else {
         f.push("homing did not fail".into());
-        return judged(f, Some(STALL_GRASP_AT), None, String::new());
+        return judged(f, Some(STALL_HOME_AT), None, String::new());
     };
     if let Some(r) = t.records.iter().find(|r| r.out.mode == Mode::Disarmed) {
         f.push(format!("homed (Disarmed) at {}: a wrong zero taken", r.k));
@@ -323,12 +314,11 @@ fn stall_midway_judge(t: &Trace, lp: &ClosedLoop, _: &Ctx) -> Judged {
     }
     judged(
         f,
-        Some(STALL_GRASP_AT),
+        Some(STALL_HOME_AT),
         detect,
         format!(
-            "homing failed {:.2} s after Home ({:.2} s after the grasp)",
-            (d - STALL_HOME_AT) as f64 / super::scenarios::RATE_HZ,
-            (d - STALL_GRASP_AT) as f64 / super::scenarios::RATE_HZ
+            "homing failed {:.2} s after Home",
+            (d - STALL_HOME_AT) as f64 / super::scenarios::RATE_HZ
         ),
     )
 }
