@@ -74,10 +74,19 @@ impl Rig {
         };
         feed(&mut p, raw);
         p.command(Command::Home).expect("home");
-        for _ in 0..10 {
-            feed(&mut p, raw); // the drivers' wake time
+        for _ in 0..21 {
+            feed(&mut p, raw); // the nSLEEP edge and the drivers' 2 ms wake time
         }
+        // Down 500 counts to the far stops, still for the stall time, then up the mechanism's
+        // 145° (19 797 counts) to the reference stops, still again: the range checks out.
         for _ in 0..500 {
+            raw += 1;
+            feed(&mut p, raw);
+        }
+        for _ in 0..1001 {
+            feed(&mut p, raw);
+        }
+        for _ in 0..19_797 {
             raw -= 1;
             feed(&mut p, raw);
         }
@@ -95,6 +104,8 @@ impl Rig {
             }
         }
         assert_eq!(p.mode(), Mode::Disarmed);
+        // One disarmed tick looks at the contact (Arm is refused until one has).
+        feed(&mut p, raw);
         p.command(Command::Arm).expect("arm");
         let mut rig = Rig { p, shift };
         // From the park pose (homed 0) to 5 mm above the surface, then ramp in (0.5 s) there.
@@ -215,7 +226,8 @@ fn driver_fault_while_dragging_latches_and_relatches_if_still_present() {
         "still latched after the line cleared"
     );
     rig.p.command(Command::ClearFaults).expect("clear");
-    for k in 0..10 {
+    // The nSLEEP edge tick and the 2 ms (20-tick) wake time.
+    for k in 0..21 {
         let o = rig.tick(c, |r| r.driver_fault = true);
         assert!(o.latched.is_empty() && safe(&o), "waking, tick {k}");
     }
@@ -226,8 +238,12 @@ fn driver_fault_while_dragging_latches_and_relatches_if_still_present() {
     for _ in 0..20 {
         assert!(rig.tick(c, |_| {}).latched.is_empty());
     }
-    rig.p.command(Command::Arm).expect("arm");
-    assert_eq!(rig.tick(c, |_| {}).mode, Mode::Armed);
+    // Still pressed into the surface: Arm is refused.
+    assert_eq!(
+        rig.p.command(Command::Arm),
+        Err(CommandError::InsideSurface)
+    );
+    assert_eq!(rig.tick(c, |_| {}).mode, Mode::Disarmed);
 }
 
 /// An overrun streak during contact, the streak reset by one good tick, and the exact threshold:

@@ -42,8 +42,12 @@ impl Flags {
     pub const ENCODER_STUCK: Flags = Flags(1 << 13);
     /// A parameter update was rejected; the previous parameters stay in force.
     pub const PARAM_REJECTED: Flags = Flags(1 << 14);
-    /// Homing failed (timeout, or an arm stalled before travelling far enough).
+    /// Homing failed (timeout, an arm stalled before travelling far enough, or the measured
+    /// stop-to-stop range is not the mechanism's).
     pub const HOMING_FAILED: Flags = Flags(1 << 15);
+    /// The thread-mode tasks stopped running (no heartbeat): outputs off, then the independent
+    /// watchdog resets the MCU (`control::pipeline::liveness`).
+    pub const THREAD_STALLED: Flags = Flags(1 << 16);
 
     /// True when no flag is raised.
     #[inline]

@@ -23,16 +23,17 @@ use crate::config;
 use crate::tick::{published_mode, CommandOutcome, STATUS};
 
 /// The latched faults and their blink counts, in the order they are shown: the core's whole
-/// latching set (`output_guard::LATCHING`). A latched bit not listed here shows as 7.
-pub const BLINK_CODES: [(Flags, u32); 6] = [
+/// latching set (`output_guard::LATCHING`). A latched bit not listed here shows as 8.
+pub const BLINK_CODES: [(Flags, u32); 7] = [
     (Flags::DRIVER_FAULT, 1),
     (Flags::ENCODER_GLITCH, 2),
     (Flags::ENCODER_STUCK, 3),
     (Flags::OVERRUN, 4),
     (Flags::NON_FINITE_OUTPUT, 5),
     (Flags::HOMING_FAILED, 6),
+    (Flags::THREAD_STALLED, 7),
 ];
-const OTHER_CODE: u32 = 7;
+const OTHER_CODE: u32 = 8;
 const _: () = {
     let mut all = 0;
     let mut i = 0;

@@ -1,7 +1,7 @@
 //! A control pipeline of the default plane scene, homed and armed through its raw inputs alone
-//! (no plant on the target): the counters follow a scripted homing (the arms travel 500 counts to
-//! their stops, stay there for the stall time, then move to the park angle), as a real device
-//! would make them. Shared by the `pipeline_tick` benchmark and the on-target pipeline tests.
+//! (no plant on the target): the counters follow a scripted homing (the arms travel 500 counts
+//! down to their far stops, stay there for the stall time, travel the mechanism's range up to the
+//! reference stops, stay again, then move to the park angle), as a real device would make them. Shared by the `pipeline_tick` benchmark and the on-target pipeline tests.
 
 use softfinger_core::contact::surface::Plane;
 use softfinger_core::control::pipeline::{
@@ -76,10 +76,19 @@ impl<M: Math> Rig<M> {
         if self.pipe.command(Command::Home).is_err() {
             return false;
         }
-        for _ in 0..10 {
-            feed(&mut self.pipe, raw); // the drivers' wake time
+        for _ in 0..21 {
+            feed(&mut self.pipe, raw); // the nSLEEP edge and the drivers' 2 ms wake time
         }
+        // Down 500 counts to the far stops, still for the stall time, then up the mechanism's
+        // 145° (19 797 counts) to the reference stops, still again: homing checks the range.
         for _ in 0..500 {
+            raw += 1;
+            feed(&mut self.pipe, raw);
+        }
+        for _ in 0..1001 {
+            feed(&mut self.pipe, raw);
+        }
+        for _ in 0..19_797 {
             raw -= 1;
             feed(&mut self.pipe, raw);
         }
@@ -96,6 +105,8 @@ impl<M: Math> Rig<M> {
                 break;
             }
         }
+        // One disarmed tick looks at the contact (Arm is refused until one has).
+        feed(&mut self.pipe, raw);
         self.pipe.mode() == Mode::Disarmed
     }
 

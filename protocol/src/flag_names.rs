@@ -4,7 +4,7 @@
 use softfinger_core::Flags;
 
 /// Every named flag in bit order: the bit, its short name, what it means for the user.
-pub const FLAGS: [(Flags, &str, &str); 19] = [
+pub const FLAGS: [(Flags, &str, &str); 20] = [
     (
         Flags::NON_FINITE_INPUT,
         "non-finite-input",
@@ -84,6 +84,11 @@ pub const FLAGS: [(Flags, &str, &str); 19] = [
         Flags::HOMING_FAILED,
         "homing-failed",
         "homing timed out or an arm stalled early",
+    ),
+    (
+        Flags::THREAD_STALLED,
+        "thread-stalled",
+        "the device's thread-mode tasks stopped: outputs off, then a watchdog reset",
     ),
     (
         Flags::COMM_TIMEOUT,

@@ -79,6 +79,12 @@ impl ButtonRules {
         }
     }
 
+    /// No press in progress and the last sample read released: the caller may wait for the
+    /// next press edge instead of sampling.
+    pub fn idle(&self) -> bool {
+        !self.down && self.pressed_for == 0
+    }
+
     /// The stiffness preset in force, N/m.
     pub fn preset_stiffness(&self) -> f32 {
         STIFFNESS_PRESETS_N_PER_M[self.preset]

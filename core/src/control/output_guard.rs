@@ -33,7 +33,8 @@ pub const LATCHING: Flags = Flags(
         | Flags::ENCODER_STUCK.0
         | Flags::NON_FINITE_OUTPUT.0
         | Flags::OVERRUN.0
-        | Flags::HOMING_FAILED.0,
+        | Flags::HOMING_FAILED.0
+        | Flags::THREAD_STALLED.0,
 );
 
 /// A brushed DC motor seen from its driver, to express a torque limit as a duty limit.

@@ -13,8 +13,11 @@ use crate::math::Vec3;
 
 /// The Omega.6-like device (see [`DeviceParams::OMEGA_LIKE`] and [`Limits::OMEGA_LIKE`]).
 ///
-/// Homing: up (θ decreasing) at 1 rad/s and at most 0.15 N·m to the upper stops at −40°, stall
-/// 2 counts for 0.1 s after 0.05 rad of travel, park at 0 rad within 0.03 rad, timeout 5 s.
+/// Homing: down (θ increasing) at 1 rad/s and at most 0.15 N·m to the lower stops at 105°, then
+/// up to the upper stops at −40°, the 145° between them checked within 0.02 rad (156 counts; the
+/// stops yield 12 counts under the homing torque, measured in host-sim's session); stall 2
+/// counts for 0.1 s, park at 0 rad within 0.03 rad, timeout 8 s (both legs and the park from
+/// the worst start: 2.5 + 2.5 + 0.7 s plus three stall times).
 /// Driver wake 2 ms from the nSLEEP edge (the DRV8876's t_WAKE is 1 ms: 2x margin); arming ramp 0.5 s. Derivation: docs/design.md#homing-limits.
 pub const OMEGA_LIKE: DeviceDefinition = DeviceDefinition {
     name: "omega-like",
@@ -27,7 +30,9 @@ pub const OMEGA_LIKE: DeviceDefinition = DeviceDefinition {
         stall_s: 0.1,
         stall_window_counts: 2,
         min_travel_rad: 0.05,
-        timeout_s: 5.0,
+        far_stop_angle_rad: 105.0 * core::f32::consts::PI / 180.0,
+        range_tolerance_rad: 0.02,
+        timeout_s: 8.0,
         stop_angle_rad: -40.0 * core::f32::consts::PI / 180.0,
         park_angle_rad: 0.0,
         park_tolerance_rad: 0.03,

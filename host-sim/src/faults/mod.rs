@@ -5,6 +5,7 @@
 pub mod classic;
 pub mod closed_loop;
 pub mod pipeline_cases;
+pub mod safety_cases;
 pub mod scenarios;
 pub mod soak;
 

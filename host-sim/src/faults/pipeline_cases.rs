@@ -25,7 +25,7 @@ pub static SCENARIOS: [Scenario; 4] = [
     },
     Scenario {
         name: "arm_ramp",
-        injection: "Arm while the fingertip is pressed 2 mm into the surface",
+        injection: "Arm 0.3 s into the approach (above the surface: Arm is refused inside it); the fingertip presses 2 mm in during the 0.5 s ramp",
         criterion: "first armed tick renders < 5 mN; while ramping the force stays under gain x the 12 N force limit + 5 mN",
         injected: true,
         setup: arm_ramp_setup,
@@ -41,7 +41,7 @@ pub static SCENARIOS: [Scenario; 4] = [
     },
     Scenario {
         name: "driver_fault_while_asleep",
-        injection: "nFAULT asserted while asleep (0-0.3 s) and during both wake times (after Home and after ClearFaults); one real fault at 4.0 s",
+        injection: "nFAULT asserted while asleep (0-0.3 s) and during both wake times (after Home and after ClearFaults); one real fault at 8.0 s (homing visits both stops: about 5 s)",
         criterion: "no latch while asleep or waking; DRIVER_FAULT on the real fault's tick with zero torque; ClearFaults leads to Disarmed, not Armed",
         injected: true,
         setup: asleep_setup,
@@ -118,7 +118,7 @@ fn power_up_setup(c: &Ctx) -> Setup {
     let mut s = powered(
         c,
         c.touch.script(),
-        50_000,
+        100_000,
         Operator::new(POWER_UP_HOME, 5_000, false),
     );
     let mut op = Operator::new(POWER_UP_HOME, 5_000, false);
@@ -183,13 +183,13 @@ fn power_up_judge(t: &Trace, _: &ClosedLoop, _: &Ctx) -> Judged {
     )
 }
 
-const ARM_RAMP_DELAY: u64 = 9_000;
+const ARM_RAMP_DELAY: u64 = 3_000;
 
 fn arm_ramp_setup(c: &Ctx) -> Setup {
     powered(
         c,
         c.touch.script(),
-        50_000,
+        100_000,
         Operator::new(100, ARM_RAMP_DELAY, true),
     )
 }
@@ -292,15 +292,15 @@ fn reversal_judge(t: &Trace, _: &ClosedLoop, _: &Ctx) -> Judged {
 }
 
 const ASLEEP_HOME: u64 = 3_000;
-const REAL_FAULT: u64 = 40_000;
-const CLEAR_AT: u64 = 41_000;
+const REAL_FAULT: u64 = 80_000;
+const CLEAR_AT: u64 = 81_000;
 
 fn asleep_setup(c: &Ctx) -> Setup {
     let wake = (f64::from(c.base.device.driver_wake_s) * super::scenarios::RATE_HZ).round() as u64;
     let mut s = powered(
         c,
         c.touch.script(),
-        43_000,
+        83_000,
         Operator::new(ASLEEP_HOME, 5_000, false),
     );
     let mut op = Operator::new(ASLEEP_HOME, 5_000, false);

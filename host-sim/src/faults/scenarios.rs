@@ -16,7 +16,7 @@
 
 use super::closed_loop::{scene_config, ClosedLoop, Pipe, Trace};
 use super::FaultsError;
-use super::{classic, pipeline_cases};
+use super::{classic, pipeline_cases, safety_cases};
 use crate::closed_loop::SetupError;
 use crate::plant::{HandScript, Plant, PlantParams, TouchScript};
 use serde::Serialize;
@@ -322,6 +322,7 @@ pub fn table() -> Vec<&'static Scenario> {
     classic::SCENARIOS
         .iter()
         .chain(pipeline_cases::SCENARIOS.iter())
+        .chain(safety_cases::SCENARIOS.iter())
         .collect()
 }
 

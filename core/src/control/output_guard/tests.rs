@@ -118,6 +118,7 @@ fn latching_set_includes_stuck_and_homing() {
         Flags::NON_FINITE_OUTPUT,
         Flags::OVERRUN,
         Flags::HOMING_FAILED,
+        Flags::THREAD_STALLED,
     ] {
         assert!(LATCHING.contains(f));
     }

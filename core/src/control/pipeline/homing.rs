@@ -1,14 +1,18 @@
-//! Homing: find the encoder zero of the three arms by driving each, with a bounded torque, to its
-//! mechanical stop.
+//! Homing: find the encoder zero of the three arms by driving each, with a bounded torque, to
+//! both of its mechanical stops, and check the range between them against the mechanism's.
 //!
-//! Each arm is driven by a velocity loop toward its stop with the torque limited to
-//! `max_torque_nm`; it is at its stop when its count has stayed within `stall_window_counts` for
-//! `stall_s`, which sets its offset from `stop_angle_rad` once all three are there. A stall before
-//! `min_travel_rad` of travel fails homing. Then the arms **park**: with the same torque limit
-//! they are driven to `park_angle_rad` and homing ends when all three have stayed within
-//! `park_tolerance_rad` of it for the stall time. The wrist's zero is the pose in which the
-//! operator holds the handle when giving `Home`. Why this procedure, and why the park:
-//! docs/design.md#homing.
+//! Each arm is driven by a velocity loop with the torque limited to `max_torque_nm`, first
+//! toward its **far** stop (`far_stop_angle_rad`, opposite to `speed_rad_s`), then toward its
+//! **reference** stop (`stop_angle_rad`); it is at a stop when its count has stayed within
+//! `stall_window_counts` for `stall_s`, and the next leg starts once all three are there. At the
+//! reference stops each arm's measured travel from its far stop must be the mechanism's range
+//! `|stop_angle_rad − far_stop_angle_rad|` within `range_tolerance_rad`: a stall anywhere else
+//! (a hand on the handle, an obstruction, a slipping capstan, a dead encoder) fails homing with
+//! no zero taken. Then the offsets are set from the reference stop and the arms **park**: with
+//! the same torque limit they are driven to `park_angle_rad` and homing ends when all three
+//! have stayed within `park_tolerance_rad` of it for the stall time. The wrist's zero is the
+//! pose of the handle (resting in its calibration pose, hands off) when `Home` is given. Why
+//! this procedure, and why the park: docs/design.md#homing.
 
 use crate::contact::params::{positive, ParamError};
 use crate::device::DeviceParams;
@@ -27,8 +31,12 @@ pub struct HomingSpec {
     pub stall_s: f32,
     /// Count change that still counts as "no motion" over the stall time, counts.
     pub stall_window_counts: u32,
-    /// Travel required before a stall is accepted, rad.
+    /// Travel required on the reference leg before a stall is accepted, rad.
     pub min_travel_rad: f32,
+    /// Arm angle at the far stop (the one homing visits first), rad, device frame.
+    pub far_stop_angle_rad: f32,
+    /// Largest difference between the measured stop-to-stop travel and the mechanism's range, rad.
+    pub range_tolerance_rad: f32,
     /// Give up (HOMING_FAILED) after this long, s.
     pub timeout_s: f32,
     /// Arm angle at the stop under the homing torque, rad (device frame, see `crate::device::delta`).
@@ -52,6 +60,15 @@ impl HomingSpec {
         positive("homing.timeout_s", self.timeout_s)?;
         if !self.stop_angle_rad.is_finite() {
             return Err(ParamError::NotFinite("homing.stop_angle_rad"));
+        }
+        if !self.far_stop_angle_rad.is_finite() {
+            return Err(ParamError::NotFinite("homing.far_stop_angle_rad"));
+        }
+        // The far stop lies opposite to the homing direction, further than the tolerance.
+        let range = (self.far_stop_angle_rad - self.stop_angle_rad) * -self.speed_rad_s.signum();
+        positive("homing.range_tolerance_rad", self.range_tolerance_rad)?;
+        if range.is_nan() || range <= self.range_tolerance_rad {
+            return Err(ParamError::OutOfRange("homing.far_stop_angle_rad"));
         }
         if !self.park_angle_rad.is_finite() {
             return Err(ParamError::NotFinite("homing.park_angle_rad"));
@@ -83,8 +100,16 @@ pub struct Homing {
     stall_ticks: u32,
     /// Ticks after which homing fails.
     timeout_ticks: u32,
-    /// Counts of travel before a stall may count (a stop right at power-up is not trusted).
+    /// Counts of travel on the reference leg before a stall may count.
     min_travel_counts: i64,
+    /// The mechanism's stop-to-stop range, counts.
+    range_counts: f32,
+    /// Tolerance on the measured range, counts.
+    range_tolerance_counts: f32,
+    /// The reference leg has begun (the far stops are found).
+    on_reference_leg: bool,
+    /// Motor counts at the far stops.
+    far: [i32; 3],
     /// The homed count of the stop angle: what the stop reads once homed.
     target_count: i32,
     /// Arm angle per motor count, rad.
@@ -151,6 +176,10 @@ impl Homing {
             stall_ticks: ticks_for(spec.stall_s, rate_hz),
             timeout_ticks: ticks_for(spec.timeout_s, rate_hz),
             min_travel_counts: (spec.min_travel_rad / rad_per_count) as i64,
+            range_counts: ((spec.stop_angle_rad - spec.far_stop_angle_rad) / rad_per_count).abs(),
+            range_tolerance_counts: spec.range_tolerance_rad / rad_per_count,
+            on_reference_leg: false,
+            far: [0; 3],
             target_count: round_i32(target),
             rad_per_count,
             alpha: wt / (1.0 + wt),
@@ -173,6 +202,7 @@ impl Homing {
         self.still = [0; 3];
         self.velocity = [0.0; 3];
         self.offsets = None;
+        self.on_reference_leg = false;
     }
 
     /// The offsets once all three stops are found (while parking), else `None`.
@@ -209,10 +239,21 @@ impl Homing {
         }
     }
 
-    /// Velocity loop towards the stops; stall detection.
+    /// The measured stop-to-stop travel of each arm, counts, once the reference leg has begun
+    /// (for logs and tests).
+    pub fn far_stop_counts(&self) -> Option<[i32; 3]> {
+        self.on_reference_leg.then_some(self.far)
+    }
+
+    /// Velocity loop towards this leg's stops; stall detection; the range check.
     fn seek(&mut self, counts: [i32; 3], device: &DeviceParams) -> HomingStep {
         let mut duties = [0.0f32; 3];
         let mut at_stop = 0;
+        let speed = if self.on_reference_leg {
+            self.spec.speed_rad_s
+        } else {
+            -self.spec.speed_rad_s
+        };
         for i in 0..3 {
             if counts[i].wrapping_sub(self.anchor[i]).unsigned_abs() > self.spec.stall_window_counts
             {
@@ -223,21 +264,34 @@ impl Homing {
             }
             let torque = if self.still[i] >= self.stall_ticks {
                 let travel = i64::from(counts[i]) - i64::from(self.start[i]);
-                if travel.abs() < self.min_travel_counts {
+                if self.on_reference_leg && travel.abs() < self.min_travel_counts {
                     return HomingStep::Failed;
                 }
                 at_stop += 1;
-                self.spec.max_torque_nm.copysign(self.spec.speed_rad_s)
+                self.spec.max_torque_nm.copysign(speed)
             } else {
-                let t = self.spec.velocity_gain_nm_s_per_rad
-                    * (self.spec.speed_rad_s - self.velocity[i]);
+                let t = self.spec.velocity_gain_nm_s_per_rad * (speed - self.velocity[i]);
                 limit(t, self.spec.max_torque_nm)
             };
             duties[i] = device.arm_torque_to_duty(torque, self.velocity[i]);
         }
         if at_stop == 3 {
-            self.offsets = Some(counts.map(|c| self.target_count.wrapping_sub(c)));
-            self.still = [0; 3];
+            if !self.on_reference_leg {
+                self.on_reference_leg = true;
+                self.far = counts;
+                self.start = counts;
+                self.anchor = counts;
+                self.still = [0; 3];
+            } else {
+                for (c, f) in counts.iter().zip(&self.far) {
+                    let travel = (i64::from(*c) - i64::from(*f)).unsigned_abs() as f32;
+                    if (travel - self.range_counts).abs() > self.range_tolerance_counts {
+                        return HomingStep::Failed;
+                    }
+                }
+                self.offsets = Some(counts.map(|c| self.target_count.wrapping_sub(c)));
+                self.still = [0; 3];
+            }
         }
         HomingStep::Drive(duties)
     }
@@ -294,66 +348,137 @@ mod tests {
         Homing::new(OMEGA_LIKE.homing, &OMEGA_LIKE.params, RATE)
     }
 
-    /// Counts moving towards the stop by `speed` counts per tick for `moving` ticks, then still.
-    fn run(
-        h: &mut Homing,
-        start: i32,
-        speed: i32,
-        moving: u32,
-        max_ticks: u32,
-    ) -> (u32, HomingStep) {
-        let dev = OMEGA_LIKE.params;
-        let mut c = start;
-        for k in 1..=max_ticks {
-            if k <= moving {
-                c += speed;
+    /// Three arms on rails between two stops, in motor counts (θ increasing = counts up): each
+    /// tick an arm moves one count in the direction of its duty until a stop or an obstruction.
+    /// Independent of the procedure's code.
+    struct Rails {
+        pos: [i32; 3],
+        lo: [i32; 3],
+        hi: [i32; 3],
+        /// An obstruction on the way up (towards `lo`): the arm cannot pass below it.
+        block: [Option<i32>; 3],
+    }
+
+    impl Rails {
+        /// Reference stops at `lo`, far stops `range` counts above, arms starting `start` above.
+        fn new(lo: i32, range: i32, start: i32) -> Rails {
+            let lo = [lo, lo + 7, lo - 3];
+            Rails {
+                pos: lo.map(|l| l + start),
+                lo,
+                hi: lo.map(|l| l + range),
+                block: [None; 3],
             }
-            let step = h.tick([c, c + 7, c - 3], &dev);
-            if !matches!(step, HomingStep::Drive(_)) {
-                return (k, step);
+        }
+
+        #[allow(clippy::needless_range_loop)] // four arrays indexed together
+        fn step(&mut self, duties: [f32; 3]) {
+            for i in 0..3 {
+                let floor = self.block[i].unwrap_or(self.lo[i]).max(self.lo[i]);
+                if duties[i] > 0.0 {
+                    self.pos[i] = (self.pos[i] + 1).min(self.hi[i]);
+                } else if duties[i] < 0.0 {
+                    self.pos[i] = (self.pos[i] - 1).max(floor);
+                }
+            }
+        }
+    }
+
+    /// Run until homing stops driving (or `max_ticks`): (tick, step).
+    fn run(h: &mut Homing, rails: &mut Rails, max_ticks: u32) -> (u32, HomingStep) {
+        let dev = OMEGA_LIKE.params;
+        for k in 1..=max_ticks {
+            let step = h.tick(rails.pos, &dev);
+            match step {
+                HomingStep::Drive(d) => rails.step(d),
+                other => return (k, other),
             }
         }
         (max_ticks, HomingStep::Drive([0.0; 3]))
     }
 
+    /// The mechanism's 145° in counts: 2.5307 rad / 0.12783 mrad = 19 797.3.
+    const RANGE: i32 = 19_797;
+
     #[test]
     fn derived_thresholds() {
         let h = homing();
-        // 0.1 s stall, 5 s timeout at 10 kHz; travel 0.05 rad = 391 counts (0.128 mrad each).
-        assert_eq!((h.stall_ticks, h.timeout_ticks), (1_000, 50_000));
+        // 0.1 s stall, 8 s timeout at 10 kHz; travel 0.05 rad = 391 counts (0.128 mrad each).
+        assert_eq!((h.stall_ticks, h.timeout_ticks), (1_000, 80_000));
         assert_eq!(h.min_travel_counts, 391);
         // −40° at 4096·12 counts per arm turn: −5461.3 → −5461.
         assert_eq!(h.target_count(), -5461);
+        assert!(
+            (h.range_counts - 19_797.3).abs() < 0.1,
+            "{}",
+            h.range_counts
+        );
+        assert!((h.range_tolerance_counts - 156.46).abs() < 0.01);
     }
 
+    /// Down to the far stops, up to the reference stops, the range checked, the offsets set so
+    /// that the reference stop reads its angle, then the park.
     #[test]
-    fn stalls_after_travel_set_the_offsets_so_the_stop_reads_its_angle_then_park() {
+    fn both_stops_then_the_range_check_set_the_offsets_then_park() {
+        let mut h = homing();
+        let mut rails = Rails::new(1_000, RANGE, 5_000);
+        let (_, step) = run(&mut h, &mut rails, 80_000);
+        assert!(matches!(step, HomingStep::Done(_)), "{step:?}");
+        assert_eq!(h.far_stop_counts(), Some(rails.hi));
+        let off = rails.lo.map(|l| -5461 - l);
+        assert_eq!(step, HomingStep::Done(off));
+        // Parked at the park angle (homed 0 ↔ 0 rad) within its tolerance.
+        for (p, o) in rails.pos.iter().zip(off) {
+            assert!((p + o).abs() <= 234, "{:?}", rails.pos);
+        }
+    }
+
+    /// The measured range may differ from the mechanism's by 156.46 counts (0.02 rad): 156 and
+    /// −156 pass, 158 and −158 fail, with no zero taken.
+    #[test]
+    fn range_tolerance_is_bracketed() {
+        for (extra, ok) in [(156, true), (158, false), (-156, true), (-158, false)] {
+            let mut h = homing();
+            let mut rails = Rails::new(0, RANGE + extra, 3_000);
+            let (_, step) = run(&mut h, &mut rails, 80_000);
+            assert_eq!(matches!(step, HomingStep::Done(_)), ok, "{extra}: {step:?}");
+            if !ok {
+                assert_eq!(step, HomingStep::Failed);
+                assert_eq!(h.found_offsets(), None, "no zero taken");
+            }
+        }
+    }
+
+    /// An arm held or blocked on its way up, 30° short of its stop: homing fails at the
+    /// reference stops, no zero taken.
+    #[test]
+    fn a_stall_midway_fails_with_no_zero_taken() {
+        let mut h = homing();
+        let mut rails = Rails::new(0, RANGE, 3_000);
+        rails.block[1] = Some(rails.lo[1] + 4_096);
+        let (_, step) = run(&mut h, &mut rails, 80_000);
+        assert_eq!(step, HomingStep::Failed);
+        assert_eq!(h.found_offsets(), None);
+        // And on the way down (a far stop found short): the range is short too.
+        let mut h = homing();
+        let mut rails = Rails::new(0, RANGE, 3_000);
+        rails.hi[2] = rails.lo[2] + RANGE - 4_096;
+        assert_eq!(run(&mut h, &mut rails, 80_000).1, HomingStep::Failed);
+    }
+
+    /// An arm that never moves (dead encoder): both legs stall at once, the range is 0.
+    #[test]
+    fn a_dead_encoder_fails_after_two_stall_times() {
         let dev = OMEGA_LIKE.params;
         let mut h = homing();
-        // 400 ticks at −1 count/tick: 400 counts of travel (above 391), then still.
-        let (k, step) = run(&mut h, 1000, -1, 400, 1_400);
-        assert!(matches!(step, HomingStep::Drive(_)));
-        assert_eq!(k, 1_400);
-        // Found on the 1000th still tick.
-        let c = 1000 - 400;
-        let off = [-5461 - c, -5461 - (c + 7), -5461 - (c - 3)];
-        assert_eq!(h.found_offsets(), Some(off));
-        // Parking: at the stop the arms are driven towards the park angle (θ increasing).
-        let at_stop = [c, c + 7, c - 3];
-        let HomingStep::Drive(d) = h.tick(at_stop, &dev) else {
-            panic!("not parking")
-        };
-        assert!(d.iter().all(|&x| x > 0.0), "{d:?}");
-        // Counts at the park angle (homed 0 ↔ 0 rad) for the stall time: done.
-        let parked = off.map(|o| -o);
-        let mut done = None;
-        for k in 1..=1_000 {
-            if let HomingStep::Done(o) = h.tick(parked, &dev) {
-                done = Some((k, o));
+        let mut failed = None;
+        for k in 1..=10_000u32 {
+            if h.tick([0; 3], &dev) == HomingStep::Failed {
+                failed = Some(k);
                 break;
             }
         }
-        assert_eq!(done, Some((1_000, off)));
+        assert_eq!(failed, Some(2_000));
     }
 
     #[test]
@@ -362,23 +487,18 @@ mod tests {
         // 0.03 rad is 234.7 counts: 234 counts off is parked, 236 is not.
         for (off_counts, parks) in [(234, true), (236, false)] {
             let mut h = homing();
-            let _ = run(&mut h, 1000, -1, 400, 1_400);
+            let mut rails = Rails::new(0, RANGE, 3_000);
+            while h.found_offsets().is_none() {
+                let HomingStep::Drive(d) = h.tick(rails.pos, &dev) else {
+                    panic!("stopped before the park")
+                };
+                rails.step(d);
+            }
             let off = h.found_offsets().unwrap_or_default();
             let near = off.map(|o| -o + off_counts);
             let parked = (0..2_000).any(|_| matches!(h.tick(near, &dev), HomingStep::Done(_)));
             assert_eq!(parked, parks, "{off_counts}");
         }
-    }
-
-    #[test]
-    fn a_stall_before_the_minimum_travel_fails() {
-        let mut h = homing();
-        let (_, step) = run(&mut h, 0, -1, 390, 10_000);
-        assert_eq!(step, HomingStep::Failed);
-        // An arm that never moves (dead encoder, or already held at the stop) fails too.
-        let mut h = homing();
-        let (k, step) = run(&mut h, 0, 0, 0, 10_000);
-        assert_eq!((k, step), (1_000, HomingStep::Failed));
     }
 
     #[test]
@@ -388,15 +508,15 @@ mod tests {
             let mut h = homing();
             let mut c = 0;
             for _ in 0..500 {
-                c -= 1;
+                c += 1;
                 let _ = h.tick([c; 3], &dev);
             }
             let base = c;
             let mut done = false;
             for k in 0..3_000 {
-                let x = if k % 2 == 0 { base } else { base - jitter };
+                let x = if k % 2 == 0 { base } else { base + jitter };
                 let _ = h.tick([x; 3], &dev);
-                if h.found_offsets().is_some() {
+                if h.far_stop_counts().is_some() {
                     done = true;
                     break;
                 }
@@ -408,22 +528,23 @@ mod tests {
     #[test]
     fn times_out_exactly_at_the_timeout() {
         let mut h = homing();
-        // Always moving: never stalls.
-        let (k, step) = run(&mut h, 0, -1, u32::MAX, 60_000);
-        assert_eq!((k, step), (50_001, HomingStep::Failed));
+        // No stops: never stalls.
+        let mut rails = Rails::new(0, i32::MAX / 2, 3_000);
+        let (k, step) = run(&mut h, &mut rails, 90_000);
+        assert_eq!((k, step), (80_001, HomingStep::Failed));
     }
 
     #[test]
     fn drive_pushes_towards_the_stop_within_the_torque_limit() {
         let dev = OMEGA_LIKE.params;
         let mut h = homing();
-        // At rest the velocity loop asks for the full torque towards θ decreasing.
+        // At rest the velocity loop asks for the full torque towards θ increasing (the far stop).
         let HomingStep::Drive(d) = h.tick([0; 3], &dev) else {
             panic!("not driving")
         };
-        let expect = dev.arm_torque_to_duty(-0.15, 0.0);
+        let expect = dev.arm_torque_to_duty(0.15, 0.0);
         assert_eq!(d, [expect; 3]);
-        assert!(expect < 0.0 && expect > -0.1, "{expect}");
+        assert!(expect > 0.0 && expect < 0.1, "{expect}");
     }
 
     #[test]
@@ -458,6 +579,19 @@ mod tests {
             },
             HomingSpec {
                 stop_angle_rad: f32::NAN,
+                ..ok
+            },
+            HomingSpec {
+                far_stop_angle_rad: f32::NAN,
+                ..ok
+            },
+            HomingSpec {
+                range_tolerance_rad: 0.0,
+                ..ok
+            },
+            // The far stop on the homing side of the reference stop.
+            HomingSpec {
+                far_stop_angle_rad: -1.0,
                 ..ok
             },
         ] {

@@ -32,6 +32,7 @@ pub mod config;
 pub mod driver;
 pub mod homing;
 pub mod link;
+pub mod liveness;
 pub mod mode;
 pub mod output_timing;
 pub mod passivity;
@@ -268,6 +269,12 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
         if self.mode == Mode::Armed {
             let _ = self.link.lose();
         }
+    }
+
+    /// The thread-mode tasks stopped ([`liveness`]): latch `THREAD_STALLED`, so this tick's
+    /// outputs are zero torque with the drivers asleep, before the IWDG resets the MCU.
+    pub fn thread_stalled(&mut self) {
+        self.guard.latch(Flags::THREAD_STALLED);
     }
 
     /// A host holds the arming (it armed the device over the link and it is still armed).

@@ -188,9 +188,10 @@ fn homing_finds_the_stop_and_sets_the_zero() {
     let mut p = pipeline();
     let mut arms = Arms::new(0.3);
     let ticks = home(&mut p, &mut arms);
-    // ~1 rad to the stops at 1 rad/s, the 0.1 s stall time, ~0.7 rad back to the park angle and
-    // its 0.1 s settling, the 1 ms wake: measured 20 331 ticks.
-    assert!((15_000..25_000).contains(&ticks), "{ticks}");
+    // ~1.5 rad down to the far stops at 1 rad/s, 2.5 rad up to the reference stops, a 0.1 s
+    // stall time at each, ~0.7 rad back to the park angle and its 0.1 s settling, the 2 ms
+    // wake: measured 52 436 ticks.
+    assert!((45_000..60_000).contains(&ticks), "{ticks}");
     assert!(p.homed());
     // Parked near 0 rad: measured 4.7e-3 rad at worst; bound 3x, 0.014 rad.
     for t in arms.theta {
@@ -272,8 +273,9 @@ fn homing_with_a_dead_encoder_fails_and_latches() {
             break;
         }
     }
-    // The nSLEEP edge tick and 20 wake ticks, then 1000 ticks (0.1 s) without motion.
-    assert_eq!(faulted_at, Some(21 + 1000 - 1));
+    // The nSLEEP edge tick and 20 wake ticks, then 1000 ticks (0.1 s) without motion at the
+    // "far stop" and 1000 more at the "reference stop": no travel, no zero.
+    assert_eq!(faulted_at, Some(21 + 2000 - 1));
     assert!(!p.homed());
     assert_eq!(p.command(Command::Arm), Err(CommandError::Faulted));
     assert_eq!(p.command(Command::ClearFaults), Ok(()));
