@@ -83,7 +83,7 @@ pub const FLAGS: [(Flags, &str, &str); 20] = [
     (
         Flags::HOMING_FAILED,
         "homing-failed",
-        "homing timed out or an arm stalled early",
+        "homing timed out, an arm stalled early, or the stop-to-stop range is not the mechanism's",
     ),
     (
         Flags::THREAD_STALLED,
