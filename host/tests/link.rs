@@ -25,7 +25,6 @@ fn server_at(listen: &str) -> Server {
         flash: None,
         duration_s: None,
         quiet: true,
-        flash: None,
     })
     .expect("server starts")
 }

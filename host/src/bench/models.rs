@@ -168,9 +168,7 @@ pub fn run(
     let first = wait_until(&d, |s| {
         s.tick >= t0 + 5 * rate as u64 / 2 && norm(s.probe_vel_m_s) < 0.005
     })?;
-    let mut seq = first.model_seq.wrapping_add(1);
-    d.set_local_model(plane(seq, top))?;
-    d.arm()?;
+    let mut seq = arm_from_above(&mut d, first.model_seq, top)?;
     // Past the pipeline's 0.5 s arming ramp.
     let armed_at = first.tick;
     wait_until(&d, |s| s.tick >= armed_at + rate as u64)?;
@@ -213,7 +211,7 @@ pub fn run(
     seen += s2 + s3;
     missing += m2 + m3;
 
-    let watchdog = watchdog(&mut d, rate, cfg.watchdog_ms)?;
+    let watchdog = watchdog(&mut d, rate, cfg.watchdog_ms, seq, top)?;
     let _ = d.set_watchdog_ms(watchdog_before);
     let _ = d.disarm();
     let _ = d.release_hand();
@@ -237,7 +235,31 @@ pub fn run(
     ))
 }
 
-fn watchdog(d: &mut Device, rate: u32, timeout_ms: u16) -> Result<WatchdogReport, LinkError> {
+/// Arm with the fingertip pressed in: the device refuses to arm with the probe inside the surface
+/// (the force would push it out over the arming ramp), so the plane is first put 10 mm lower (the
+/// hand presses 3 mm in and the handle sags below that under gravity, 0.7 mm on the virtual
+/// device), the device armed there, and the plane then moved back to `top_z_m` (the 2 ms pose
+/// blend) to press.
+/// Returns the sequence number of the last model sent.
+fn arm_from_above(d: &mut Device, last_seq: u32, top_z_m: f64) -> Result<u32, LinkError> {
+    let below = last_seq.wrapping_add(1);
+    d.set_local_model(plane(below, top_z_m - 0.010))?;
+    let seen = wait_until(d, |s| s.model_seq == below)?;
+    // Past the pose blend (2 ms by default): 200 ticks, 10-20 ms of device time.
+    wait_until(d, |s| s.tick >= seen.tick + 200)?;
+    d.arm()?;
+    let back = below.wrapping_add(1);
+    d.set_local_model(plane(back, top_z_m))?;
+    Ok(back)
+}
+
+fn watchdog(
+    d: &mut Device,
+    rate: u32,
+    timeout_ms: u16,
+    last_seq: u32,
+    top_z_m: f64,
+) -> Result<WatchdogReport, LinkError> {
     d.set_watchdog_ms(timeout_ms)?;
     // Silence: no heartbeat either.
     d.set_heartbeat(false);
@@ -274,7 +296,7 @@ fn watchdog(d: &mut Device, rate: u32, timeout_ms: u16) -> Result<WatchdogReport
     // Re-arm, and keep talking (the watchdog is still on): a ping every 20 ms until force is
     // rendered again (the handle bounces after the pause, so any tick), then 100 ms more.
     d.set_heartbeat(true);
-    d.arm()?;
+    arm_from_above(d, last_seq, top_z_m)?;
     let flagged_now = |s: &StateSample| s.flags & Flags::COMM_TIMEOUT.0 != 0;
     let rendering = |s: &StateSample| {
         !flagged_now(s) && s.mode == softfinger_protocol::Mode::Armed && norm(s.force_n) > 0.1
