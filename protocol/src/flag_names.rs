@@ -83,12 +83,12 @@ pub const FLAGS: [(Flags, &str, &str); 20] = [
     (
         Flags::HOMING_FAILED,
         "homing-failed",
-        "homing timed out, an arm stalled early, or the stop-to-stop range is not the mechanism's",
+        "homing timed out, stalled early or measured a wrong range",
     ),
     (
         Flags::THREAD_STALLED,
         "thread-stalled",
-        "the device's thread-mode tasks stopped: outputs off, then a watchdog reset",
+        "thread-mode tasks stopped: outputs off, then a reset",
     ),
     (
         Flags::COMM_TIMEOUT,
