@@ -8,8 +8,9 @@
 //! phase (asleep and off before homing, off when disarmed, driving only when homing or armed, off
 //! and asleep at once on nFAULT or a break flag, nFAULT ignored while asleep); it exits with
 //! failure if a check fails. The script drives the device through the
-//! real command sequence: power-up (Unhomed), Home, homing drive with the arms moving, the stall at
-//! the stops, the arms moved to the park angle, Disarmed, Arm (the force ramping in), then the arms
+//! real command sequence: power-up (Unhomed), Home, homing drive with the arms moving down, the stall at
+//! the far stops, the arms moved up the mechanism's range to the reference stops and stalled
+//! there, the arms moved to the park angle, Disarmed, Arm (the force ramping in), then the arms
 //! moved down until the probe touches the plane, Armed in contact.
 //!
 //! Not included (no instructions, or not the app's): exception entry/exit (hardware stacking, 12
@@ -276,11 +277,15 @@ fn run_phases(q: &mut Queues) {
 
     command(q, Command::Home);
     run_until(q, Mode::Homing, 0, 2);
-    // Driver wake time (nFAULT masked, no drive), then the arms move toward their stops.
-    ticks(q, 20);
-    report("homing_moving", measure(&mut |c| move_motors_of(c, -3)));
+    // The nSLEEP edge and the drivers' 2 ms wake time (nFAULT masked, no drive), then the arms
+    // move down toward their far stops.
+    ticks(q, WAKE_TICKS);
+    let o = outputs();
+    check(o.moe && o.awake && o.compare != [0; 3], "homing: driving after the wake");
+    report("homing_moving", measure(&mut |c| move_motors_of(c, 3)));
     let o = outputs();
     check(o.moe && o.awake && o.compare != [0; 3], "homing: driving");
+    stops(q);
     park(q);
     run_until(q, Mode::Disarmed, 0, 20_000);
     report("disarmed", measure(&mut |_| {}));
@@ -320,7 +325,13 @@ fn fault_checks(q: &mut Queues) {
     ticks(q, 2);
     expect(Mode::Disarmed, AWAKE_OFF, "cleared: disarmed, never armed");
 
-    ticks(q, 20); // wake time
+    ticks(q, WAKE_TICKS);
+    // Lift the probe off the plane: Arm is refused while it is inside the surface.
+    for _ in 0..200 {
+        move_motors(-1);
+        isr();
+    }
+    q.drain();
     command(q, Command::Arm);
     run_until(q, Mode::Armed, 0, 2);
     ticks(q, 100);
@@ -372,12 +383,40 @@ fn ticks(q: &mut Queues, n: u32) {
     q.drain();
 }
 
-/// Hold the arms still at their stops for longer than the stall time, then move them from the stop
-/// angle to the park angle (the device's homing spec), where homing ends.
-fn park(q: &mut Queues) {
+/// Ticks after `Home` (or a cleared fault) for the nSLEEP edge and the drivers' 2 ms wake time at
+/// 10 kHz; the last of them drives, so every measured homing tick does.
+const WAKE_TICKS: u32 = 21;
+
+/// Hold the arms still for longer than the stall time.
+fn stall(q: &mut Queues) {
     let spec = config::DEVICE.homing;
     let stall_ticks = (spec.stall_s * config::CONTROL_RATE_HZ as f32) as u32;
     ticks(q, stall_ticks + 200);
+}
+
+/// Homing's two stops: still at the far stops for the stall time, then up the mechanism's range
+/// (the device's homing spec: 145°, 19 797 counts) to the reference stops, still again (homing
+/// checks the measured range).
+fn stops(q: &mut Queues) {
+    stall(q);
+    let spec = config::DEVICE.homing;
+    let rad_per_count = config::DEVICE.params.arm_rad_per_motor_count();
+    let mut left = -(((spec.stop_angle_rad - spec.far_stop_angle_rad) / rad_per_count).abs()
+        + 0.5) as i32;
+    while left != 0 {
+        let step = left.clamp(-3, 3);
+        move_motors(step);
+        left -= step;
+        isr();
+    }
+    q.drain();
+    stall(q);
+}
+
+/// Move the arms from the stop angle to the park angle (the device's homing spec), where homing
+/// ends.
+fn park(q: &mut Queues) {
+    let spec = config::DEVICE.homing;
     let rad_per_count = config::DEVICE.params.arm_rad_per_motor_count();
     let mut left = ((spec.park_angle_rad - spec.stop_angle_rad) / rad_per_count) as i32;
     while left != 0 {
