@@ -5,7 +5,11 @@
 
 use softfinger_mcu_bench::check::Checker;
 use softfinger_mcu_bench::link::{feed, frame_of, largest_command, state_sample, typical_command};
+use softfinger_protocol::config::{ConfigRefusal, ConfigSection, ConfigValue, StoreStatus};
 use softfinger_protocol::info::Text;
+use softfinger_protocol::update::{
+    BootStateWire, UpdateChunk, UpdatePhase, UpdateRefusal, UpdateStatus,
+};
 use softfinger_protocol::{
     AckResult, ContactParamsWire, DeviceInfo, DeviceMsg, DeviceStatus, ErrorCode, FieldRange,
     FrameDecoder, FrameErrorKind, HandTarget, HostMsg, LinkCounters, LocalModel, Mode, Request,
@@ -65,9 +69,18 @@ fn request_index(r: &Request) -> u32 {
         Request::DriveHand(_) => 15,
         Request::ReleaseHand => 16,
         Request::GetStatus => 17,
+        Request::ConfigGet(_) => 18,
+        Request::ConfigSet(_) => 19,
+        Request::ConfigSave => 20,
+        Request::ConfigReset => 21,
+        Request::UpdateBegin { .. } => 22,
+        Request::UpdateChunk(_) => 23,
+        Request::UpdateFinish => 24,
+        Request::UpdateStatus => 25,
+        Request::Reboot => 26,
     }
 }
-const REQUEST_KINDS: u32 = 18;
+const REQUEST_KINDS: u32 = 27;
 
 fn device_index(m: &DeviceMsg) -> u32 {
     match m {
@@ -83,9 +96,13 @@ fn device_index(m: &DeviceMsg) -> u32 {
         DeviceMsg::FrameError { kind, .. } => 14 + frame_error_index(*kind),
         DeviceMsg::Status { .. } => 19,
         DeviceMsg::Rejected { .. } => 20,
+        DeviceMsg::Config { .. } => 21,
+        DeviceMsg::ConfigRefused { .. } => 22,
+        DeviceMsg::Update { .. } => 23,
+        DeviceMsg::UpdateRefused { .. } => 24,
     }
 }
-const DEVICE_KINDS: u32 = 21;
+const DEVICE_KINDS: u32 = 25;
 
 fn error_index(e: ErrorCode) -> u32 {
     match e {
@@ -172,6 +189,27 @@ fn host_messages(c: &mut Checker) {
         }),
         Request::ReleaseHand,
         Request::GetStatus,
+        Request::ConfigGet(ConfigSection::Stream),
+        Request::ConfigSet(ConfigValue::Status {
+            store: StoreStatus::Absent,
+            schema_version: 2,
+            may_arm: false,
+            unsaved: true,
+        }),
+        Request::ConfigSave,
+        Request::ConfigReset,
+        Request::UpdateBegin {
+            len: 100_000,
+            signature: heapless::Vec::from_slice(&[0xA5; 64]).unwrap_or_default(),
+        },
+        Request::UpdateChunk(UpdateChunk {
+            offset: 128,
+            crc: 0x1234_5678,
+            data: heapless::Vec::from_slice(&[0x5A; 128]).unwrap_or_default(),
+        }),
+        Request::UpdateFinish,
+        Request::UpdateStatus,
+        Request::Reboot,
     ];
     let mut seen = 0u32;
     let extra = [typical_command(), largest_command()];
@@ -234,7 +272,7 @@ fn device_messages(c: &mut Checker) {
         tx_dropped: 3,
         connections: 2,
     };
-    let mut msgs: heapless::Vec<DeviceMsg, 24> = heapless::Vec::new();
+    let mut msgs: heapless::Vec<DeviceMsg, 32> = heapless::Vec::new();
     let mut all = msgs
         .push(DeviceMsg::HelloReply {
             version: Some(PROTOCOL_VERSION),
@@ -286,6 +324,42 @@ fn device_messages(c: &mut Checker) {
             seq: 24,
             code: ErrorCode::InvalidValue,
             field: FieldRange::new("normal_stiffness", 0.0, false, 1.0e7),
+        })
+        .is_ok();
+    all &= msgs
+        .push(DeviceMsg::Config {
+            seq: 25,
+            value: ConfigValue::Status {
+                store: StoreStatus::Corrupt,
+                schema_version: 2,
+                may_arm: false,
+                unsaved: false,
+            },
+        })
+        .is_ok();
+    all &= msgs
+        .push(DeviceMsg::ConfigRefused {
+            seq: 26,
+            refusal: ConfigRefusal::new("presets.2.friction", "disarm first"),
+        })
+        .is_ok();
+    all &= msgs
+        .push(DeviceMsg::Update {
+            seq: 27,
+            status: UpdateStatus {
+                phase: UpdatePhase::Receiving {
+                    len: 100_000,
+                    received: 4_096,
+                },
+                boot: BootStateWire::Trial,
+                version: heapless::String::new(),
+            },
+        })
+        .is_ok();
+    all &= msgs
+        .push(DeviceMsg::UpdateRefused {
+            seq: 28,
+            refusal: UpdateRefusal::Armed,
         })
         .is_ok();
     c.ok("round trip: device message list fits", all);
