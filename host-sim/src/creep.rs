@@ -185,9 +185,9 @@ fn hold_run<M: Math>(
 ) -> Result<(f64, f64, f64), SetupError> {
     let (mut ctrl, mut plant) = hold_scene::<M>(contact, hold_s, 0.0)?;
     let rate = f64::from(ctrl.config().timing.control_hz);
-    let ticks = ((0.5 + hold_s) * rate) as u64;
-    // Press (0.5 s) and the arming ramp (within it) settle before the hold is judged.
-    let settle = (1.5 * rate) as u64;
+    let ticks = ((APPROACH_S + 0.5 + hold_s) * rate) as u64;
+    // Approach, press (0.5 s) and the arming ramp (within them) settle before the hold is judged.
+    let settle = ((APPROACH_S + 1.5) * rate) as u64;
     let mut worst = 0.0f64;
     let mut prev = [0.0f64; 2];
     let mut anchor0: Option<Vec3> = None;
@@ -235,8 +235,18 @@ pub fn anchor_point<M: Math>(ctrl: &Pipeline<M, Plane>) -> Vec3 {
         .contact_point()
 }
 
-/// The closed-loop hold scene: the plant with a hand that presses 1 mm at the workspace centre in
-/// 0.5 s with the wrist at [`rest_orientation`]'s angles, then holds for `hold_s`, its reference
+/// Clearance of the fingertip above the plane where the hold scene arms, m: the device refuses
+/// `Arm` with the probe inside the surface (at the old 2 mm it was refused, `InsideSurface`); the
+/// default touch script's 20 mm, from which the default scene arms.
+pub const ARM_CLEARANCE_M: f64 = 0.020;
+/// The hold scene's approach from [`ARM_CLEARANCE_M`] to 2 mm above the plane (where it armed
+/// before the device refused `Arm` inside the surface), s: the press starts this long after `Arm`.
+pub const APPROACH_S: f64 = 0.5;
+
+/// The closed-loop hold scene: the plant with a hand that arms with the fingertip
+/// [`ARM_CLEARANCE_M`] above the plane, approaches to 2 mm above it in [`APPROACH_S`], presses 1 mm
+/// at the workspace centre in 0.5 s with the wrist at [`rest_orientation`]'s angles, then holds for
+/// `hold_s`, its reference
 /// moving along base `x` at `drift_m_per_s` (0: still; a test hook standing for a slow walk of the
 /// probe relative to the anchor), and the pipeline homed, the hand grasped and armed.
 pub fn hold_scene<M: Math>(
@@ -247,13 +257,22 @@ pub fn hold_scene<M: Math>(
     let top = closed_loop::surface_top_z_m();
     let c = DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
     let wrist = [0.3, -0.2, 0.1];
+    let armed_at = [c.x as f64, c.y as f64, top + 0.01 + ARM_CLEARANCE_M];
     let above = [c.x as f64, c.y as f64, top + 0.012];
     let pressed = [c.x as f64, c.y as f64, top + 0.01 - 0.001];
     let held_end = [pressed[0] + drift_m_per_s * hold_s, pressed[1], pressed[2]];
     let script = HandScript::new(Waypoint {
-        position_m: above,
+        position_m: armed_at,
         wrist_rad: wrist,
     })
+    .then(
+        Phase::Approach,
+        APPROACH_S,
+        Waypoint {
+            position_m: above,
+            wrist_rad: wrist,
+        },
+    )
     .then(
         Phase::Press,
         0.5,

@@ -17,7 +17,7 @@
 //! Units: N, m, s; forces in the device base frame (tangential = x, y on the plane scene).
 
 use crate::closed_loop::{self, SetupError};
-use crate::creep::{anchor_point, hold_scene};
+use crate::creep::{anchor_point, hold_scene, APPROACH_S};
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::pipeline::passivity::PassivityConfig;
 use softfinger_core::{Libm, Math, Vec3};
@@ -91,8 +91,9 @@ pub fn measure<M: Math>(setup: HoldSetup) -> Result<HoldProfile, HoldError> {
         .map_err(SetupError::Passivity)?;
     }
     let rate = f64::from(ctrl.config().timing.control_hz);
-    let ticks = ((0.5 + setup.hold_s) * rate) as u64;
-    let settle = (1.5 * rate) as u64;
+    // The approach and the press (0.5 s) before the hold; judged from 1 s into it.
+    let ticks = ((APPROACH_S + 0.5 + setup.hold_s) * rate) as u64;
+    let settle = ((APPROACH_S + 1.5) * rate) as u64;
     let first_end = settle + (setup.window_s * rate) as u64;
     let last_start = ticks - (setup.window_s * rate) as u64;
     let mut forces = Vec::with_capacity((ticks - settle) as usize);
