@@ -70,11 +70,14 @@ fn a_held_finger_renders_no_mean_tangential_force_growth() {
         drift_m_per_s: drift,
         window_s: 5.0,
     };
-    // Change bounds: 3x the change measured with this setup (20 s, 5 s windows): libm 1.74e-9 N,
+    // Change bounds: 3x the change measured with this setup (20 s, 5 s windows): libm 5.29e-5 N,
     // micromath 2.48e-6 N, Fast 2.63e-5 N. The slowest drift below makes 4.7e-4 N, above all three.
+    // (libm measured 1.74e-9 N while the hold armed 2 mm above the plane; the device now refuses
+    // that Arm as inside the surface, so the hold arms 20 mm above and approaches, and libm's
+    // sideways counts dither as the other backends' do.)
     let libm = measure::<Libm>(setup(0.0)).unwrap();
     for (name, still, change_bound_n) in [
-        (Backend::Libm, libm, 5.2e-9),
+        (Backend::Libm, libm, 1.6e-4),
         (
             Backend::Micromath,
             measure::<Micromath>(setup(0.0)).unwrap(),
@@ -99,15 +102,15 @@ fn a_held_finger_renders_no_mean_tangential_force_growth() {
         );
         assert!(still.mean_change_n < change_bound_n, "{name}: {still:?}");
     }
-    // With libm no sideways count dithers: the whole force stays below 1.6e-4 N, 3x the measured
-    // 5.34e-5 N.
-    assert!(libm.max_n < 1.6e-4, "{libm:?}");
+    // The whole force with libm stays within 0.13 N, 3x the measured 0.043 N (the sideways
+    // dither; its mean stays below one count's force, checked above).
+    assert!(libm.max_n < 0.13, "{libm:?}");
     for drift in [0.05e-6, 0.65e-6] {
         let d = measure::<Libm>(setup(drift)).unwrap();
         eprintln!("drift {drift:e} m/s: {d:?}");
         assert_eq!(d.anchor_walk_m, 0.0, "{d:?}");
         assert!(
-            d.mean_change_n > 7.9e-5,
+            d.mean_change_n > 1.6e-4,
             "{drift:e}: caught by every backend's bound: {d:?}"
         );
     }

@@ -209,6 +209,24 @@ fn singular_steps_are_flagged_and_do_not_move_the_contact() {
     assert_eq!(r.q_prev, q);
 }
 
+/// Without rolling (the spin-only model's path) the decomposition's own flags still reach the
+/// step: the paper method's pure-spin singularity is flagged the same way.
+#[test]
+fn without_rolling_the_singular_step_is_still_flagged() {
+    let mut r = Rolling::new(
+        Plane::default(),
+        0.01,
+        Quat::IDENTITY,
+        Method::PaperVerbatim,
+    );
+    let q = Quat::from_axis_angle::<Libm>(Vec3::Z, 0.1);
+    let s = r.step_parts::<Libm, false>(q);
+    assert!(s.flags.contains(Flags::SINGULAR));
+    assert_eq!(s.object_disp_m, Vec3::ZERO);
+    assert_eq!(r.surface.point, Vec3::ZERO);
+    assert_eq!(r.q_prev, q);
+}
+
 /// On a sphere, the exact method keeps the fingertip contact point opposite the object normal.
 #[test]
 fn sphere_scene_keeps_the_contact_geometry_consistent() {
