@@ -133,6 +133,11 @@ pub const SUPERVISOR_POLL_MS: u64 = 10;
 /// for 5 ms (50 ticks at 10 kHz).
 pub const WATCHDOG_TIMEOUT_US: u32 = 5_000;
 
-/// User-button sample period, ms (the debounce and press times are the core's
-/// `ButtonTiming::DEFAULT`: 20 ms, 1 s, 3 s).
-pub const BUTTON_SAMPLE_MS: u64 = 1;
+/// User-button debounce, ms.
+pub const BUTTON_DEBOUNCE_MS: u64 = 30;
+
+/// A press held at least this long is a long press (home), ms.
+pub const LONG_PRESS_MS: u64 = 1_000;
+
+/// A press held at least this long is a very long press (next stiffness preset), ms.
+pub const VERY_LONG_PRESS_MS: u64 = 3_000;
