@@ -44,11 +44,13 @@ pub trait Indicator {
     fn set(&mut self, on: bool);
 }
 
-/// The operator's push button (sampled and debounced by the core's button rules).
+/// The operator's push button (debounced by the caller).
 #[allow(async_fn_in_trait)] // used with concrete types only, never as `dyn` or across threads
 pub trait OperatorButton {
     /// Wait until the button is pressed (returns at once if it already is).
     async fn wait_pressed(&mut self);
+    /// Wait until the button is released (returns at once if it already is).
+    async fn wait_released(&mut self);
     /// The button is pressed now.
     fn is_pressed(&mut self) -> bool;
 }

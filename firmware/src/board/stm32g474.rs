@@ -242,6 +242,9 @@ impl OperatorButton for Button {
     async fn wait_pressed(&mut self) {
         self.0.wait_for_high().await;
     }
+    async fn wait_released(&mut self) {
+        self.0.wait_for_low().await;
+    }
     fn is_pressed(&mut self) -> bool {
         self.0.is_high()
     }

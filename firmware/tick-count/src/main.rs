@@ -281,7 +281,10 @@ fn run_phases(q: &mut Queues) {
     // move down toward their far stops.
     ticks(q, WAKE_TICKS);
     let o = outputs();
-    check(o.moe && o.awake && o.compare != [0; 3], "homing: driving after the wake");
+    check(
+        o.moe && o.awake && o.compare != [0; 3],
+        "homing: driving after the wake",
+    );
     report("homing_moving", measure(&mut |c| move_motors_of(c, 3)));
     let o = outputs();
     check(o.moe && o.awake && o.compare != [0; 3], "homing: driving");
@@ -401,8 +404,8 @@ fn stops(q: &mut Queues) {
     stall(q);
     let spec = config::DEVICE.homing;
     let rad_per_count = config::DEVICE.params.arm_rad_per_motor_count();
-    let mut left = -(((spec.stop_angle_rad - spec.far_stop_angle_rad) / rad_per_count).abs()
-        + 0.5) as i32;
+    let mut left =
+        -(((spec.stop_angle_rad - spec.far_stop_angle_rad) / rad_per_count).abs() + 0.5) as i32;
     while left != 0 {
         let step = left.clamp(-3, 3);
         move_motors(step);
