@@ -26,7 +26,8 @@ use std::time::Duration;
 /// The socket QEMU's UART0 listens on, in the run's work directory.
 pub const UART_SOCKET: &str = "uart0.sock";
 
-/// Longest wait for homing to finish (2.4 s of board time in the default scene), wall clock.
+/// Longest wait for homing to finish (about 5.1 s of board time in the default scene: both stops
+/// and the range check), wall clock.
 const HOMING_TIMEOUT: Duration = Duration::from_secs(120);
 
 /// What the check saw.
