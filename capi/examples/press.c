@@ -4,7 +4,8 @@
  *   cc -O2 -I capi/include capi/examples/press.c -L target/release -lsoftfinger -o press
  *   ./press tcp:127.0.0.1:7700
  *
- * Opens the device, homes it, arms it, puts a soft plane 2 mm into the fingertip where the hand
+ * Opens the device, homes it, arms it clear of a soft plane, raises the plane 2 mm into the
+ * fingertip where the hand
  * holds it (the virtual device's hand then plays its scene's press, roll and slide against it),
  * streams 1 s of states at 1 kHz and checks that the normal force the device rendered is the
  * model's spring and damper on the penetration and velocity it streamed:
@@ -110,16 +111,20 @@ int main(int argc, char **argv) {
     MUST(sf_next_state(dev, &s, 5.0));
     CHECK(s.mode == SF_MODE_DISARMED, "mode after homing: %d", s.mode);
 
-    /* A plane 2 mm into the fingertip where the hand holds it now; soft (200 N/m), so the hand's
-     * press stays below the device's force cap. */
+    /* A soft plane (200 N/m, so the hand's press stays below the device's force cap). The device
+     * refuses Arm with the fingertip inside the surface (the force would push it out over the
+     * arming ramp), so it is first put 10 mm below the fingertip, the device armed there once the
+     * model is in force, and the plane then raised to 2 mm into the fingertip where the hand
+     * holds it (the device blends the pose over 2 ms). */
     const double r = info.fingertip_radius_m, k = 200.0, c = 2.0;
+    const double z_tip = s.position_m[2];
     sf_local_model m;
     memset(&m, 0, sizeof m);
     m.seq = s.model_seq + 1;
     m.shape = SF_SHAPE_PLANE;
     m.position_m[0] = s.position_m[0];
     m.position_m[1] = s.position_m[1];
-    m.position_m[2] = s.position_m[2] - r + 0.002;
+    m.position_m[2] = z_tip - r - 0.010;
     m.orientation[0] = 1.0;
     m.stiffness_n_per_m = k;
     m.damping_n_s_per_m = c;
@@ -129,7 +134,13 @@ int main(int argc, char **argv) {
     MUST(sf_set_local_model(dev, &m));
     rc = sf_set_local_model(dev, &m);
     CHECK(rc == SF_ERR_REFUSED_STALE_SEQUENCE, "the same seq again: %d", rc);
+    do {
+        MUST(sf_next_state(dev, &s, 5.0));
+    } while (s.model_seq != m.seq);
     MUST(sf_arm(dev));
+    m.seq += 1;
+    m.position_m[2] = z_tip - r + 0.002;
+    MUST(sf_set_local_model(dev, &m));
 
     /* Past the arming ramp (0.5 s of device time) and the model's blend. */
     uint64_t armed_tick = s.tick;

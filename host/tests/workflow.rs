@@ -350,12 +350,10 @@ fn params_are_checked_and_refusals_name_the_field_and_range() {
     s.stop();
 }
 
-/// Problem 5: `bench` puts back the scene, model, parameters, watchdog and mode it found.
-#[test]
-fn bench_leaves_the_device_as_found() {
-    let s = server();
-    let t = Target::Tcp(s.addr().to_string());
-    let mut d = Device::connect(&t).unwrap();
+/// A device changed from its defaults, as a user leaves it before `bench`: homed, a sphere
+/// model, a non-default damping. Returns the model and parameters set.
+fn changed_device(t: &Target) -> (LocalModel, softfinger_host::protocol::ContactParamsWire) {
+    let mut d = Device::connect(t).unwrap();
     let sphere = LocalModel {
         seq: 5,
         shape: SurfaceShape::Sphere { radius_m: 0.04 },
@@ -385,17 +383,16 @@ fn bench_leaves_the_device_as_found() {
         assert!(t0.elapsed() < Duration::from_secs(5), "{:?}", d.status());
         std::thread::sleep(Duration::from_millis(10));
     }
-    drop(d);
-    let cfg = BenchConfig {
-        stream_s: 0.5,
-        pings: 50,
-        model_s: 0.2,
-        watchdog_ms: 100,
-    };
-    let r = bench::run(&t, &cfg).unwrap();
-    let b = &r.restored;
-    assert!(b.complete() && b.notes.is_empty(), "{b:?}");
-    let mut d = Device::connect(&t).unwrap();
+    (sphere, p)
+}
+
+/// The device is as [`changed_device`] left it: its model, parameters, mode and watchdog.
+fn assert_as_found(
+    t: &Target,
+    sphere: LocalModel,
+    p: softfinger_host::protocol::ContactParamsWire,
+) {
+    let mut d = Device::connect(t).unwrap();
     let st = d.status().unwrap();
     assert_eq!(
         LocalModel { seq: 0, ..st.model },
@@ -409,6 +406,58 @@ fn bench_leaves_the_device_as_found() {
         "no timeout left latched"
     );
     assert_eq!(d.info().unwrap().watchdog_ms, 200);
+}
+
+/// Problem 5: `bench` puts back the scene, model, parameters, watchdog and mode it found.
+#[test]
+fn bench_leaves_the_device_as_found() {
+    let s = server();
+    let t = Target::Tcp(s.addr().to_string());
+    let (sphere, p) = changed_device(&t);
+    let cfg = BenchConfig {
+        stream_s: 0.5,
+        pings: 50,
+        model_s: 0.2,
+        watchdog_ms: 100,
+        stop: None,
+    };
+    let r = bench::run(&t, &cfg).unwrap();
+    let b = &r.restored;
+    assert!(b.complete() && b.notes.is_empty(), "{b:?}");
+    assert_as_found(&t, sphere, p);
+    s.stop();
+}
+
+/// Problem 5, interrupted: Ctrl-C in the middle of `bench` (its 30 s stream phase) ends it
+/// within a second, exit 130, and the device is still put back as found.
+#[test]
+fn bench_stopped_by_ctrl_c_leaves_the_device_as_found() {
+    let s = server();
+    let t = Target::Tcp(s.addr().to_string());
+    let (sphere, p) = changed_device(&t);
+    let child = Command::new(env!("CARGO_BIN_EXE_softfinger"))
+        .args(["--connect", &format!("tcp:{}", s.addr()), "bench"])
+        .args(["--seconds", "30", "--pings", "100000"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(1500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let t0 = Instant::now();
+    let out = child.wait_with_output().unwrap();
+    assert!(t0.elapsed() < Duration::from_secs(10), "stops promptly");
+    assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("interrupted before the end; the device was put back as found"),
+        "{}",
+        stderr(&out)
+    );
+    assert_as_found(&t, sphere, p);
     s.stop();
 }
 

@@ -3,6 +3,7 @@ force against the model's spring; bad arguments and refusals."""
 
 import math
 import socket
+import time
 
 import numpy as np
 import pytest
@@ -25,13 +26,23 @@ def test_press_renders_the_models_spring(server):
         dev.home(timeout_s=30.0)
         s = dev.state()
         assert s is not None and s["mode"] == "disarmed"
-        # A soft plane 2 mm into the fingertip where the hand holds it (as press.c).
+        # A soft plane, first 10 mm below the fingertip (the device refuses Arm with the fingertip
+        # inside the surface), armed once that model is in force, then raised to 2 mm into the
+        # fingertip where the hand holds it (as press.c).
         k, c = 200.0, 2.0
-        z_plane = s["position_m"][2] - r + 0.002
-        seq = dev.set_local_model("plane", (s["position_m"][0], s["position_m"][1], z_plane),
-                                  stiffness_n_per_m=k, damping_n_s_per_m=c)
-        assert seq == s["model_seq"] + 1
+        x, y, z_tip = s["position_m"]
+        below = dev.set_local_model("plane", (x, y, z_tip - r - 0.010),
+                                    stiffness_n_per_m=k, damping_n_s_per_m=c)
+        assert below == s["model_seq"] + 1
+        t_end = time.monotonic() + 10.0
+        while dev.state()["model_seq"] != below:
+            assert time.monotonic() < t_end, "the model comes into force"
+            dev.stream(0.02)
         dev.arm()
+        z_plane = z_tip - r + 0.002
+        seq = dev.set_local_model("plane", (x, y, z_plane), stiffness_n_per_m=k,
+                                  damping_n_s_per_m=c)
+        assert seq == below + 1
         dev.stream(0.6)  # the arming ramp
         st = dev.stream(1.0, rate_hz=1000.0)
         n = len(st["t_s"])

@@ -14,8 +14,9 @@ use std::path::Path;
 
 use super::pareto;
 use super::style::{
-    backend_shape, draw_axes, draw_legend, draw_line, draw_markers, drawing_err, log_range,
-    svg_string, variant_color, ERROR_FLOOR_MM, FONT, FRONT_COLOR,
+    backend_shape, draw_axes, draw_line, draw_markers, draw_side_legend, drawing_err, log_range,
+    split_for_legend, svg_string, variant_color, Entry as LegendEntry, Key, ERROR_FLOOR_MM, FONT,
+    FRONT_COLOR,
 };
 use crate::validate::ours::{Backend, Variant};
 
@@ -120,20 +121,50 @@ pub fn front(points: &[McuPoint]) -> Vec<usize> {
     pareto::front(&xy)
 }
 
-/// Renders the chart as SVG.
+/// The legend label of a point.
+fn label(p: &McuPoint) -> String {
+    match p.kind {
+        Kind::Rolling => format!("{} rolling step", p.variant.name()),
+        Kind::ContactStep => format!("{} full contact step ({})", p.variant.name(), p.name),
+    }
+}
+
+/// Renders the chart as SVG, the legend beside the plot (off the data).
 pub fn svg(points: &[McuPoint]) -> Result<String, ChartError> {
-    svg_string((1100, 760), |root| {
+    svg_string((1100, 1000), |root| {
         let (x0, x1) = log_range(points.iter().map(|p| xy(p).0));
-        // Linear instructions axis from 0, with room above the points for the legend.
-        let y1 = points.iter().map(|p| p.instructions).fold(100.0, f64::max) * 1.6;
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                format!(
-                    "MCU twin: instructions per step (Cortex-M4F, QEMU -icount) vs accuracy on the paper scene; \
-                     errors < {ERROR_FLOOR_MM:.0e} mm drawn at {ERROR_FLOOR_MM:.0e} mm"
+        // Linear instructions axis from 0, sized to the data.
+        let y1 = points.iter().map(|p| p.instructions).fold(100.0, f64::max) * 1.12;
+        let mut entries = vec![LegendEntry {
+            label: "Pareto front of the rolling step".into(),
+            key: Key::Line(FRONT_COLOR, None),
+        }];
+        for p in points {
+            let color = variant_color(p.variant.method, p.variant.backend);
+            let color = match p.kind {
+                Kind::Rolling => color,
+                Kind::ContactStep => pale(color),
+            };
+            entries.push(LegendEntry {
+                label: label(p),
+                key: Key::Marker(color, backend_shape(p.variant.backend)),
+            });
+        }
+        let root = root
+            .titled(
+                &format!(
+                    "Which step costs least on the MCU for its accuracy? Instructions per step \
+                     (Cortex-M4F, QEMU -icount) vs error on the paper's scene \
+                     (errors < {ERROR_FLOOR_MM:.0e} mm drawn at {ERROR_FLOOR_MM:.0e} mm)"
                 ),
-                (FONT, 16),
+                (FONT, 15),
             )
+            .map_err(drawing_err)?;
+        let (plot, legend) = split_for_legend(&root, &entries, 12);
+        if let Some(l) = &legend {
+            draw_side_legend(&l.margin(10, 0, 0, 0), &entries, 12)?;
+        }
+        let mut chart = ChartBuilder::on(&plot)
             .margin(16)
             .x_label_area_size(50)
             .y_label_area_size(70)
@@ -149,28 +180,30 @@ pub fn svg(points: &[McuPoint]) -> Result<String, ChartError> {
             &mut chart,
             &pareto::staircase(&front_xy, x1),
             FRONT_COLOR.mix(0.45).stroke_width(9),
-            Some("Pareto front of the rolling step"),
+            None,
         )?;
         for p in points {
             let color = variant_color(p.variant.method, p.variant.backend);
-            let (style, label) = match p.kind {
-                Kind::Rolling => (color.filled(), format!("{} rolling step", p.variant.name())),
-                Kind::ContactStep => (
-                    color.mix(0.4).filled(),
-                    format!("{} full contact step ({})", p.variant.name(), p.name),
-                ),
+            let style = match p.kind {
+                Kind::Rolling => color.filled(),
+                Kind::ContactStep => pale(color).filled(),
             };
             draw_markers(
                 &mut chart,
                 &[xy(p)],
                 backend_shape(p.variant.backend),
                 style,
-                Some(&label),
+                None,
             )?;
         }
-        draw_legend(&mut chart, SeriesLabelPosition::UpperRight, 12)?;
         Ok(())
     })
+}
+
+/// The colour at 40 % over white (the full contact step's markers).
+fn pale(c: RGBColor) -> RGBColor {
+    let m = |v: u8| (255.0 - 0.4 * (255.0 - f64::from(v))).round() as u8;
+    RGBColor(m(c.0), m(c.1), m(c.2))
 }
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! One client sends bad frames of every kind; its connection must stay usable and the device must
 //! count each kind.
 
+use super::BenchConfig;
 use crate::{Device, LinkError, Target};
 use serde::Serialize;
 use softfinger_protocol::frame::encode_frame_with_version;
@@ -47,9 +48,9 @@ fn garbage(n: usize) -> Vec<u8> {
 }
 
 /// After `delay_s`, send the bad input, then check the connection.
-pub fn run(target: &Target, delay_s: f64) -> Result<BadInputReport, LinkError> {
+pub fn run(target: &Target, delay_s: f64, cfg: &BenchConfig) -> Result<BadInputReport, LinkError> {
     let mut d = Device::connect(target)?;
-    std::thread::sleep(Duration::from_secs_f64(delay_s.max(0.0)));
+    cfg.sleep(Duration::from_secs_f64(delay_s.max(0.0)))?;
     let before = d.counters()?;
     let ping = frame(&HostMsg::Request {
         seq: 60_000,

@@ -21,6 +21,11 @@ pub use stream::{rtt as rtt_phase, stream as stream_phase, RttReport, StreamRepo
 
 use crate::{Device, LinkError, Target};
 use serde::Serialize;
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
+use std::time::Duration;
+
+/// What a run stopped by [`BenchConfig::stop`] says.
+pub const INTERRUPTED: &str = "interrupted before the end";
 
 /// Durations and counts of a run.
 #[derive(Clone, Debug)]
@@ -33,6 +38,29 @@ pub struct BenchConfig {
     pub model_s: f64,
     /// Watchdog timeout, ms.
     pub watchdog_ms: u16,
+    /// Set (for example by a Ctrl-C handler) to end the run early: every phase polls it, the
+    /// device is put back as found, and [`run`] returns an error saying so.
+    pub stop: Option<&'static AtomicBool>,
+}
+
+impl BenchConfig {
+    /// An error ([`INTERRUPTED`]) once [`BenchConfig::stop`] is set.
+    pub fn check_stop(&self) -> Result<(), LinkError> {
+        match self.stop {
+            Some(f) if f.load(Relaxed) => Err(LinkError::Context(INTERRUPTED.into())),
+            _ => Ok(()),
+        }
+    }
+
+    /// Sleep `d`, waking every 20 ms to [`BenchConfig::check_stop`].
+    pub fn sleep(&self, d: Duration) -> Result<(), LinkError> {
+        let end = std::time::Instant::now() + d;
+        while let Some(left) = end.checked_duration_since(std::time::Instant::now()) {
+            self.check_stop()?;
+            std::thread::sleep(left.min(Duration::from_millis(20)));
+        }
+        self.check_stop()
+    }
 }
 
 impl Default for BenchConfig {
@@ -42,6 +70,7 @@ impl Default for BenchConfig {
             pings: 5000,
             model_s: 2.0,
             watchdog_ms: 100,
+            stop: None,
         }
     }
 }
@@ -91,10 +120,13 @@ pub fn run(target: &Target, cfg: &BenchConfig) -> Result<BenchReport, LinkError>
     drop(keeper);
     let phases = || {
         let (stream, rtt, bad_input) = std::thread::scope(|s| {
-            let streamer = s.spawn(|| stream::stream(target, cfg.stream_s).map_err(ctx("stream")));
-            let pinger = s.spawn(|| stream::rtt(target, cfg.pings).map_err(ctx("round trips")));
-            let bad =
-                s.spawn(|| bad_input::run(target, cfg.stream_s / 2.0).map_err(ctx("bad input")));
+            let streamer =
+                s.spawn(|| stream::stream(target, cfg.stream_s, cfg).map_err(ctx("stream")));
+            let pinger =
+                s.spawn(|| stream::rtt(target, cfg.pings, cfg).map_err(ctx("round trips")));
+            let bad = s.spawn(|| {
+                bad_input::run(target, cfg.stream_s / 2.0, cfg).map_err(ctx("bad input"))
+            });
             Ok::<_, LinkError>((join(streamer)?, join(pinger)?, join(bad)?))
         })?;
         let (models, watchdog) = models::run(target, rate, cfg).map_err(ctx("local models"))?;
@@ -107,6 +139,15 @@ pub fn run(target: &Target, cfg: &BenchConfig) -> Result<BenchReport, LinkError>
         Err(e) => return result.and(Err(ctx("restoring the device")(e))),
     };
     let restored = restore::restore(&mut d, &found).map_err(ctx("restoring the device"));
+    if cfg.check_stop().is_err() {
+        // Interrupted: the phases' results are partial; say whether the device is as found.
+        let left = match &restored {
+            Ok(r) if r.complete() => "the device was put back as found".to_string(),
+            Ok(r) => format!("the device was NOT fully put back: {r:?}"),
+            Err(e) => format!("the device could not be put back: {e}"),
+        };
+        return Err(LinkError::Context(format!("{INTERRUPTED}; {left}")));
+    }
     let (stream, rtt, bad_input, models, watchdog) = result?;
     Ok(BenchReport {
         stream,

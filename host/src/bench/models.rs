@@ -89,10 +89,12 @@ fn drain(d: &Device) -> Result<Vec<StateSample>, LinkError> {
 /// Read samples until one satisfies `done` (at most 30 s of wall time).
 fn wait_until(
     d: &Device,
+    cfg: &BenchConfig,
     mut done: impl FnMut(&StateSample) -> bool,
 ) -> Result<StateSample, LinkError> {
     let end = Instant::now() + Duration::from_secs(30);
     while Instant::now() < end {
+        cfg.check_stop()?;
         if let Some(s) = d.next_state(Duration::from_millis(100))? {
             if done(&s) {
                 return Ok(s);
@@ -106,11 +108,13 @@ fn wait_until(
 /// whether one did.
 fn collect_until(
     d: &Device,
+    cfg: &BenchConfig,
     mut done: impl FnMut(&StateSample) -> bool,
 ) -> Result<(Vec<StateSample>, bool), LinkError> {
     let end = Instant::now() + Duration::from_secs(30);
     let mut v = Vec::new();
     while Instant::now() < end {
+        cfg.check_stop()?;
         if let Some(s) = d.next_state(Duration::from_millis(100))? {
             let stop = done(&s);
             v.push(s);
@@ -157,7 +161,7 @@ pub fn run(
     })?;
     d.set_stream(1)?;
     // Homing against the plant first (the hand lets go meanwhile).
-    wait_until(&d, |s| s.mode == softfinger_protocol::Mode::Disarmed)?;
+    wait_until(&d, cfg, |s| s.mode == softfinger_protocol::Mode::Disarmed)?;
     // Wait in device time (a loaded or unoptimised host runs the device slower than real time):
     // the hand's move (at most 2 s) is over and the handle has settled (it sags below the
     // target under gravity; the hand's grasp is a spring), then 0.5 s armed.
@@ -165,16 +169,16 @@ pub fn run(
         .next_state(Duration::from_secs(5))?
         .ok_or(LinkError::Timeout)?
         .tick;
-    let first = wait_until(&d, |s| {
+    let first = wait_until(&d, cfg, |s| {
         s.tick >= t0 + 5 * rate as u64 / 2 && norm(s.probe_vel_m_s) < 0.005
     })?;
-    let mut seq = arm_from_above(&mut d, first.model_seq, top)?;
+    let mut seq = arm_from_above(&mut d, cfg, first.model_seq, top)?;
     // Past the pipeline's 0.5 s arming ramp.
     let armed_at = first.tick;
-    wait_until(&d, |s| s.tick >= armed_at + rate as u64)?;
+    wait_until(&d, cfg, |s| s.tick >= armed_at + rate as u64)?;
     drain(&d)?;
 
-    std::thread::sleep(Duration::from_secs_f64(cfg.model_s));
+    cfg.sleep(Duration::from_secs_f64(cfg.model_s))?;
     let still = drain(&d)?;
     let mean_force_n =
         still.iter().map(|s| norm(s.force_n)).sum::<f64>() / still.len().max(1) as f64;
@@ -183,6 +187,7 @@ pub fn run(
     let n = (cfg.model_s * 1000.0) as u32;
     let (mut refused, t0) = (0u32, Instant::now());
     for k in 0..n {
+        cfg.check_stop()?;
         let t = k as f64 * 1e-3;
         seq = seq.wrapping_add(1);
         let z = top + 0.001 * (2.0 * std::f64::consts::PI * 5.0 * t).sin();
@@ -194,7 +199,7 @@ pub fn run(
     }
     let stream_rate_hz = n as f64 / t0.elapsed().as_secs_f64();
     let last = seq;
-    let (mut streamed, last_applied) = collect_until(&d, |s| s.model_seq == last)?;
+    let (mut streamed, last_applied) = collect_until(&d, cfg, |s| s.model_seq == last)?;
     streamed.extend(drain(&d)?);
     let (max_step_stream_n, s2, m2) = max_step(&streamed);
 
@@ -202,16 +207,16 @@ pub fn run(
     for j in 0..jumps {
         seq = seq.wrapping_add(1);
         d.set_local_model(plane(seq, top + if j % 2 == 0 { 0.001 } else { 0.0 }))?;
-        std::thread::sleep(Duration::from_millis(100));
+        cfg.sleep(Duration::from_millis(100))?;
     }
     let last = seq;
-    let (mut jumped, _) = collect_until(&d, |s| s.model_seq == last)?;
+    let (mut jumped, _) = collect_until(&d, cfg, |s| s.model_seq == last)?;
     jumped.extend(drain(&d)?);
     let (max_step_jumps_n, s3, m3) = max_step(&jumped);
     seen += s2 + s3;
     missing += m2 + m3;
 
-    let watchdog = watchdog(&mut d, rate, cfg.watchdog_ms, seq, top)?;
+    let watchdog = watchdog(&mut d, cfg, rate, seq, top)?;
     let _ = d.set_watchdog_ms(watchdog_before);
     let _ = d.disarm();
     let _ = d.release_hand();
@@ -241,12 +246,17 @@ pub fn run(
 /// device), the device armed there, and the plane then moved back to `top_z_m` (the 2 ms pose
 /// blend) to press.
 /// Returns the sequence number of the last model sent.
-fn arm_from_above(d: &mut Device, last_seq: u32, top_z_m: f64) -> Result<u32, LinkError> {
+fn arm_from_above(
+    d: &mut Device,
+    cfg: &BenchConfig,
+    last_seq: u32,
+    top_z_m: f64,
+) -> Result<u32, LinkError> {
     let below = last_seq.wrapping_add(1);
     d.set_local_model(plane(below, top_z_m - 0.010))?;
-    let seen = wait_until(d, |s| s.model_seq == below)?;
+    let seen = wait_until(d, cfg, |s| s.model_seq == below)?;
     // Past the pose blend (2 ms by default): 200 ticks, 10-20 ms of device time.
-    wait_until(d, |s| s.tick >= seen.tick + 200)?;
+    wait_until(d, cfg, |s| s.tick >= seen.tick + 200)?;
     d.arm()?;
     let back = below.wrapping_add(1);
     d.set_local_model(plane(back, top_z_m))?;
@@ -255,17 +265,18 @@ fn arm_from_above(d: &mut Device, last_seq: u32, top_z_m: f64) -> Result<u32, Li
 
 fn watchdog(
     d: &mut Device,
+    cfg: &BenchConfig,
     rate: u32,
-    timeout_ms: u16,
     last_seq: u32,
     top_z_m: f64,
 ) -> Result<WatchdogReport, LinkError> {
+    let timeout_ms = cfg.watchdog_ms;
     d.set_watchdog_ms(timeout_ms)?;
     // Silence: no heartbeat either.
     d.set_heartbeat(false);
     // Silence: samples until the force has been zero for the timeout again, in device time.
     let mut zero_since = None;
-    let (quiet, _) = collect_until(d, |s| {
+    let (quiet, _) = collect_until(d, cfg, |s| {
         if norm(s.force_n) != 0.0 || s.flags & Flags::COMM_TIMEOUT.0 == 0 {
             zero_since = None;
             return false;
@@ -296,7 +307,7 @@ fn watchdog(
     // Re-arm, and keep talking (the watchdog is still on): a ping every 20 ms until force is
     // rendered again (the handle bounces after the pause, so any tick), then 100 ms more.
     d.set_heartbeat(true);
-    arm_from_above(d, last_seq, top_z_m)?;
+    arm_from_above(d, cfg, last_seq, top_z_m)?;
     let flagged_now = |s: &StateSample| s.flags & Flags::COMM_TIMEOUT.0 != 0;
     let rendering = |s: &StateSample| {
         !flagged_now(s) && s.mode == softfinger_protocol::Mode::Armed && norm(s.force_n) > 0.1
@@ -304,6 +315,7 @@ fn watchdog(
     let end = Instant::now() + Duration::from_secs(30);
     let mut after = Vec::new();
     while Instant::now() < end && !after.iter().any(rendering) {
+        cfg.check_stop()?;
         d.ping()?;
         after.extend(drain(d)?);
         std::thread::sleep(Duration::from_millis(15));

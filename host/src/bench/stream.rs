@@ -1,5 +1,6 @@
 //! The stream and round-trip phases.
 
+use super::BenchConfig;
 use crate::{Device, LinkError, Target};
 use serde::Serialize;
 use std::time::{Duration, Instant};
@@ -35,7 +36,7 @@ pub struct RttReport {
 }
 
 /// Stream at 1 kHz for `seconds` on a connection of its own.
-pub fn stream(target: &Target, seconds: f64) -> Result<StreamReport, LinkError> {
+pub fn stream(target: &Target, seconds: f64, cfg: &BenchConfig) -> Result<StreamReport, LinkError> {
     let mut d = Device::connect(target)?;
     let info = d.info()?;
     let divisor = (info.control_rate_hz / 1000).max(1) as u16;
@@ -46,6 +47,7 @@ pub fn stream(target: &Target, seconds: f64) -> Result<StreamReport, LinkError> 
     let mut max_gap = Duration::ZERO;
     let mut last = None;
     while Instant::now() < t_end {
+        cfg.check_stop()?;
         let Some(s) = d.next_state(Duration::from_millis(200))? else {
             continue;
         };
@@ -87,10 +89,11 @@ pub fn stream(target: &Target, seconds: f64) -> Result<StreamReport, LinkError> 
 }
 
 /// `n` pings on a connection of its own, one at a time.
-pub fn rtt(target: &Target, n: usize) -> Result<RttReport, LinkError> {
+pub fn rtt(target: &Target, n: usize, cfg: &BenchConfig) -> Result<RttReport, LinkError> {
     let mut d = Device::connect(target)?;
     let mut us: Vec<f64> = Vec::with_capacity(n);
     for _ in 0..n {
+        cfg.check_stop()?;
         us.push(d.ping()?.as_secs_f64() * 1e6);
     }
     us.sort_by(f64::total_cmp);

@@ -27,10 +27,13 @@ pub fn main(spec: &str, a: &Args) -> Result<(), String> {
     let target: Target = spec
         .parse()
         .map_err(|e: softfinger_host::LinkError| e.to_string())?;
+    // Ctrl-C ends the phases early; the device is still put back as found (exit 130).
+    super::interrupt::install();
     let cfg = BenchConfig {
         stream_s: a.seconds,
         pings: a.pings,
         model_s: a.model_seconds,
+        stop: Some(super::interrupt::flag()),
         ..BenchConfig::default()
     };
     let r = bench::run(&target, &cfg).map_err(|e| e.to_string())?;

@@ -18,6 +18,11 @@ pub fn install() {
     });
 }
 
+/// The flag itself, for library calls that poll a stop flag (`bench`'s `BenchConfig::stop`).
+pub fn flag() -> &'static AtomicBool {
+    &REQUESTED
+}
+
 /// True once Ctrl-C was pressed.
 pub fn requested() -> bool {
     REQUESTED.load(Relaxed)
