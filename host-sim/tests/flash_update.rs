@@ -45,7 +45,8 @@ impl Device {
             .expect("address printed")
             .to_string();
         let link = TcpStream::connect(addr).unwrap();
-        link.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+        link.set_read_timeout(Some(Duration::from_secs(10)))
+            .unwrap();
         Device {
             child,
             link,
@@ -189,7 +190,11 @@ fn bad_updates_are_refused_a_good_one_applied_and_a_failing_one_rolled_back() {
         dev.send(&good, &sig, good.len(), Some(256)),
         Err(UpdateRefusal::ChunkCrc { offset: 256 })
     );
-    assert_eq!(active_slot(&flash), running, "a refused update wrote the active slot");
+    assert_eq!(
+        active_slot(&flash),
+        running,
+        "a refused update wrote the active slot"
+    );
     dev.reboot();
     let after = dev.status();
     assert_eq!(
@@ -202,15 +207,24 @@ fn bad_updates_are_refused_a_good_one_applied_and_a_failing_one_rolled_back() {
     // A good image: verified, swapped in at the reset, confirmed; it survives a SIGKILL.
     let verified = dev.send(&good, &sig, good.len(), None).unwrap();
     assert_eq!(verified.phase, UpdatePhase::Verified);
-    assert_eq!(verified.version, factory.version, "not swapped before the reset");
+    assert_eq!(
+        verified.version, factory.version,
+        "not swapped before the reset"
+    );
     dev.reboot();
     let st = dev.status();
-    assert_eq!((st.version.as_str(), st.boot), ("test-1.0", BootStateWire::Normal));
+    assert_eq!(
+        (st.version.as_str(), st.boot),
+        ("test-1.0", BootStateWire::Normal)
+    );
     assert_eq!(&active_slot(&flash)[..good.len()], &good[..]);
     dev.kill();
     let mut dev = Device::start(&flash);
     let st = dev.status();
-    assert_eq!((st.version.as_str(), st.boot), ("test-1.0", BootStateWire::Normal));
+    assert_eq!(
+        (st.version.as_str(), st.boot),
+        ("test-1.0", BootStateWire::Normal)
+    );
 
     // An image failing its self-test: swapped in at the reset, not confirmed, swapped back.
     let failing = image(2, "test-2.0", true);
