@@ -3,13 +3,13 @@
 //!
 //! The file holds the whole 512 KiB flash. At power-on [`SemiFlash::power_on`] reads it into RAM
 //! (the flash's contents as the code reads them); every write and erase changes that copy *and*
-//! the file, one semihosting call per double word written and one per page erased, so the file is
-//! never more than one operation behind. The rules are the G474's (RM0440 §3.3.7): 2 KiB pages,
+//! the file, one semihosting write (after a seek) per double word written and one per page erased,
+//! so the file is never more than one operation behind. The rules are the G474's (RM0440 §3.3.7): 2 KiB pages,
 //! 8-byte (double-word) programming, erase to `0xFF`, a double word programmed only when erased
 //! (or with all zeros), programming only clears bits.
 //!
-//! **What a kill models.** Killing QEMU between two semihosting calls is a power cut at a
-//! write or erase boundary: the double words before it are programmed, the rest untouched. It
+//! **What a kill models.** Killing QEMU between two operations is a power cut at a double-word
+//! or page boundary: the double words before it are programmed, the rest untouched. It
 //! does **not** model a torn double word or a half-erased page (a host `write` of 8 bytes or of a
 //! page is all or nothing); `softfinger_store::flash_model` tears those in the host tests.
 //!
@@ -57,7 +57,7 @@ pub struct SemiFlash {
     fd: usize,
     /// Writes (double words) and erases (pages) since [`SemiFlash::count_from_here`].
     ops: u32,
-    /// Double words written and pages erased since the count started.
+    /// Double words written since the count started.
     pub words_written: u32,
     /// Pages erased since the count started.
     pub pages_erased: u32,
