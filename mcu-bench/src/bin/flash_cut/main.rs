@@ -12,6 +12,8 @@
 //! ```text
 //! init                 an image of generation 1 in the active slot, settings of serial 1 saved
 //! check                boot only
+//! boot-cut [CUT]       boot only, CUT counted from the power-on (a cut in the boot's own writes:
+//!                      a resumed swap, a confirm, a roll back); prints the boot's `OPS` first
 //! save N [CUT]         N saves, each of the next serial (CUT: stop before flash operation CUT)
 //! update FAIL [CUT]    the image of the next generation (FAIL=1: one that fails its self-test)
 //!                      sent in 128-byte chunks, verified, marked; then a reset (the swap, the
@@ -369,7 +371,18 @@ fn main() -> ! {
             fail_with("init");
         }
     }
+    if action == "boot-cut" {
+        // A cut during this power-on's boot (the resumed swap, the confirm or the roll back).
+        flash.lock(|c| {
+            let mut f = c.borrow_mut();
+            f.count_from_here();
+            f.cut_at(parse_cut(words.next()));
+        });
+    }
     let b = boot(&flash);
+    if action == "boot-cut" {
+        ops_line(&flash);
+    }
     report(&b);
     let Some(running) = b.image else {
         fail_with("no image in the active slot")
@@ -377,7 +390,7 @@ fn main() -> ! {
     let mut ok = true;
     flash.lock(|c| c.borrow_mut().count_from_here());
     match action {
-        "init" | "check" => {}
+        "init" | "check" | "boot-cut" => {}
         "save" => {
             let n: u32 = words.next().and_then(|s| s.parse().ok()).unwrap_or(1);
             flash.lock(|c| c.borrow_mut().cut_at(parse_cut(words.next())));
