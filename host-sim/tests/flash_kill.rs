@@ -1,7 +1,8 @@
 //! `host-sim serve --flash FILE` killed with SIGKILL around a settings save, then restarted: the
 //! settings it reads back are the old or the new ones, never the defaults after a completed save,
 //! and a save that was acknowledged before the kill is always there.
-//! `cargo test -p host-sim --test flash_kill -- --nocapture` prints the counts.
+//! `cargo test -p host-sim --test flash_kill -- --nocapture` prints the counts; CI runs the
+//! default 30 kills, `SOFTFINGER_FLASH_KILLS=N` runs N (the figure over many kills).
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
@@ -12,7 +13,15 @@ use softfinger_protocol::config::{ConfigSection, ConfigValue, StoreStatus};
 use softfinger_protocol::{encode_frame, DeviceMsg, FrameDecoder, HostMsg, Request, MAX_FRAME_LEN};
 use softfinger_store::Identity;
 
-const KILLS: u32 = 30;
+/// Kills in a run: `SOFTFINGER_FLASH_KILLS`, else 30 (a few seconds).
+fn kills() -> u32 {
+    match std::env::var("SOFTFINGER_FLASH_KILLS") {
+        Ok(v) => v
+            .parse()
+            .unwrap_or_else(|_| panic!("SOFTFINGER_FLASH_KILLS={v}: not a count")),
+        Err(_) => 30,
+    }
+}
 
 fn start(flash: &std::path::Path) -> (Child, TcpStream) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_host-sim"))
@@ -89,7 +98,8 @@ fn a_sigkill_around_a_save_leaves_the_old_or_the_new_settings() {
     let (mut acked, mut unacked, mut got_old, mut got_new) = (0, 0, 0, 0);
     let mut last_saved: Option<u32> = None;
     let mut x: u64 = 0x2545_F491_4F6C_DD1D;
-    for i in 1..=KILLS {
+    let kills = kills();
+    for i in 1..=kills {
         let (mut child, mut s) = start(&flash);
         let (serial, store) = read_back(&mut s);
         match last_saved {
@@ -155,7 +165,7 @@ fn a_sigkill_around_a_save_leaves_the_old_or_the_new_settings() {
     }
     let _ = std::fs::remove_dir_all(&dir);
     println!(
-        "serve --flash killed with SIGKILL {KILLS} times around a save: {acked} after the acknowledgement, \
+        "serve --flash killed with SIGKILL {kills} times around a save: {acked} after the acknowledgement, \
          {unacked} before it; read back the old settings {got_old} times, the new {got_new}, defaults 0"
     );
 }

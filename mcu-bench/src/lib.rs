@@ -20,6 +20,7 @@ pub mod counter;
 pub mod exit;
 pub mod link;
 pub mod rig;
+pub mod semiflash;
 
 /// Short alias for [`core::hint::black_box`], for benchmark closures.
 pub use core::hint::black_box as bb;

@@ -10,10 +10,12 @@
 //! - [`record`]: one record = version, postcard, CRC-32C.
 //! - [`store`]: load (never fails: defaults and a flag) and save (refused while armed) on a
 //!   `sequential-storage` map.
+//! - [`boot`]: the firmware's boot-time load: settings or defaults, device-info flags, the arm gate.
 //! - [`flash_model`] (feature `std`): the G474 flash with power cuts, RAM- or file-backed.
 #![no_std]
 #![deny(missing_docs)]
 
+pub mod boot;
 #[cfg(feature = "std")]
 pub mod flash_model;
 pub mod record;
@@ -21,6 +23,7 @@ pub mod schema;
 pub mod schema_v1;
 pub mod store;
 
+pub use boot::{load_at_boot, load_at_boot_blocking, BootLoad};
 pub use schema::{
     Calibration, ContactPreset, FieldError, Identity, MotorConstants, Settings, StreamDefaults,
     WatchdogDefaults, SCHEMA_VERSION,

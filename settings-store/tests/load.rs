@@ -131,3 +131,125 @@ fn a_schema_1_store_migrates_and_the_next_save_writes_schema_2() {
 fn embassy_block<T>(f: impl core::future::Future<Output = Result<(), T>>) {
     assert!(embassy_futures::block_on(f).is_ok());
 }
+
+mod boot {
+    //! The firmware's boot-time load (`softfinger_store::boot`): each status, its device-info
+    //! flags and the arm gate.
+    use super::*;
+    use softfinger_store::boot::*;
+    use softfinger_store::load_at_boot_blocking;
+
+    fn flash_with(settings: Option<&Settings>) -> G474Flash {
+        let mut s = Store::new(G474Flash::new(4), 0..REGION).unwrap();
+        if let Some(x) = settings {
+            s.save_blocking(x, false).unwrap();
+        }
+        s.into_flash()
+    }
+
+    #[test]
+    fn a_calibrated_store_reads_with_no_flag_and_may_arm() {
+        let mut f = flash_with(Some(&calibrated()));
+        let b = load_at_boot_blocking(&mut f, 0..REGION);
+        assert_eq!(b.status(), LoadStatus::Read);
+        assert_eq!(b.settings(), &calibrated());
+        assert_eq!(b.flags(), 0);
+        assert!(b.may_arm());
+        assert_eq!(b.arm_refusal(), None);
+        assert_eq!(b.notice(), "settings: read from the store");
+    }
+
+    #[test]
+    fn read_without_a_calibration_does_not_arm_and_says_why() {
+        let mut f = flash_with(Some(&Settings::default()));
+        let b = load_at_boot_blocking(&mut f, 0..REGION);
+        assert_eq!(b.status(), LoadStatus::Read);
+        assert_eq!(b.flags(), FLAG_NO_CALIBRATION);
+        assert!(b.arm_refusal().unwrap().contains("no calibration"));
+    }
+
+    #[test]
+    fn an_erased_store_gives_defaults_flagged_absent() {
+        let mut f = flash_with(None);
+        let b = load_at_boot_blocking(&mut f, 0..REGION);
+        assert_eq!(b.status(), LoadStatus::Absent);
+        assert_eq!(b.settings(), &Settings::default());
+        assert_eq!(b.flags(), FLAG_DEFAULTS | FLAG_ABSENT | FLAG_NO_CALIBRATION);
+        assert!(b.arm_refusal().unwrap().contains("could not be read"));
+        assert!(b.notice().contains("defaults"));
+    }
+
+    #[test]
+    fn a_corrupt_record_gives_defaults_flagged_corrupt() {
+        let mut s = Store::new(G474Flash::new(4), 0..REGION).unwrap();
+        let mut rec = [0u8; MAX_RECORD_LEN];
+        let n = encode(&calibrated(), &mut rec).unwrap();
+        rec[n - 1] ^= 1; // the record's CRC
+        embassy_block(s.save_raw_record(&rec[..n]));
+        let mut f = s.into_flash();
+        let b = load_at_boot_blocking(&mut f, 0..REGION);
+        assert_eq!(b.status(), LoadStatus::Corrupt);
+        assert_eq!(
+            b.flags(),
+            FLAG_DEFAULTS | FLAG_CORRUPT | FLAG_NO_CALIBRATION
+        );
+        assert!(!b.may_arm());
+    }
+
+    #[test]
+    fn an_unknown_version_gives_defaults_flagged_unknown() {
+        let mut s = Store::new(G474Flash::new(4), 0..REGION).unwrap();
+        let mut rec = [0u8; MAX_RECORD_LEN];
+        let n = encode_version(99, &calibrated(), &mut rec).unwrap();
+        embassy_block(s.save_raw_record(&rec[..n]));
+        let mut f = s.into_flash();
+        let b = load_at_boot_blocking(&mut f, 0..REGION);
+        assert_eq!(b.status(), LoadStatus::UnknownVersion(99));
+        assert_eq!(
+            b.flags(),
+            FLAG_DEFAULTS | FLAG_UNKNOWN_VERSION | FLAG_NO_CALIBRATION
+        );
+        assert!(b.notice().contains("newer firmware"));
+    }
+
+    #[test]
+    fn a_schema_1_record_is_migrated_flagged_and_may_arm() {
+        let mut s = Store::new(G474Flash::new(4), 0..REGION).unwrap();
+        let v1 = SettingsV1 {
+            calibration: Some(CalibrationV1 {
+                homing_offset_counts: [1, 2, 3],
+                wrist_zero_counts: [4, 5, 6],
+                encoder_direction: [1; 6],
+            }),
+            identity: Settings::default().identity,
+            presets: Settings::default().presets,
+            stream: Settings::default().stream,
+        };
+        let mut rec = [0u8; MAX_RECORD_LEN];
+        let n = encode_version(V1, &v1, &mut rec).unwrap();
+        embassy_block(s.save_raw_record(&rec[..n]));
+        let mut f = s.into_flash();
+        let b = load_at_boot_blocking(&mut f, 0..REGION);
+        assert_eq!(b.status(), LoadStatus::Migrated { from: V1 });
+        assert_eq!(b.flags(), FLAG_MIGRATED);
+        assert!(b.may_arm());
+        let cal = b.settings().calibration.as_ref().unwrap();
+        assert_eq!(cal.motors[0], NOMINAL_MOTOR);
+    }
+
+    #[test]
+    fn a_region_the_map_cannot_use_gives_defaults_flagged_flash_error() {
+        let mut f = flash_with(Some(&calibrated()));
+        // One page (the map needs two) and a range not on page boundaries.
+        for region in [0..PAGE_SIZE as u32, 100..REGION] {
+            let b = load_at_boot_blocking(&mut f, region);
+            assert_eq!(b.status(), LoadStatus::FlashError);
+            assert_eq!(b.settings(), &Settings::default());
+            assert_eq!(
+                b.flags(),
+                FLAG_DEFAULTS | FLAG_FLASH_ERROR | FLAG_NO_CALIBRATION
+            );
+            assert!(!b.may_arm());
+        }
+    }
+}
