@@ -22,6 +22,11 @@ pub fn explain(action: &str, code: ErrorCode, st: &DeviceStatus) -> String {
         }
         ("arm", Mode::Unhomed) => "it needs homing first: `softfinger home`".to_string(),
         ("home", Mode::Armed) => "disarm first: `softfinger disarm`".to_string(),
+        // A disarmed device refuses Arm for one reason only: the fingertip is inside the
+        // surface of the model in force (the force would push it out over the arming ramp).
+        ("arm", Mode::Disarmed) if code == ErrorCode::WrongMode => {
+            "the fingertip is inside the surface, and the device arms only clear of it (the force would push the handle out): move the handle clear of the surface, or the surface away (`softfinger scene`), then arm".to_string()
+        }
         _ => format!("{code:?}"),
     };
     format!("{action} refused: the device is {}; {need}", st.mode.name())
@@ -74,6 +79,11 @@ mod tests {
         let m = explain("arm", ErrorCode::WrongMode, &status(Mode::Unhomed, 0));
         assert!(
             m.contains("is unhomed") && m.contains("softfinger home"),
+            "{m}"
+        );
+        let m = explain("arm", ErrorCode::WrongMode, &status(Mode::Disarmed, 0));
+        assert!(
+            m.contains("is disarmed") && m.contains("inside the surface"),
             "{m}"
         );
         let m = explain("home", ErrorCode::WrongMode, &status(Mode::Armed, 0));
