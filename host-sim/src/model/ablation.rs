@@ -416,3 +416,27 @@ pub fn shifted_ratio<T: Copy>(a: &[T], b: &[T], shift: usize, ratio: impl Fn(T, 
     }
     worst
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A step of 1 N that one run takes `lag` ticks after the other: within ±`shift` ticks it is
+    /// the same step (ratio 0); one tick beyond, the step's size shows (ratio 1 for a threshold of
+    /// 1 N).
+    #[test]
+    fn a_shift_within_the_window_is_no_difference_and_one_beyond_is() {
+        let step =
+            |lag: usize| -> Vec<f64> { (0..100).map(|k| f64::from(k >= 50 + lag)).collect() };
+        let ratio = |x: f64, y: f64| (x - y).abs();
+        assert_eq!(shifted_ratio(&step(5), &step(0), 5, ratio), 0.0);
+        assert_eq!(shifted_ratio(&step(0), &step(5), 5, ratio), 0.0);
+        assert_eq!(shifted_ratio(&step(6), &step(0), 5, ratio), 1.0);
+        assert_eq!(shifted_ratio(&step(0), &step(6), 5, ratio), 1.0);
+        // No shift allowed: the tick-by-tick difference.
+        assert_eq!(shifted_ratio(&step(1), &step(0), 0, ratio), 1.0);
+        // A difference in size is not hidden by any shift.
+        let half: Vec<f64> = step(0).iter().map(|v| v * 0.5).collect();
+        assert_eq!(shifted_ratio(&half, &step(0), 50, ratio), 0.5);
+    }
+}

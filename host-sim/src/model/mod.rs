@@ -70,7 +70,7 @@ pub struct Args {
     #[arg(long)]
     pub svg: Option<PathBuf>,
     /// Only check the model the scene names against the full model (two closed-loop runs, not
-    /// one per choice): exit 1 with the ratios when it exceeds the yardstick.
+    /// one per choice): exit 2 with the ratios when it exceeds the yardstick.
     #[arg(long, conflicts_with_all = ["json", "svg"])]
     pub check: bool,
 }
@@ -321,4 +321,58 @@ pub fn main(args: &Args) -> Result<(), ModelError> {
         print!("{}", table(&r));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(model: &'static str, instructions: Option<u32>, ok: bool) -> Row {
+        let d = Difference {
+            max_force_diff_n: 0.0,
+            rms_force_diff_n: 0.0,
+            max_torque_diff_mnm: 0.0,
+            rms_torque_diff_mnm: 0.0,
+            max_path_diff_mm: 0.0,
+            state_diff_ticks: 0,
+            state_diff_percent: 0.0,
+            transitions: 0,
+            same_state_sequence: true,
+            force_ratio: if ok { 1.0 } else { 1.01 },
+            torque_ratio: 0.0,
+            path_ratio: 0.0,
+        };
+        Row {
+            model,
+            instructions,
+            host_ns_per_step: f64::NAN,
+            diff: d,
+            within_yardstick: d.within_yardstick(),
+            within_yardstick_torque_displayed: d.within(true),
+        }
+    }
+
+    /// The least model is the cheapest on the M4F among those within the yardstick (a ratio of
+    /// exactly 1 is within, 1.01 is not), not the first in order; with none within, the full model.
+    #[test]
+    fn the_least_model_is_the_cheapest_within_the_yardstick() {
+        let rows = [
+            row("point-friction", Some(256), false),
+            row("rolling", Some(372), true),
+            row("spin", Some(383), false),
+            row("spin-rolling", Some(434), true),
+            row("full", Some(440), true),
+        ];
+        assert_eq!(least_of(&rows, |r| r.within_yardstick), "rolling");
+        let sphere = [
+            row("rolling", Some(741), true),
+            row("spin", Some(556), true),
+            row("full", Some(803), true),
+        ];
+        assert_eq!(least_of(&sphere, |r| r.within_yardstick), "spin");
+        // A row without a count goes last; none within: full.
+        let unknown = [row("rolling", None, true), row("full", Some(440), true)];
+        assert_eq!(least_of(&unknown, |r| r.within_yardstick), "full");
+        assert_eq!(least_of(&rows[..1], |r| r.within_yardstick), "full");
+    }
 }
