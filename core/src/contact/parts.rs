@@ -153,8 +153,9 @@ impl ModelChoice {
     }
 }
 
-/// Evaluate `$body` with the type alias `$p` bound to the compiled [`Parts`] type of the
-/// [`ModelChoice`] `$choice` (one monomorphised copy of `$body` per choice):
+/// Evaluate `$body` with the type alias `$p` bound to the compiled
+/// [`Parts`](crate::contact::Parts) type of the [`ModelChoice`](crate::contact::ModelChoice)
+/// `$choice` (one monomorphised copy of `$body` per choice):
 /// `with_parts!(choice, P => run::<P>())`.
 #[macro_export]
 macro_rules! with_parts {
@@ -262,7 +263,7 @@ mod tests {
         }
         assert_eq!(ModelChoice::from_name("fulll"), None);
         let count = |p: (bool, bool, bool)| p.0 as u8 + p.1 as u8 + p.2 as u8;
-        let parts: Vec<u8> = ModelChoice::ALL.iter().map(|c| count(c.parts())).collect();
+        let parts = ModelChoice::ALL.map(|c| count(c.parts()));
         assert_eq!(parts, [0, 1, 1, 2, 3]);
         for c in ModelChoice::ALL {
             // The limit surface needs the spin.
