@@ -48,7 +48,7 @@ pub fn write(path: &Path, report: &Report) -> Result<(), ChartError> {
         .filter_map(|r| r.instructions.map(|n| (n as f64, worst_ratio(r, true))))
         .collect();
     let (x_lo, x_hi) = linear_range(pts.iter().map(|p| p.0), 20.0, 0.0);
-    let y_hi = with_torque.iter().map(|p| p.1).fold(10.0f64, f64::max) * 40.0; // room above the points for the legend
+    let y_hi = with_torque.iter().map(|p| p.1).fold(10.0f64, f64::max) * 300.0; // room above the points for the legend
     render_svg(path, (760, 480), |root| {
         let mut chart = ChartBuilder::on(root)
             .caption(
