@@ -112,8 +112,9 @@ pub struct Scene {
     pub rate_hz: f64,
     #[serde(default = "default_duration")]
     pub duration_s: f64,
-    /// The contact model the scene runs (`softfinger_core::contact::parts`): point-friction, rolling, spin,
-    /// spin-rolling or full (absent: full). `host-sim model` tells which one a scene needs.
+    /// The contact model the scene runs (`softfinger_core::contact::parts`): point-friction,
+    /// rolling, spin, spin-rolling or full (absent: full). `host-sim model` tells which one a
+    /// scene needs.
     #[serde(default)]
     pub model: Option<String>,
     pub surface: SurfaceSpec,
