@@ -166,11 +166,23 @@ fn cylinder_scene_is_bounded_and_rolls_around_the_axis() {
 
 /// The hand pushes the pressed fingertip 20 mm sideways while twisting it 0.5 rad: the rendered
 /// load (|f_t|/(μ_s·f_N), |τn|/τ_max,s) climbs to the static limit surface with the twist taking
-/// part of the budget, slips, and then sits on the kinetic surface.
+/// part of the budget, slips, and then sits on the kinetic surface. Run with the full model: the
+/// scene file names `point-friction` (the least model a 3-DoF device needs there, `host-sim
+/// model`), which has no spin and no limit surface to check.
 #[test]
 fn slide_twist_scene_reaches_the_limit_surface_and_stays_within_it() {
     use host_sim::limit_path::{load_path, summarize as load_summary, write_for_run};
-    let (res, _) = run_bounded("finger-slide-twist");
+    let named = host_sim::scene::BUILT_IN
+        .iter()
+        .find(|(name, _)| *name == "finger-slide-twist")
+        .unwrap()
+        .1;
+    assert!(named.contains("model = \"point-friction\""));
+    let text = named.replace("model = \"point-friction\"", "model = \"full\"");
+    let file = std::env::temp_dir().join(format!("slide-twist-full-{}.toml", std::process::id()));
+    std::fs::write(&file, text).unwrap();
+    let (res, _) = run_bounded(file.to_str().unwrap());
+    std::fs::remove_file(&file).unwrap();
     let params = host_sim::closed_loop::contact_params(&res.scene).unwrap();
     let l = load_summary(&load_path(&res.rows, &params));
     let h = params.state_params().tol.hysteresis as f64;

@@ -189,14 +189,8 @@ fn run_named<M: Math, S: Surface>(
     config: PipelineConfig<S>,
     ticks: u64,
 ) -> Result<RunResult, RunError> {
-    use softfinger_core::contact::{Full, ModelChoice, PointFriction, WithRolling, WithSpin};
     let model = scene.model().map_err(ClosedLoopError::from)?;
-    match model {
-        ModelChoice::PointFriction => run_with::<M, S, PointFriction>(scene, config, ticks),
-        ModelChoice::Spin => run_with::<M, S, WithSpin>(scene, config, ticks),
-        ModelChoice::SpinRolling => run_with::<M, S, WithRolling>(scene, config, ticks),
-        ModelChoice::Full => run_with::<M, S, Full>(scene, config, ticks),
-    }
+    softfinger_core::with_parts!(model, P => run_with::<M, S, P>(scene, config, ticks))
 }
 
 fn run_with<M: Math, S: Surface, P: softfinger_core::contact::Parts>(

@@ -17,7 +17,7 @@ use softfinger_core::contact::spin::{torsion_limit, SpinSpring};
 use softfinger_core::contact::state::{next_state, ContactState, StateInputs};
 use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::contact::{
-    ContactInput, ContactModel, Full, Parts, PointFriction, WithRolling, WithSpin,
+    ContactInput, ContactModel, Full, Parts, PointFriction, RollingOnly, WithRolling, WithSpin,
 };
 use softfinger_core::control::controller::{Controller, ControllerConfig, TickInput};
 use softfinger_core::control::pipeline::passivity::{Passivity, PassivityConfig};
@@ -283,6 +283,7 @@ fn model_rows(b: &mut Bencher) {
             contact_step_parts::<Fast, S, P>(b, &name, Method::Exact, surface);
         }
         one::<S, PointFriction>(b, surface_name, surface);
+        one::<S, RollingOnly>(b, surface_name, surface);
         one::<S, WithSpin>(b, surface_name, surface);
         one::<S, WithRolling>(b, surface_name, surface);
         one::<S, Full>(b, surface_name, surface);

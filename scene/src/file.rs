@@ -112,8 +112,9 @@ pub struct Scene {
     pub rate_hz: f64,
     #[serde(default = "default_duration")]
     pub duration_s: f64,
-    /// The contact model the scene runs (`softfinger_core::contact::parts`): point-friction, spin,
-    /// spin-rolling or full (absent: full). `host-sim model` tells which one a scene needs.
+    /// The contact model the scene runs (`softfinger_core::contact::parts`): point-friction,
+    /// rolling, spin, spin-rolling or full (absent: full). `host-sim model` tells which one a
+    /// scene needs.
     #[serde(default)]
     pub model: Option<String>,
     pub surface: SurfaceSpec,
@@ -180,7 +181,7 @@ pub enum SceneProblem {
     #[error("unknown method '{0}' (exact, rpy, paper-verbatim)")]
     UnknownMethod(String),
     /// `model` names no contact model.
-    #[error("unknown model '{0}' (point-friction, spin, spin-rolling, full)")]
+    #[error("unknown model '{0}' (point-friction, rolling, spin, spin-rolling, full)")]
     UnknownModel(String),
     /// `rate_hz` outside 1000..40000.
     #[error("rate_hz must be within 1000..40000, got {0}")]

@@ -9,7 +9,7 @@
 //! | [`limit_surface`] | the shared friction budget of twist and slide |
 //! | [`state`] | the rolling / sliding / broken state machine |
 //! | [`params`] | the validated contact parameters |
-//! | [`parts`] | the model's parts as compile-time choices (point contact, + spin, + rolling, + limit surface) |
+//! | [`parts`] | the model's parts as compile-time choices (point contact, + rolling or + spin, both, + limit surface) |
 //! | [`step`] | [`ContactModel`]: one contact step, made of the stages above |
 
 pub mod decompose;
@@ -23,7 +23,7 @@ pub mod step;
 pub mod surface;
 
 pub use params::{ContactParams, ParamError};
-pub use parts::{Full, ModelChoice, Parts, PointFriction, WithRolling, WithSpin};
+pub use parts::{Full, ModelChoice, Parts, PointFriction, RollingOnly, WithRolling, WithSpin};
 pub use state::ContactState;
 pub use step::{
     ContactInput, ContactModel, ContactOutput, MAX_DT_S, MAX_PROBE_M, MAX_PROBE_SPEED_M_S, MIN_DT_S,

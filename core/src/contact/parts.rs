@@ -3,14 +3,17 @@
 //! associated constants below are resolved when [`crate::contact::ContactModel`] is compiled for a
 //! choice).
 //!
-//! The choices are nested, as MuJoCo's `condim` is (1 frictionless, 3 sliding friction, 4 adds
-//! torsion, 6 adds rolling), each adding one part to the one before:
+//! The choices add parts as MuJoCo's `condim` does (1 frictionless, 3 sliding friction, 4 adds
+//! torsion, 6 adds rolling), each adding one part to one before it; rolling can be had without the
+//! spin (a device that displays no torque about the normal feels the spin part only through the
+//! limit surface, which needs it):
 //!
 //! | choice | name | what it adds |
 //! | --- | --- | --- |
 //! | [`PointFriction`] | `point-friction` | a point contact with Coulomb friction (the friction proxy, the normal spring, the state machine); the contact point stays where the touch put it until a slide moves it; no spin torque |
-//! | [`WithSpin`] | `spin` | the spin torque τn = k_z·φ_el about the normal, with its own torsional limit (3π/16)·μ·f_N·a |
-//! | [`WithRolling`] | `spin-rolling` | the contact point rolls on both surfaces as the fingertip turns (eqs. 2-3), and the twist threshold on the tilt rate |
+//! | [`RollingOnly`] | `rolling` | to [`PointFriction`]: the contact point rolls on both surfaces as the fingertip turns (eqs. 2-3), and the twist threshold on the tilt rate; no spin torque |
+//! | [`WithSpin`] | `spin` | to [`PointFriction`]: the spin torque τn = k_z·φ_el about the normal, with its own torsional limit (3π/16)·μ·f_N·a |
+//! | [`WithRolling`] | `spin-rolling` | to [`WithSpin`] (or to [`RollingOnly`]): rolling (or the spin) |
 //! | [`Full`] | `full` | the limit surface: twist and slide share one friction budget ([`crate::contact::limit_surface`]) |
 //!
 //! Without the limit surface the friction cone |f_T| ≤ μ·f_N and the torsional limit act each on
@@ -33,6 +36,9 @@ pub trait Parts: Copy + Debug + Default + PartialEq + Send + Sync + 'static {
 /// A point contact with friction: no spin torque, no rolling.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PointFriction;
+/// [`PointFriction`] plus rolling of the contact point, without the spin torque.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RollingOnly;
 /// [`PointFriction`] plus the spin torque with its torsional limit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct WithSpin;
@@ -47,6 +53,12 @@ impl Parts for PointFriction {
     const NAME: &'static str = "point-friction";
     const SPIN: bool = false;
     const ROLLING: bool = false;
+    const LIMIT_SURFACE: bool = false;
+}
+impl Parts for RollingOnly {
+    const NAME: &'static str = "rolling";
+    const SPIN: bool = false;
+    const ROLLING: bool = true;
     const LIMIT_SURFACE: bool = false;
 }
 impl Parts for WithSpin {
@@ -74,6 +86,8 @@ impl Parts for Full {
 pub enum ModelChoice {
     /// [`PointFriction`].
     PointFriction,
+    /// [`RollingOnly`].
+    Rolling,
     /// [`WithSpin`].
     Spin,
     /// [`WithRolling`].
@@ -83,9 +97,11 @@ pub enum ModelChoice {
 }
 
 impl ModelChoice {
-    /// Every choice, least first.
-    pub const ALL: [ModelChoice; 4] = [
+    /// Every choice, fewest parts first (`rolling` and `spin` have one each; which costs less
+    /// depends on the surface, `mcu-bench/budget.json`).
+    pub const ALL: [ModelChoice; 5] = [
         ModelChoice::PointFriction,
+        ModelChoice::Rolling,
         ModelChoice::Spin,
         ModelChoice::SpinRolling,
         ModelChoice::Full,
@@ -95,6 +111,7 @@ impl ModelChoice {
     pub const fn name(self) -> &'static str {
         match self {
             ModelChoice::PointFriction => PointFriction::NAME,
+            ModelChoice::Rolling => RollingOnly::NAME,
             ModelChoice::Spin => WithSpin::NAME,
             ModelChoice::SpinRolling => WithRolling::NAME,
             ModelChoice::Full => Full::NAME,
@@ -105,6 +122,67 @@ impl ModelChoice {
     pub fn from_name(name: &str) -> Option<ModelChoice> {
         ModelChoice::ALL.into_iter().find(|c| c.name() == name)
     }
+
+    /// Whether every part of `self` is in `other` (`other` is `self` or more).
+    pub const fn within(self, other: ModelChoice) -> bool {
+        let (a, b) = (self.parts(), other.parts());
+        (!a.0 || b.0) && (!a.1 || b.1) && (!a.2 || b.2)
+    }
+
+    /// The parts as ([`Parts::SPIN`], [`Parts::ROLLING`], [`Parts::LIMIT_SURFACE`]).
+    pub const fn parts(self) -> (bool, bool, bool) {
+        match self {
+            ModelChoice::PointFriction => (
+                PointFriction::SPIN,
+                PointFriction::ROLLING,
+                PointFriction::LIMIT_SURFACE,
+            ),
+            ModelChoice::Rolling => (
+                RollingOnly::SPIN,
+                RollingOnly::ROLLING,
+                RollingOnly::LIMIT_SURFACE,
+            ),
+            ModelChoice::Spin => (WithSpin::SPIN, WithSpin::ROLLING, WithSpin::LIMIT_SURFACE),
+            ModelChoice::SpinRolling => (
+                WithRolling::SPIN,
+                WithRolling::ROLLING,
+                WithRolling::LIMIT_SURFACE,
+            ),
+            ModelChoice::Full => (Full::SPIN, Full::ROLLING, Full::LIMIT_SURFACE),
+        }
+    }
+}
+
+/// Evaluate `$body` with the type alias `$p` bound to the compiled
+/// [`Parts`](crate::contact::Parts) type of the [`ModelChoice`](crate::contact::ModelChoice)
+/// `$choice` (one monomorphised copy of `$body` per choice):
+/// `with_parts!(choice, P => run::<P>())`.
+#[macro_export]
+macro_rules! with_parts {
+    ($choice:expr, $p:ident => $body:expr) => {
+        match $choice {
+            $crate::contact::ModelChoice::PointFriction => {
+                type $p = $crate::contact::PointFriction;
+                $body
+            }
+            $crate::contact::ModelChoice::Rolling => {
+                type $p = $crate::contact::RollingOnly;
+                $body
+            }
+            $crate::contact::ModelChoice::Spin => {
+                type $p = $crate::contact::WithSpin;
+                $body
+            }
+            $crate::contact::ModelChoice::SpinRolling => {
+                type $p = $crate::contact::WithRolling;
+                $body
+            }
+            $crate::contact::ModelChoice::Full => {
+                type $p = $crate::contact::Full;
+                $body
+            }
+        }
+    };
 }
 
 #[cfg(test)]
@@ -156,6 +234,11 @@ mod tests {
             (0.0, Vec3::ZERO),
             "no spin, no rolling"
         );
+        // Rolling without the spin: the same contact point and force as the full model, no torque.
+        let (rolling, rolling_at) = press_roll_twist::<RollingOnly>(20);
+        assert_eq!(rolling.tau_n_nm, 0.0);
+        assert_eq!(rolling_at, full_point);
+        assert_eq!(rolling.force_n, full.force_n);
         let (spin, spin_at) = press_roll_twist::<WithSpin>(20);
         assert_eq!(spin_at, Vec3::ZERO, "no rolling");
         // Inside the limit surface the limits do not act: the same spin torque (measured 1 ulp
@@ -172,30 +255,31 @@ mod tests {
     }
 
     #[test]
-    fn names_round_trip_and_the_choices_nest() {
+    fn names_round_trip_and_the_choices_add_one_part_each() {
         for c in ModelChoice::ALL {
             assert_eq!(ModelChoice::from_name(c.name()), Some(c));
+            assert!(c.within(c) && c.within(ModelChoice::Full));
+            assert!(ModelChoice::PointFriction.within(c));
         }
         assert_eq!(ModelChoice::from_name("fulll"), None);
-        // Each choice adds a part to the one before; the limit surface needs the spin.
-        let parts = [
-            (
-                PointFriction::SPIN,
-                PointFriction::ROLLING,
-                PointFriction::LIMIT_SURFACE,
-            ),
-            (WithSpin::SPIN, WithSpin::ROLLING, WithSpin::LIMIT_SURFACE),
-            (
-                WithRolling::SPIN,
-                WithRolling::ROLLING,
-                WithRolling::LIMIT_SURFACE,
-            ),
-            (Full::SPIN, Full::ROLLING, Full::LIMIT_SURFACE),
-        ];
         let count = |p: (bool, bool, bool)| p.0 as u8 + p.1 as u8 + p.2 as u8;
-        for (k, p) in parts.iter().enumerate() {
-            assert_eq!(count(*p), k as u8, "choice {k} adds one part");
-            assert!(!p.2 || p.0, "limit surface without spin");
+        let parts = ModelChoice::ALL.map(|c| count(c.parts()));
+        assert_eq!(parts, [0, 1, 1, 2, 3]);
+        for c in ModelChoice::ALL {
+            // The limit surface needs the spin.
+            assert!(!c.parts().2 || c.parts().0, "{c:?}");
+            // Every choice but the least has one with exactly one part fewer within it.
+            if c != ModelChoice::PointFriction {
+                assert!(ModelChoice::ALL
+                    .iter()
+                    .any(|&d| d.within(c) && count(d.parts()) + 1 == count(c.parts())));
+            }
+        }
+        assert!(!ModelChoice::Rolling.within(ModelChoice::Spin));
+        assert!(!ModelChoice::Spin.within(ModelChoice::Rolling));
+        // The macro binds the compiled type of each choice.
+        for c in ModelChoice::ALL {
+            assert_eq!(crate::with_parts!(c, P => P::NAME), c.name());
         }
     }
 }

@@ -1,7 +1,8 @@
 //! The contact-model ablation of one scene (`host-sim model --svg`): each model choice's cost
 //! (instructions per contact step on the emulated Cortex-M4F) against its largest difference from
-//! the full model in units of the perceptual yardstick (the worst of force, spin torque and
-//! contact path; 1 = just noticeable), the yardstick drawn at 1 and the scene's named model
+//! the full model in units of the perceptual yardstick (the worst of force and contact path, and
+//! spin torque where the device displays it; 1 = just noticeable), the same with the torque
+//! counted (a device that displayed it), the yardstick drawn at 1, and the scene's named model
 //! marked.
 
 use crate::chart::style::{
@@ -15,24 +16,39 @@ use std::path::Path;
 /// Ratios below this are drawn at it (the full model's own row is 0).
 pub const RATIO_FLOOR: f64 = 1e-3;
 
-/// The worst of a row's three yardstick ratios, floored at [`RATIO_FLOOR`].
-pub fn worst_ratio(r: &crate::model::Row) -> f64 {
+/// The worst of a row's yardstick ratios (the torque's only when `torque_displayed`), floored at
+/// [`RATIO_FLOOR`].
+pub fn worst_ratio(r: &crate::model::Row, torque_displayed: bool) -> f64 {
+    let t = if torque_displayed {
+        r.diff.torque_ratio
+    } else {
+        0.0
+    };
     r.diff
         .force_ratio
-        .max(r.diff.torque_ratio)
+        .max(t)
         .max(r.diff.path_ratio)
         .max(RATIO_FLOOR)
 }
 
 /// Write the chart of `report` to `path` (SVG).
 pub fn write(path: &Path, report: &Report) -> Result<(), ChartError> {
+    let device = crate::model::yardstick::DEVICE_DISPLAYS_TORQUE;
     let pts: Vec<(f64, f64, &str)> = report
         .rows
         .iter()
-        .filter_map(|r| r.instructions.map(|n| (n as f64, worst_ratio(r), r.model)))
+        .filter_map(|r| {
+            r.instructions
+                .map(|n| (n as f64, worst_ratio(r, device), r.model))
+        })
+        .collect();
+    let with_torque: Vec<(f64, f64)> = report
+        .rows
+        .iter()
+        .filter_map(|r| r.instructions.map(|n| (n as f64, worst_ratio(r, true))))
         .collect();
     let (x_lo, x_hi) = linear_range(pts.iter().map(|p| p.0), 20.0, 0.0);
-    let y_hi = pts.iter().map(|p| p.1).fold(10.0f64, f64::max) * 3.0;
+    let y_hi = with_torque.iter().map(|p| p.1).fold(10.0f64, f64::max) * 300.0; // room above the points for the legend
     render_svg(path, (760, 480), |root| {
         let mut chart = ChartBuilder::on(root)
             .caption(
@@ -64,8 +80,21 @@ pub fn write(path: &Path, report: &Report) -> Result<(), ChartError> {
             &all,
             Shape::Circle,
             PALETTE[0].filled(),
-            Some("model choice"),
+            Some(if device {
+                "model choice"
+            } else {
+                "model choice (force, path: this device shows no torque)"
+            }),
         )?;
+        if !device {
+            draw_markers(
+                &mut chart,
+                &with_torque,
+                Shape::Triangle,
+                PALETTE[1].stroke_width(2),
+                Some("the same if the spin torque were displayed"),
+            )?;
+        }
         if let Some(&(x, y, _)) = pts.iter().find(|p| p.2 == report.named_model) {
             chart
                 .draw_series(std::iter::once(Circle::new(

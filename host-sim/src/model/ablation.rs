@@ -5,15 +5,14 @@
 
 use crate::closed_loop::{self, prepare, simulate, SetupError};
 use crate::model::yardstick::{
-    force_threshold_n, torque_threshold_nm, PATH_THRESHOLD_MM, PERCEPTION_WINDOW_S,
+    force_threshold_n, torque_threshold_nm, PATH_THRESHOLD_MM, PERCEPTION_WINDOW_S, TIME_SHIFT_S,
 };
 use crate::scene::{Scene, SurfaceSpec};
 use softfinger_core::contact::params::{ContactParams, ParamError};
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::contact::surface::Surface;
 use softfinger_core::contact::{
-    ContactInput, ContactModel, ContactOutput, Full, ModelChoice, Parts, PointFriction,
-    WithRolling, WithSpin,
+    ContactInput, ContactModel, ContactOutput, Full, ModelChoice, Parts,
 };
 use softfinger_core::control::controller::{ContactStage, Scene as PipelineScene};
 use softfinger_core::control::pipeline::{Pipeline, PipelineConfig};
@@ -179,14 +178,7 @@ fn time_choice<S: Surface>(
     dt_s: f32,
     inputs: &[ContactInput],
 ) -> Result<f64, ParamError> {
-    match choice {
-        ModelChoice::PointFriction => {
-            time_steps::<S, PointFriction>(contact, surface, dt_s, inputs)
-        }
-        ModelChoice::Spin => time_steps::<S, WithSpin>(contact, surface, dt_s, inputs),
-        ModelChoice::SpinRolling => time_steps::<S, WithRolling>(contact, surface, dt_s, inputs),
-        ModelChoice::Full => time_steps::<S, Full>(contact, surface, dt_s, inputs),
-    }
+    softfinger_core::with_parts!(choice, P => time_steps::<S, P>(contact, surface, dt_s, inputs))
 }
 
 /// The full model's run and the runs of `choices` on one surface (a `Full` among `choices` is
@@ -203,13 +195,10 @@ fn runs_on<S: Surface>(
     let mut full = run_choice::<S, Full>(scene, contact, config, ModelChoice::Full)?;
     let mut runs = Vec::new();
     for &c in choices {
-        runs.push(match c {
-            ModelChoice::PointFriction => {
-                run_choice::<S, PointFriction>(scene, contact, config, c)?
-            }
-            ModelChoice::Spin => run_choice::<S, WithSpin>(scene, contact, config, c)?,
-            ModelChoice::SpinRolling => run_choice::<S, WithRolling>(scene, contact, config, c)?,
-            ModelChoice::Full => full.clone(),
+        runs.push(if c == ModelChoice::Full {
+            full.clone()
+        } else {
+            softfinger_core::with_parts!(c, P => run_choice::<S, P>(scene, contact, config, c)?)
         });
     }
     let inputs: Vec<ContactInput> = full.ticks.iter().map(|t| t.input).collect();
@@ -278,18 +267,29 @@ pub struct Difference {
     pub state_diff_percent: f64,
     /// State transitions of this run (the full run's are in its own row).
     pub transitions: usize,
-    /// Largest ratio of the averaged force difference to its yardstick (≤ 1: not felt).
+    /// The same states in the same order as the full run (timing left out).
+    pub same_state_sequence: bool,
+    /// Largest ratio of the averaged force difference to its yardstick (≤ 1: not felt), each
+    /// tick matched within ±[`TIME_SHIFT_S`] ([`shifted_ratio`]).
     pub force_ratio: f64,
     /// Largest ratio of the averaged torque difference to its yardstick.
     pub torque_ratio: f64,
-    /// max_path_diff_mm over its yardstick.
+    /// Largest ratio of the contact-path difference to its yardstick.
     pub path_ratio: f64,
 }
 
 impl Difference {
-    /// All three ratios at most 1.
+    /// Not felt on this device: the force and path ratios at most 1, and the torque ratio too
+    /// when the device displays the torque ([`crate::model::yardstick::DEVICE_DISPLAYS_TORQUE`]).
     pub fn within_yardstick(&self) -> bool {
-        self.force_ratio <= 1.0 && self.torque_ratio <= 1.0 && self.path_ratio <= 1.0
+        self.within(crate::model::yardstick::DEVICE_DISPLAYS_TORQUE)
+    }
+
+    /// The force and path ratios at most 1, and the torque ratio too when `torque_displayed`.
+    pub fn within(&self, torque_displayed: bool) -> bool {
+        self.force_ratio <= 1.0
+            && self.path_ratio <= 1.0
+            && (!torque_displayed || self.torque_ratio <= 1.0)
     }
 }
 
@@ -354,17 +354,22 @@ pub fn difference(run: &Run, full: &Run, rate_hz: f64) -> Difference {
         state_diff += usize::from(x.state != y.state);
     }
     let w = ((PERCEPTION_WINDOW_S * rate_hz).round() as usize).max(1);
+    let shift = (TIME_SHIFT_S * rate_hz).round() as usize;
     let fa = averaged(a, w, |t| t.force_n);
     let fb = averaged(b, w, |t| t.force_n);
     let ta = averaged(a, w, |t| [t.tau_nm]);
     let tb = averaged(b, w, |t| [t.tau_nm]);
-    let mut force_ratio = 0.0f64;
-    let mut torque_ratio = 0.0f64;
-    for k in 0..n {
-        force_ratio = force_ratio.max(norm(sub(fa[k], fb[k])) / force_threshold_n(norm(fb[k])));
-        torque_ratio =
-            torque_ratio.max((ta[k][0] - tb[k][0]).abs() / torque_threshold_nm(tb[k][0]));
-    }
+    let force_ratio = shifted_ratio(&fa, &fb, shift, |x, y| {
+        norm(sub(x, y)) / force_threshold_n(norm(y))
+    });
+    let torque_ratio = shifted_ratio(&ta, &tb, shift, |x, y| {
+        (x[0] - y[0]).abs() / torque_threshold_nm(y[0])
+    });
+    let pa: Vec<[f64; 3]> = a.iter().map(|t| t.object_point_m).collect();
+    let pb: Vec<[f64; 3]> = b.iter().map(|t| t.object_point_m).collect();
+    let path_ratio = shifted_ratio(&pa, &pb, shift, |x, y| {
+        norm(sub(x, y)) * 1e3 / PATH_THRESHOLD_MM
+    });
     let nf = n.max(1) as f64;
     Difference {
         max_force_diff_n: max_f,
@@ -375,8 +380,63 @@ pub fn difference(run: &Run, full: &Run, rate_hz: f64) -> Difference {
         state_diff_ticks: state_diff,
         state_diff_percent: 100.0 * state_diff as f64 / nf,
         transitions: transitions(a),
+        same_state_sequence: state_sequence(a) == state_sequence(b),
         force_ratio,
         torque_ratio,
-        path_ratio: max_p * 1e3 / PATH_THRESHOLD_MM,
+        path_ratio,
+    }
+}
+
+/// The states a run passes through, in order, each once per visit (timing left out).
+pub fn state_sequence(ticks: &[Tick]) -> Vec<ContactState> {
+    let mut s: Vec<ContactState> = Vec::new();
+    for t in ticks {
+        if s.last() != Some(&t.state) {
+            s.push(t.state);
+        }
+    }
+    s
+}
+
+/// The largest over the ticks of `ratio` between a tick of one run and the closest (least
+/// `ratio`) tick of the other within ±`shift` ticks, taken both ways (`ratio(x, y)`: `x` from
+/// `a`, `y` the full run's `b`, whose value sets the threshold).
+pub fn shifted_ratio<T: Copy>(a: &[T], b: &[T], shift: usize, ratio: impl Fn(T, T) -> f64) -> f64 {
+    let n = a.len().min(b.len());
+    let mut worst = 0.0f64;
+    for k in 0..n {
+        let (lo, hi) = (k.saturating_sub(shift), (k + shift + 1).min(n));
+        let ab = (lo..hi)
+            .map(|j| ratio(a[k], b[j]))
+            .fold(f64::INFINITY, f64::min);
+        let ba = (lo..hi)
+            .map(|j| ratio(a[j], b[k]))
+            .fold(f64::INFINITY, f64::min);
+        worst = worst.max(ab).max(ba);
+    }
+    worst
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A step of 1 N that one run takes `lag` ticks after the other: within ±`shift` ticks it is
+    /// the same step (ratio 0); one tick beyond, the step's size shows (ratio 1 for a threshold of
+    /// 1 N).
+    #[test]
+    fn a_shift_within_the_window_is_no_difference_and_one_beyond_is() {
+        let step =
+            |lag: usize| -> Vec<f64> { (0..100).map(|k| f64::from(k >= 50 + lag)).collect() };
+        let ratio = |x: f64, y: f64| (x - y).abs();
+        assert_eq!(shifted_ratio(&step(5), &step(0), 5, ratio), 0.0);
+        assert_eq!(shifted_ratio(&step(0), &step(5), 5, ratio), 0.0);
+        assert_eq!(shifted_ratio(&step(6), &step(0), 5, ratio), 1.0);
+        assert_eq!(shifted_ratio(&step(0), &step(6), 5, ratio), 1.0);
+        // No shift allowed: the tick-by-tick difference.
+        assert_eq!(shifted_ratio(&step(1), &step(0), 0, ratio), 1.0);
+        // A difference in size is not hidden by any shift.
+        let half: Vec<f64> = step(0).iter().map(|v| v * 0.5).collect();
+        assert_eq!(shifted_ratio(&half, &step(0), 50, ratio), 0.5);
     }
 }

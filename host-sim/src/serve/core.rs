@@ -6,11 +6,13 @@
 //! plant, `Plant::step_bridges`, with the firmware's board timing and thresholds), `request` for
 //! each operator request, `message_received` for each valid message (the communication
 //! watchdog's food). [`PipelineCore`] implements it; its mode machine, homing, arming ramp,
-//! output guard and fault latch are the pipeline's, the firmware's own.
+//! output guard and fault latch are the pipeline's, the firmware's own. It renders with the
+//! contact model the scene names (`model` in its file; [`softfinger_core::contact::parts`]).
 
 use crate::plant::Plant;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
+use softfinger_core::contact::{Full, Parts};
 use softfinger_core::control::controller::ContactStage;
 use softfinger_core::control::local_model::{
     LocalModelScene, LocalModelSpec, ModelKind, ModelPose,
@@ -73,13 +75,14 @@ pub trait DeviceCore: Send {
     fn model(&self) -> LocalModelSpec;
 }
 
-/// The virtual device's core: the pipeline on the local-model scene.
+/// The virtual device's core: the pipeline on the local-model scene, with the contact model of
+/// parts `P`.
 #[derive(Debug)]
-pub struct PipelineCore {
-    pipe: Pipeline<Fast, LocalModelScene>,
+pub struct PipelineCore<P: Parts = Full> {
+    pipe: Pipeline<Fast, LocalModelScene<P>>,
 }
 
-impl PipelineCore {
+impl<P: Parts> PipelineCore<P> {
     /// The pipeline for `scene` (its control rate on the firmware's board timing, its contact
     /// parameters, its surface as the initial local model), blending model switches over
     /// `blend_s`, with the watchdog at `watchdog_s` (0: off). Unhomed.
@@ -96,7 +99,7 @@ impl PipelineCore {
             surface: LocalModelScene {
                 blend_s,
                 watchdog_timeout_s: watchdog_s,
-                ..LocalModelScene::new(model)
+                ..LocalModelScene::<P>::with_parts(model)
             },
             // Model poses are in the base frame.
             object_origin_m: Vec3::ZERO,
@@ -109,17 +112,22 @@ impl PipelineCore {
     }
 
     /// The pipeline (read-only).
-    pub fn pipeline(&self) -> &Pipeline<Fast, LocalModelScene> {
+    pub fn pipeline(&self) -> &Pipeline<Fast, LocalModelScene<P>> {
         &self.pipe
     }
 
     /// The pipeline, for the operator's session at start (`--auto-arm`).
-    pub fn pipeline_mut(&mut self) -> &mut Pipeline<Fast, LocalModelScene> {
+    pub fn pipeline_mut(&mut self) -> &mut Pipeline<Fast, LocalModelScene<P>> {
         &mut self.pipe
+    }
+
+    /// The name of the contact model it renders with ([`Parts::NAME`]).
+    pub fn contact_model(&self) -> &'static str {
+        P::NAME
     }
 }
 
-impl DeviceCore for PipelineCore {
+impl<P: Parts> DeviceCore for PipelineCore<P> {
     fn rate_hz(&self) -> f32 {
         self.pipe.config().timing.control_hz as f32
     }

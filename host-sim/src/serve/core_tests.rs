@@ -259,3 +259,45 @@ fn a_moving_local_model_steps_the_force_with_the_damper_on() {
     assert!(observing < 0.36, "{observing}");
     assert!(damping > 3.0 * observing, "{damping} vs {observing}");
 }
+
+/// The virtual device renders with the contact model its scene names: finger-on-plane (pressing,
+/// rolling, twisting, sliding) named `point-friction` renders no spin torque at any tick and
+/// `rolling` none either, while the full model's reaches its torsional limit (about 5 mN·m, as
+/// `host-sim run` prints); all three render the press (over 1 N).
+#[test]
+fn the_device_renders_with_the_model_its_scene_names() {
+    let most = |model: &str| {
+        let mut scene = Scene::load("finger-on-plane").unwrap();
+        scene.model = Some(model.to_string());
+        let (contact, _) = scene_model(&scene).unwrap();
+        let mut plant = crate::closed_loop::plant(&scene, &contact).unwrap();
+        let mut core = crate::serve::scene_core(&scene, 0.002, 0.0, true, &mut plant).unwrap();
+        let (mut tau, mut force) = (0.0f32, 0.0f32);
+        for _ in 0..(scene.duration_s * scene.rate_hz) as u32 {
+            let out = core.tick(&mut plant);
+            assert_eq!(out.mode, Mode::Armed, "{model}: {:?}", out.flags);
+            tau = tau.max(out.spin_torque_nm.abs());
+            force = force.max(out.force_n.norm::<Fast>());
+        }
+        (tau, force)
+    };
+    let (full_tau, full_force) = most("full");
+    assert!(
+        full_tau > 4e-3 && full_force > 1.0,
+        "{full_tau} {full_force}"
+    );
+    for reduced in ["point-friction", "rolling"] {
+        let (tau, force) = most(reduced);
+        assert_eq!(tau, 0.0, "{reduced}");
+        assert!(force > 1.0, "{reduced}: {force}");
+    }
+    // A model the core does not know is refused with its name.
+    let mut scene = Scene::load("finger-on-plane").unwrap();
+    scene.model = Some("fulll".to_string());
+    let (contact, _) = scene_model(&scene).unwrap();
+    let mut plant = crate::closed_loop::plant(&scene, &contact).unwrap();
+    let err = crate::serve::scene_core(&scene, 0.002, 0.0, true, &mut plant)
+        .err()
+        .expect("unknown model refused");
+    assert!(err.to_string().contains("fulll"), "{err}");
+}

@@ -96,6 +96,41 @@ pub enum ServeError {
     Duration(f64),
 }
 
+/// The device's core for `scene`, rendering with the contact model the scene names (`model`;
+/// [`softfinger_core::contact::parts`]), blending model switches over `blend_s`, the watchdog at
+/// `watchdog_s`. With `auto_arm` the operator's session in simulated time first: home against
+/// the plant, the hand takes the handle, arm (bench mode: no client feeds the watchdog, so it is
+/// off).
+pub fn scene_core(
+    scene: &Scene,
+    blend_s: f32,
+    watchdog_s: f32,
+    auto_arm: bool,
+    plant: &mut crate::plant::Plant,
+) -> Result<Box<dyn core::DeviceCore>, ServeError> {
+    let parts = scene
+        .model()
+        .map_err(crate::closed_loop::ClosedLoopError::from)?;
+    softfinger_core::with_parts!(parts, P => device_core::<P>(scene, blend_s, watchdog_s, auto_arm, plant))
+}
+
+fn device_core<P: softfinger_core::contact::Parts>(
+    scene: &Scene,
+    blend_s: f32,
+    watchdog_s: f32,
+    auto_arm: bool,
+    plant: &mut crate::plant::Plant,
+) -> Result<Box<dyn core::DeviceCore>, ServeError> {
+    let mut core = core::PipelineCore::<P>::new(scene, blend_s, watchdog_s)?;
+    if auto_arm {
+        let pipe = core.pipeline_mut();
+        pipe.command(softfinger_core::control::pipeline::Command::SetWatchdog { timeout_s: 0.0 })
+            .map_err(ServeError::Watchdog)?;
+        crate::closed_loop::prepare(pipe, plant)?;
+    }
+    Ok(Box::new(core))
+}
+
 impl Server {
     /// Bind, build the device from the scene, and start the threads; the event log on stdout
     /// unless `--quiet`.
@@ -114,19 +149,15 @@ impl Server {
         let (contact, _) = core::scene_model(&scene)?;
         let device = softfinger_core::device::OMEGA_LIKE.params;
         let watchdog_s = args.watchdog_ms * 1e-3;
-        let mut core = core::PipelineCore::new(&scene, args.blend_ms * 1e-3, watchdog_s)?;
         let script = crate::closed_loop::touch_script(&scene, &contact);
         let mut plant = crate::closed_loop::plant(&scene, &contact).map_err(ServeError::Plant)?;
-        if args.auto_arm {
-            // The operator's session in simulated time: home against the plant, the hand takes
-            // the handle, arm. Bench mode: no client feeds the watchdog, so it is off.
-            let pipe = core.pipeline_mut();
-            pipe.command(softfinger_core::control::pipeline::Command::SetWatchdog {
-                timeout_s: 0.0,
-            })
-            .map_err(ServeError::Watchdog)?;
-            crate::closed_loop::prepare(pipe, &mut plant)?;
-        }
+        let core = scene_core(
+            &scene,
+            args.blend_ms * 1e-3,
+            watchdog_s,
+            args.auto_arm,
+            &mut plant,
+        )?;
         let listener = TcpListener::bind(&args.listen)
             .map_err(|e| ServeError::Listen(args.listen.clone(), e))?;
         let addr = listener
@@ -142,7 +173,7 @@ impl Server {
             Some(path) => persist::Persist::open(path).map_err(ServeError::Flash)?,
             None => persist::Persist::in_ram(),
         };
-        let dev = device::DeviceLoop::new(Box::new(core), device, plant, script, stats.clone())
+        let dev = device::DeviceLoop::new(core, device, plant, script, stats.clone())
             .with_log(log)
             .with_persist(persist);
         let stop_dev = stop.clone();

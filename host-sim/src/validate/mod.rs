@@ -18,6 +18,7 @@
 
 pub mod classical;
 pub mod errors;
+pub mod models;
 pub mod ours;
 pub mod report;
 pub mod surfaces;
@@ -58,6 +59,9 @@ pub enum ValidateError {
         /// The integrator's reason.
         source: ReferenceError,
     },
+    /// The contact model could not be built for the paper's scene.
+    #[error("contact model on the paper's scene: {0}")]
+    Model(softfinger_core::contact::ParamError),
     /// The JSON could not be serialised.
     #[error(transparent)]
     Json(#[from] JsonError),
@@ -125,6 +129,9 @@ pub struct Validation {
     /// Our speed-up over the cheapest classical run at matched accuracy, taken round by round over
     /// the timing rounds (see [`timing::ratio_spread`]).
     pub speedup_spread: Option<timing::Spread>,
+    /// The whole contact step per model choice on the same scene, timed in the same rounds; its
+    /// speed-up against the same cheapest matched RK45 run ([`models`]).
+    pub models: Vec<models::ModelRun>,
 }
 
 impl Validation {
@@ -246,6 +253,11 @@ pub fn run(timing: Timing) -> Result<Validation, ValidateError> {
     .map(|call| classical::run(sref, call, rtol, atol))
     .collect::<Result<Vec<_>, _>>()?;
     let mut matched = matched_runs(sref, &candidates)?;
+    let model_inputs = models::scene_inputs(&scene, &closed);
+    let mut model_runs =
+        models::runs(&scene, &model_inputs, &reference.paths).map_err(ValidateError::Model)?;
+    let model_cases =
+        models::cases(&scene, &model_inputs, &model_runs).map_err(ValidateError::Model)?;
 
     // Time everything in one interleaved measurement.
     let rounds = time_all(
@@ -255,8 +267,17 @@ pub fn run(timing: Timing) -> Result<Validation, ValidateError> {
         &mut reference_run,
         &mut ode45_defaults,
         &mut matched,
+        model_cases,
         timing,
     );
+    let models_first = rounds.len() - model_runs.len();
+    for (k, m) in model_runs.iter_mut().enumerate() {
+        m.ns_per_step = {
+            let mut s = rounds[models_first + k].clone();
+            s.sort_by(f64::total_cmp);
+            timing::median(&s)
+        };
+    }
     let matched_first = ours.len() + 1 + ode45_defaults.len();
     let best = pick_best(&ours);
     let timed_matched: Vec<(Rk45Call, f64)> = matched.iter().map(|m| (m.call, m.rtol)).collect();
@@ -269,6 +290,13 @@ pub fn run(timing: Timing) -> Result<Validation, ValidateError> {
         .and_then(|(_, call, rtol)| timed_matched.iter().position(|&t| t == (call, rtol)));
     let speedup_spread =
         cheapest.and_then(|i| timing::ratio_spread(&rounds[matched_first + i], &rounds[best]));
+    for (k, m) in model_runs.iter_mut().enumerate() {
+        if m.errors.max_mm() <= TARGET_MM {
+            m.speedup_spread = cheapest.and_then(|i| {
+                timing::ratio_spread(&rounds[matched_first + i], &rounds[models_first + k])
+            });
+        }
+    }
     Ok(Validation {
         scene,
         reference,
@@ -278,18 +306,22 @@ pub fn run(timing: Timing) -> Result<Validation, ValidateError> {
         ode45_defaults,
         matched,
         speedup_spread,
+        models: model_runs,
     })
 }
 
-/// Times ours and every classical run in one interleaved measurement, stores each run's median
-/// ns per step, and returns the rounds (ours, then the reference, ode45 defaults, matched).
-fn time_all(
+/// Times ours, every classical run and the contact-step cases in one interleaved measurement,
+/// stores each run's median ns per step, and returns the rounds (ours, then the reference, ode45
+/// defaults, matched, then `extra` in its order).
+#[allow(clippy::too_many_arguments)]
+fn time_all<'a>(
     scene: &Scene,
     sref: SceneRef<'_>,
     ours: &mut [OurRun],
     reference_run: &mut Rk45Run,
     ode45_defaults: &mut [Rk45Run],
     matched: &mut [Rk45Run],
+    extra: Vec<timing::Case<'a>>,
     timing: Timing,
 ) -> Vec<Vec<f64>> {
     let samples32 = ours::to_f32(&scene.samples);
@@ -302,6 +334,7 @@ fn time_all(
         .chain(&*ode45_defaults)
         .chain(&*matched);
     cases.extend(classical_runs.map(|r| r.case(sref)));
+    cases.extend(extra);
     let rounds = timing::measure_rounds(&mut cases, timing);
     drop(cases);
     let ns: Vec<f64> = rounds

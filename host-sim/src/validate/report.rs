@@ -44,12 +44,65 @@ pub struct Row {
     pub atol: Option<f64>,
 }
 
+/// One row of the JSON `models` array: the whole contact step with one model choice.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ModelRow {
+    /// The choice's name (`point-friction`, `rolling`, ...).
+    pub model: &'static str,
+    /// Instructions per contact step on the emulated M4F (plane, fast backend), from the budget.
+    pub instructions: Option<u32>,
+    /// Largest |Δx|, |Δy|, |Δz| of the plane contact path against the RK45 reference, mm.
+    pub plane_max_error_mm: [f64; 3],
+    /// The same on the sphere (fingertip frame), mm.
+    pub sphere_max_error_mm: [f64; 3],
+    /// Steps not in the rolling state.
+    pub not_rolling_steps: usize,
+    /// Median time per contact step, ns.
+    pub ns_per_step: f64,
+    /// Cheapest matched RK45 over this choice, ratio of the medians (None: no match, or this
+    /// choice misses the accuracy target).
+    pub speedup: Option<f64>,
+    /// The same per timing round.
+    pub speedup_spread: Option<super::timing::Spread>,
+}
+
+/// The least model for the paper's scene: the choice with the fewest M4F instructions whose paths
+/// are within [`TARGET_MM`].
+pub fn least_model(v: &Validation) -> Option<&super::models::ModelRun> {
+    v.models
+        .iter()
+        .filter(|m| m.errors.max_mm() <= TARGET_MM)
+        .min_by_key(|m| crate::model::instructions("plane", m.choice).unwrap_or(u32::MAX))
+}
+
+/// The `models` rows.
+pub fn model_rows(v: &Validation) -> Vec<ModelRow> {
+    let rk = v.cheapest_matched().and_then(|m| m.ns_per_step);
+    v.models
+        .iter()
+        .map(|m| ModelRow {
+            model: m.choice.name(),
+            instructions: crate::model::instructions("plane", m.choice),
+            plane_max_error_mm: m.errors.plane_mm,
+            sphere_max_error_mm: m.errors.sphere_mm,
+            not_rolling_steps: m.not_rolling_steps,
+            ns_per_step: m.ns_per_step,
+            speedup: rk
+                .filter(|_| m.errors.max_mm() <= TARGET_MM)
+                .map(|rk| rk / m.ns_per_step),
+            speedup_spread: m.speedup_spread,
+        })
+        .collect()
+}
+
 #[derive(Serialize)]
 struct Json<'a> {
     methods: &'a [Row],
     best: String,
     speedup: Option<f64>,
     speedup_spread: Option<super::timing::Spread>,
+    models: Vec<ModelRow>,
+    least_model: Option<&'static str>,
     reference: JsonReference,
     paper: JsonPaper,
 }
@@ -121,6 +174,8 @@ pub fn json(v: &Validation) -> Result<String, JsonError> {
         best: v.best().variant.name(),
         speedup: v.speedup(),
         speedup_spread: v.speedup_spread,
+        models: model_rows(v),
+        least_model: least_model(v).map(|m| m.choice.name()),
         reference: JsonReference {
             method: "rk45-reference/restart",
             rtol: REFERENCE_TOLERANCES.0,
@@ -172,7 +227,50 @@ pub fn table(v: &Validation) -> String {
     ours_rows(&mut out, v);
     classical_rows(&mut out, v, steps);
     paper_comparison(&mut out, v, steps);
+    model_table(&mut out, v);
     out
+}
+
+/// The whole contact step per model choice, and its speed-up against the cheapest matched RK45.
+fn model_table(out: &mut String, v: &Validation) {
+    let _ = writeln!(
+        out,
+        "\n\nThe whole contact step (ContactModel<Fast, Plane, P>, pressed 1 mm, centre over the closed-form \
+         contact point) per model choice, timed in the same rounds; errors against the reference:"
+    );
+    header(
+        out,
+        "model",
+        " M4F instr  rolling  speed-up vs matched RK45 (median per round, quartiles)",
+    );
+    for r in model_rows(v) {
+        let e = PathErrors {
+            plane_mm: r.plane_max_error_mm,
+            sphere_mm: r.sphere_max_error_mm,
+        };
+        let sp = match (r.speedup, r.speedup_spread) {
+            (Some(x), Some(s)) => format!("{x:.1}x ({:.1}x, {:.1}x-{:.1}x)", s.median, s.q1, s.q3),
+            (Some(x), None) => format!("{x:.1}x"),
+            _ => format!("- (misses {TARGET_MM} mm)"),
+        };
+        let tail = format!(
+            "{:>10}  {:>7}  {sp}",
+            r.instructions.map_or("-".into(), |n| n.to_string()),
+            if r.not_rolling_steps == 0 {
+                "all"
+            } else {
+                "no"
+            },
+        );
+        line(out, r.model, &e, Some(r.ns_per_step), &tail);
+    }
+    if let Some(m) = least_model(v) {
+        let _ = write!(
+            out,
+            "Least model for this scene (fewest M4F instructions within {TARGET_MM} mm): {}",
+            m.choice.name()
+        );
+    }
 }
 
 /// The scene and the reference run with its check against the closed form.

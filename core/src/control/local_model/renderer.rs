@@ -24,7 +24,7 @@
 
 use crate::contact::params::{ContactParams, ParamError};
 use crate::contact::state::ContactState;
-use crate::contact::{ContactInput, ContactModel, ContactOutput};
+use crate::contact::{ContactInput, ContactModel, ContactOutput, Full, Parts};
 use crate::control::local_model::pose::{ModelPose, ProbeSample};
 use crate::control::local_model::ramp::Ramp;
 use crate::control::local_model::spec::{is_newer, LocalModelSpec, ModelError};
@@ -88,12 +88,12 @@ pub struct RenderOutput {
 
 /// One model being rendered: its spec, its surface's current pose and its contact model.
 #[derive(Clone, Copy, Debug)]
-struct Slot<M: Math> {
+struct Slot<M: Math, P: Parts> {
     spec: LocalModelSpec,
     pose: ModelPose,
     slew_from: ModelPose,
     slew: Ramp,
-    contact: ContactModel<M, ModelSurface>,
+    contact: ContactModel<M, ModelSurface, P>,
 }
 
 /// A contact step's result moved to the base frame.
@@ -104,13 +104,13 @@ struct SlotOutput {
     out: ContactOutput,
 }
 
-impl<M: Math> Slot<M> {
+impl<M: Math, P: Parts> Slot<M, P> {
     fn new(
         spec: LocalModelSpec,
         base: &ContactParams,
         cfg: &RendererConfig,
     ) -> Result<Self, ModelError> {
-        let contact = ContactModel::new(
+        let contact = ContactModel::with_parts(
             spec.contact_params(base),
             ModelSurface::of(spec.kind),
             Quat::IDENTITY,
@@ -154,13 +154,14 @@ impl<M: Math> Slot<M> {
     }
 }
 
-/// Renders the local model in force; see the module doc.
+/// Renders the local model in force with the contact model of parts `P`
+/// ([`crate::contact::parts`]); see the module doc.
 #[derive(Clone, Copy, Debug)]
-pub struct LocalModelRenderer<M: Math> {
+pub struct LocalModelRenderer<M: Math, P: Parts = Full> {
     config: RendererConfig,
     base: ContactParams,
-    active: Slot<M>,
-    incoming: Option<Slot<M>>,
+    active: Slot<M, P>,
+    incoming: Option<Slot<M, P>>,
     weight: Ramp,
     pending: Option<LocalModelSpec>,
     latest_seq: u32,
@@ -184,7 +185,7 @@ fn ticks_of(s: f32, rate_hz: f32) -> u32 {
     }
 }
 
-impl<M: Math> LocalModelRenderer<M> {
+impl<M: Math, P: Parts> LocalModelRenderer<M, P> {
     /// A renderer of `initial`; `base` supplies what a model does not carry (fingertip radius,
     /// tangential coupling, force limit, state tolerances).
     pub fn new(

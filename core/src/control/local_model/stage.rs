@@ -15,7 +15,7 @@
 
 use crate::contact::params::{ContactParams, ParamError};
 use crate::contact::state::ContactState;
-use crate::contact::{ContactInput, ContactOutput};
+use crate::contact::{ContactInput, ContactOutput, Full, Parts};
 use crate::control::controller::{ContactStage, Scene};
 use crate::control::local_model::pose::ProbeSample;
 use crate::control::local_model::renderer::{LocalModelRenderer, RendererConfig};
@@ -24,11 +24,13 @@ use crate::control::local_model::watchdog::CommWatchdog;
 use crate::control::pipeline::CommandError;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
+use core::marker::PhantomData;
 
-/// The local-model scene: the initial model and the timing of blends, fades and the watchdog.
+/// The local-model scene: the initial model, the timing of blends, fades and the watchdog, and
+/// the contact model's parts `P` ([`crate::contact::parts`]; the full model unless named).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct LocalModelScene {
+pub struct LocalModelScene<P: Parts = Full> {
     /// The model rendered until the application sends another.
     pub initial: LocalModelSpec,
     /// Blend time of a model switch, s, in [0, 1] (see [`RendererConfig::blend_s`]).
@@ -39,30 +41,40 @@ pub struct LocalModelScene {
     pub watchdog_fade_s: f32,
     /// Communication watchdog timeout at start, s, in [0, 60] (0: off).
     pub watchdog_timeout_s: f32,
+    /// The contact model's parts (no data).
+    pub parts: PhantomData<P>,
 }
 
 impl LocalModelScene {
     /// `initial` with the renderer's default blend and stale fade, a 20 ms watchdog fade and the
-    /// watchdog off.
+    /// watchdog off, rendered with the full contact model.
     pub const fn new(initial: LocalModelSpec) -> LocalModelScene {
+        LocalModelScene::with_parts(initial)
+    }
+}
+
+impl<P: Parts> LocalModelScene<P> {
+    /// [`LocalModelScene::new`] with the contact model of parts `P`.
+    pub const fn with_parts(initial: LocalModelSpec) -> LocalModelScene<P> {
         LocalModelScene {
             initial,
             blend_s: RendererConfig::DEFAULT.blend_s,
             stale_fade_s: RendererConfig::DEFAULT.stale_fade_s,
             watchdog_fade_s: 0.020,
             watchdog_timeout_s: 0.0,
+            parts: PhantomData,
         }
     }
 }
 
-impl Scene for LocalModelScene {
+impl<P: Parts> Scene for LocalModelScene<P> {
     /// Observe only: the application moves and switches its model, work the base-frame observer
     /// would count as energy the wall puts into the hand. Measured on host-sim's virtual device
     /// (`serve::core` test `a_moving_local_model_steps_the_force_with_the_damper_on`): a plane
     /// moving ±1 mm at 5 Hz under a pressing hand steps the force by up to 2.35 N per tick with
     /// the damper, 0.119 N without.
     const PASSIVITY_DAMPS: bool = false;
-    type Stage<M: Math> = LocalModelStage<M>;
+    type Stage<M: Math> = LocalModelStage<M, P>;
     fn stage<M: Math>(
         &self,
         contact: ContactParams,
@@ -97,8 +109,8 @@ impl Scene for LocalModelScene {
 
 /// The local-model renderer and the communication watchdog as a contact stage.
 #[derive(Clone, Copy, Debug)]
-pub struct LocalModelStage<M: Math> {
-    renderer: LocalModelRenderer<M>,
+pub struct LocalModelStage<M: Math, P: Parts = Full> {
+    renderer: LocalModelRenderer<M, P>,
     watchdog: CommWatchdog,
     watchdog_s: f32,
     state: ContactState,
@@ -106,9 +118,9 @@ pub struct LocalModelStage<M: Math> {
     seq: u32,
 }
 
-impl<M: Math> LocalModelStage<M> {
+impl<M: Math, P: Parts> LocalModelStage<M, P> {
     /// The renderer (read-only, for logs).
-    pub fn renderer(&self) -> &LocalModelRenderer<M> {
+    pub fn renderer(&self) -> &LocalModelRenderer<M, P> {
         &self.renderer
     }
 
@@ -118,7 +130,7 @@ impl<M: Math> LocalModelStage<M> {
     }
 }
 
-impl<M: Math> ContactStage for LocalModelStage<M> {
+impl<M: Math, P: Parts> ContactStage for LocalModelStage<M, P> {
     fn step(&mut self, input: &ContactInput) -> ContactOutput {
         let r = self.renderer.step(&ProbeSample {
             q: input.q,
