@@ -15,9 +15,9 @@
 
 pub mod body;
 pub mod fingertip_contact;
+pub mod remote;
 #[cfg(test)]
 mod tests;
-pub mod remote;
 pub mod two_fingers;
 
 pub use body::{BodyError, BodyParams, BodyState, RigidBody};
