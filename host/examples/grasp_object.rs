@@ -189,7 +189,12 @@ pub fn run(o: &Options) -> Result<Outcome, String> {
         (1.0 / o.model_hz) as f32,
     )
     .map_err(|e| format!("grasp: {e}"))?;
-    let mut seq = 1_000_u32;
+    // Each model must be newer than the one in force on either device.
+    let mut seq = 0_u32;
+    for d in devs.iter_mut() {
+        seq = seq.max(d.status().map_err(err("status"))?.model.seq);
+    }
+    seq = seq.wrapping_add(1);
     for (d, m) in devs.iter_mut().zip(&mounts) {
         if d.status().map_err(err("status"))?.mode != Mode::Armed {
             d.home_and_wait(Duration::from_secs(30))
