@@ -412,7 +412,7 @@ pub fn run(
             outs.push((out, c));
         }
         // The application's object step, once the scene has started.
-        if k >= pre && (k - pre) % div == 0 {
+        if k >= pre && (k - pre).is_multiple_of(div) {
             let (ramp, _) = smooth_step(scene_t, 0.0, TORQUE_RAMP_S);
             let weight = (ramp * config.mass_kg * config.gravity_m_s2) as f32;
             let mut wrench = Wrench {
@@ -423,8 +423,8 @@ pub fn run(
                 ObjectDesign::DeviceWrench => {
                     for (d, c) in devices.iter().zip(&latest) {
                         let (w, _) = d.mount.wrench_on_body::<Fast>(c, &body.state);
-                        wrench.force_n = wrench.force_n + w.force_n;
-                        wrench.torque_nm = wrench.torque_nm + w.torque_nm;
+                        wrench.force_n += w.force_n;
+                        wrench.torque_nm += w.torque_nm;
                     }
                     body.step::<Fast>(wrench.force_n, wrench.torque_nm, h);
                 }
