@@ -1,15 +1,15 @@
 //! The grasp rendered on two devices: each fingertip is a device plant (the Omega-like delta,
 //! its motors, encoders, bridges and the user's hand, [`crate::plant`]) running the one control
 //! pipeline on the local-model scene (what `host-sim serve` and the firmware run), and the object
-//! is the core's [`RigidBody`] stepped by the application at `model_hz` (100 Hz–1 kHz), its
-//! surface sent to each device as that device's local model. Between the two is
+//! is stepped by the application at 1 kHz ([`LinkConfig::object_hz`]), its surface sent to each
+//! device as that device's local model every `model_hz` period (100 Hz–1 kHz). Between the two is
 //! [`softfinger_core::grasp::remote`]: each device's rendered contact is the body's wrench, the
 //! body's pose each device's model pose.
 //!
-//! Per control tick (the board's rate) each device runs `closed_loop::step`; every
-//! `rate / model_hz` ticks the application reads each device's latest contact (as old as
-//! `latency_ms`), steps the body one model period under their reactions, gravity and the external
-//! torque, and sends each device the new pose (applied `latency_ms` later; the device slews to it
+//! Per control tick (the board's rate) each device runs `closed_loop::step`; every object period
+//! the application reads each device's latest contact (as old as `latency_ms`), steps the body
+//! under the contacts, gravity and the external torque, and every model period it sends each
+//! device the new pose (applied `latency_ms` later; the device slews to it
 //! over its blend time). So the link latency acts both ways, as over a real link.
 //!
 //! The devices stand upright on the desk and render their fingertip pressing along their own −z;
@@ -62,7 +62,7 @@ pub const BLEND_S: f32 = 0.0005;
 /// The link between the application and the devices.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct LinkConfig {
-    /// Rate at which the application steps the object and sends the models, Hz.
+    /// Rate at which the application sends the models, Hz.
     pub model_hz: f64,
     /// One-way delay of the link, each way, ms.
     pub latency_ms: f64,
@@ -74,6 +74,13 @@ pub struct LinkConfig {
 }
 
 impl LinkConfig {
+    /// The rate the application steps the object at, Hz: the model rate, or 1 kHz when models
+    /// go out more slowly (an explicit step of the stiff contacts at 5 ms diverges: measured, a
+    /// 0.1 kg object at 200 Hz dropped).
+    pub fn object_hz(&self) -> f64 {
+        self.model_hz.max(1000.0)
+    }
+
     /// How far ahead the application predicts the pose it sends, s: the downlink delay, half a
     /// model period (the device holds each model until the next) and half the blend (the device
     /// slews to a new pose over it). Zero without prediction.
@@ -257,7 +264,7 @@ pub fn run(
     };
     let mut body = RigidBody::new(config.body_params(), state0)
         .map_err(|e| ConfigError::Grasp(e.to_string()))?;
-    let h_model = (1.0 / link.model_hz) as f32;
+    let h_model = (1.0 / link.object_hz()) as f32;
     let grasp_err = |e: softfinger_core::grasp::GraspError| ConfigError::Grasp(e.to_string());
     let mut object = match config.shape {
         Shape::Sphere => HostObject::Sphere(
@@ -358,7 +365,8 @@ pub fn run(
     }
     let dt = 1.0 / DEVICE_RATE_HZ;
     let div = (DEVICE_RATE_HZ / link.model_hz).round() as u64;
-    let h = (div as f64 * dt) as f32;
+    let div_obj = (DEVICE_RATE_HZ / link.object_hz()).round() as u64;
+    let h = (div_obj as f64 * dt) as f32;
     let lead = link.lead_s() as f32;
     let lat_ticks = (link.latency_ms * 1e-3 * DEVICE_RATE_HZ).round() as u64;
     let pre = ((APPROACH_S + SQUEEZE_SETTLE_S) * DEVICE_RATE_HZ).round() as u64;
@@ -412,7 +420,7 @@ pub fn run(
             outs.push((out, c));
         }
         // The application's object step, once the scene has started.
-        if k >= pre && (k - pre).is_multiple_of(div) {
+        if k >= pre && (k - pre).is_multiple_of(div_obj) {
             let (ramp, _) = smooth_step(scene_t, 0.0, TORQUE_RAMP_S);
             let weight = (ramp * config.mass_kg * config.gravity_m_s2) as f32;
             let mut wrench = Wrench {
@@ -436,10 +444,12 @@ pub fn run(
                     body.state = object.step(tips, wrench);
                 }
             }
-            seq = seq.wrapping_add(1);
-            for d in devices.iter_mut() {
-                let m = model_spec(seq, kind, &d.mount, &body.state, &cp, lead);
-                d.down.push_back((k + 1 + lat_ticks, m));
+            if (k - pre).is_multiple_of(div) {
+                seq = seq.wrapping_add(1);
+                for d in devices.iter_mut() {
+                    let m = model_spec(seq, kind, &d.mount, &body.state, &cp, lead);
+                    d.down.push_back((k + 1 + lat_ticks, m));
+                }
             }
         }
         if k < pre {

@@ -98,8 +98,8 @@ pub struct Args {
     /// What drives the fingertips: ideal hands, or two device plants with the control pipeline.
     #[arg(long, value_enum, default_value_t = PlantKind::Ideal)]
     pub plant: PlantKind,
-    /// With `--plant devices`: the rate the application steps the object and sends each device
-    /// its model, Hz (divides 10000).
+    /// With `--plant devices`: the rate the application sends each device its model, Hz
+    /// (divides 10000; the object is stepped at 1 kHz, or at this rate when faster).
     #[arg(long, default_value_t = 1000.0)]
     pub model_hz: f64,
     /// With `--plant devices`: the link's one-way delay, each way, ms.
