@@ -86,3 +86,66 @@ fn bad_options_are_named_exit_2_and_write_nothing() {
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// Part 5's chart: the twist sweep holds both cases, torsion on and off, against the combined
+/// limit; the JSON's sweep has both series, torsion on held at zero torque, torsion off turned at
+/// its first non-zero torque.
+#[test]
+fn the_twist_sweep_chart_shows_torsion_on_and_off() {
+    let out = tmp("sweep");
+    let o = host_sim()
+        .args([
+            "grasp",
+            "--json",
+            "--sweep-points",
+            "3",
+            "--duration-s",
+            "0.6",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let svg = std::fs::read_to_string(out.join("twist_sweep.svg")).unwrap();
+    for s in [
+        "torsion on (soft fingers)",
+        "torsion off (point contacts)",
+        "2 tau_max",
+    ] {
+        assert!(svg.contains(s), "{s}");
+    }
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let sweep = &v["twist_sweep"];
+    let (on, off) = (
+        sweep["torsion_on"].as_array().unwrap(),
+        sweep["torsion_off"].as_array().unwrap(),
+    );
+    assert_eq!((on.len(), off.len()), (3, 3));
+    assert_eq!(on[0]["held"], serde_json::Value::Bool(true));
+    assert_eq!(off[1]["held"], serde_json::Value::Bool(false));
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The device options are checked before anything runs: named, exit 2, nothing written.
+#[test]
+fn bad_device_options_are_named_exit_2_and_write_nothing() {
+    for (flag, value) in [
+        ("--model-hz", "99"),
+        ("--model-hz", "300"),
+        ("--latency-ms", "-1"),
+        ("--latency-ms", "NaN"),
+    ] {
+        let out = tmp("bad-dev");
+        let o = host_sim()
+            .args(["grasp", "--plant", "devices", &format!("{flag}={value}")])
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{flag} {value}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(flag), "{flag} {value}: {err}");
+        assert!(!out.exists(), "{flag} {value}: output written");
+    }
+}

@@ -23,6 +23,7 @@ fn server_at(listen: &str) -> Server {
         watchdog_ms: 200.0,
         auto_arm: false,
         flash: None,
+        devices: 1,
         duration_s: None,
         quiet: true,
     })

@@ -25,6 +25,7 @@ fn args(listen: &str) -> Args {
         duration_s: None,
         quiet: true,
         flash: None,
+        devices: 1,
     }
 }
 

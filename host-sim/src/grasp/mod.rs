@@ -6,12 +6,14 @@
 //! | file | what |
 //! | --- | --- |
 //! | [`hand`] | the simulated hand driving one fingertip |
+//! | [`devices`] | the same scene on two device plants, each running the control pipeline, the object stepped by the application |
 //! | [`simulate`] | the scene: configuration, the run, one sample per tick |
 //! | [`verdict`] | held / slip / turn after settling |
 //! | [`sweep`] | the twist sweep across the combined torsional limit, torsion on and off |
 //! | [`charts`] | the SVG charts |
 
 pub mod charts;
+pub mod devices;
 pub mod hand;
 pub mod simulate;
 pub mod sweep;
@@ -37,6 +39,16 @@ pub enum GraspCmdError {
     /// The output folder could not be made.
     #[error("{0}: {1}")]
     OutDir(String, std::io::Error),
+}
+
+/// What drives the fingertips.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum PlantKind {
+    /// Ideal hands: force sources on point-mass fingertips, the object in the same loop.
+    Ideal,
+    /// Two device plants, each running the control pipeline on the object as its local model;
+    /// the object stepped by the application at `--model-hz` over a link of `--latency-ms`.
+    Devices,
 }
 
 /// Torsion on (soft fingers) or off (point contacts).
@@ -83,6 +95,23 @@ pub struct Args {
     /// Open both hands at this time, s.
     #[arg(long)]
     pub release_s: Option<f64>,
+    /// What drives the fingertips: ideal hands, or two device plants with the control pipeline.
+    #[arg(long, value_enum, default_value_t = PlantKind::Ideal)]
+    pub plant: PlantKind,
+    /// With `--plant devices`: the rate the application sends each device its model, Hz
+    /// (divides 10000; the object is stepped at 1 kHz, or at this rate when faster).
+    #[arg(long, default_value_t = 1000.0)]
+    pub model_hz: f64,
+    /// With `--plant devices`: the link's one-way delay, each way, ms.
+    #[arg(long, default_value_t = 0.0)]
+    pub latency_ms: f64,
+    /// With `--plant devices`: send the body's pose as it is, not predicted ahead by the delay
+    /// until the device renders it.
+    #[arg(long)]
+    pub no_predict: bool,
+    /// With `--plant devices`: where the application's object takes its contact forces from.
+    #[arg(long, value_enum, default_value_t = devices::ObjectDesign::HostContacts)]
+    pub object: devices::ObjectDesign,
     /// Points of the twist sweep (torsion on and off, 0 to 2x the combined limit; 0: no sweep).
     #[arg(long, default_value_t = 13)]
     pub sweep_points: usize,
@@ -140,6 +169,8 @@ pub struct Report {
     pub config: GraspConfig,
     /// The twist sweep (none with `--sweep-points` below 2).
     pub twist_sweep: Option<TwistSweep>,
+    /// What the devices add (only with `--plant devices`).
+    pub devices: Option<devices::DeviceFigures>,
 }
 
 /// The twist sweep of the report: torques from 0 to twice the combined torsional limit, no
@@ -171,6 +202,7 @@ pub fn report(run: &GraspRun, v: &Verdict) -> Report {
         tick_ns: run.tick_ns,
         config: *c,
         twist_sweep: None,
+        devices: None,
     }
 }
 
@@ -207,14 +239,47 @@ pub fn summary(r: &Report) -> String {
 /// `host-sim grasp`.
 pub fn main(args: &Args) -> Result<(), GraspCmdError> {
     let config = args.config();
-    let run = simulate::run(&config)?;
+    let (run, figures) = match args.plant {
+        PlantKind::Ideal => (simulate::run(&config)?, None),
+        PlantKind::Devices => {
+            let link = devices::LinkConfig {
+                model_hz: args.model_hz,
+                latency_ms: args.latency_ms,
+                predict: !args.no_predict,
+                design: args.object,
+            };
+            let (run, f) = devices::run(&config, &link)?;
+            (run, Some(f))
+        }
+    };
     let v = verdict::judge(&run);
     let mut r = report(&run, &v);
+    let mut text_extra = String::new();
+    if let Some(f) = &figures {
+        text_extra = format!(
+            "\non two device plants (the control pipeline at 10000 Hz, the object at {} Hz with {:?}, link delay {} ms each way, pose predicted {:.2} ms ahead): \
+             normal forces {:.2} N and {:.2} N, combined torsional limit there {:.2} mN·m; jitter {:.2} um, force step at model updates {:.4} N (between {:.4} N), armed throughout: {}, latched {}",
+            f.link.model_hz,
+            f.link.design,
+            f.link.latency_ms,
+            f.link.lead_s() * 1e3,
+            f.normal_force_n[0],
+            f.normal_force_n[1],
+            f.combined_tau_max_nm * 1e3,
+            f.jitter_um,
+            f.force_step_at_update_n,
+            f.force_step_between_n,
+            f.armed_throughout,
+            f.latched
+        );
+    }
+    r.devices = figures;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| GraspCmdError::OutDir(args.out.display().to_string(), e))?;
     let hysteresis = f64::from(config.contact_params().tolerances.hysteresis);
     let mut files = charts::write_all(&args.out, &run, hysteresis)?;
-    if args.sweep_points >= 2 {
+    // The sweep is of ideal fingertips (each of its runs on devices would home two plants).
+    if args.sweep_points >= 2 && args.plant == PlantKind::Ideal {
         let (on, off, limit) = sweep::sweep(&config, args.sweep_points, 2.0)?;
         let f = args.out.join("twist_sweep.svg");
         charts::twist_sweep(&f, &on, &off, limit)?;
@@ -225,7 +290,7 @@ pub fn main(args: &Args) -> Result<(), GraspCmdError> {
             torsion_off: off,
         });
     }
-    let text = summary(&r);
+    let text = summary(&r) + &text_extra;
     crate::chart::index_page::write(
         &args.out,
         "softfinger: two soft fingertips hold an object",

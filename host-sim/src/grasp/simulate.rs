@@ -265,7 +265,8 @@ pub fn run(config: &GraspConfig) -> Result<GraspRun, ConfigError> {
     }
 }
 
-fn smooth_step(t: f64, start: f64, len: f64) -> (f64, f64) {
+/// A raised-cosine step from 0 to 1 over `len` s from `start`: (value, rate in 1/s).
+pub(crate) fn smooth_step(t: f64, start: f64, len: f64) -> (f64, f64) {
     if t <= start {
         (0.0, 0.0)
     } else if t >= start + len {

@@ -52,6 +52,12 @@ pub struct Args {
     /// Stop after this many seconds (default: run until killed).
     #[arg(long)]
     pub duration_s: Option<f64>,
+    /// Serve this many independent virtual devices (1 or 2), each with its own plant, pipeline
+    /// and hand: device i listens on the port of `--listen` plus i (targets
+    /// `tcp:127.0.0.1:7700` and `tcp:127.0.0.1:7701` by default; with port 0, each on any free
+    /// port, all printed). With `--flash`, device i > 0 keeps its flash in FILE.i.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=2))]
+    pub devices: u8,
     /// Do not log connections, mode changes, model changes and faults (one line each on
     /// stdout, with the device time).
     #[arg(long)]
@@ -226,22 +232,102 @@ impl Server {
     }
 }
 
+/// The arguments of device `index` of `--devices`: its own port (the base port plus the index;
+/// port 0 stays 0, any free port) and, with `--flash`, its own flash file (FILE.index for
+/// index > 0).
+pub fn device_args(args: &Args, index: u8) -> Result<Args, ServeError> {
+    let mut a = args.clone();
+    if index == 0 {
+        return Ok(a);
+    }
+    let base: SocketAddr = args.listen.parse().map_err(|_| {
+        ServeError::Listen(
+            args.listen.clone(),
+            std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "--devices 2 needs --listen as IP:PORT",
+            ),
+        )
+    })?;
+    let mut addr = base;
+    if base.port() != 0 {
+        let port = base.port().checked_add(u16::from(index)).ok_or_else(|| {
+            ServeError::Listen(
+                args.listen.clone(),
+                std::io::Error::new(
+                    std::io::ErrorKind::InvalidInput,
+                    "no port above it for the next device",
+                ),
+            )
+        })?;
+        addr.set_port(port);
+    }
+    a.listen = addr.to_string();
+    a.flash = args.flash.as_ref().map(|f| {
+        let mut name = f.clone().into_os_string();
+        name.push(format!(".{index}"));
+        std::path::PathBuf::from(name)
+    });
+    Ok(a)
+}
+
+/// Start every device of `--devices` (device i on the base port plus i), in order; on an error
+/// the ones already started are stopped.
+pub fn start_all(args: &Args, log: Option<log::LogSink>) -> Result<Vec<Server>, ServeError> {
+    let mut servers: Vec<Server> = Vec::new();
+    for i in 0..args.devices {
+        let started = device_args(args, i).and_then(|a| Server::start_logging(&a, log.clone()));
+        match started {
+            Ok(s) => servers.push(s),
+            Err(e) => {
+                for s in servers {
+                    s.stop();
+                }
+                return Err(e);
+            }
+        }
+    }
+    Ok(servers)
+}
+
 /// Run `host-sim serve`.
 pub fn main(args: &Args) -> Result<(), ServeError> {
-    let server = Server::start(args)?;
-    println!(
-        "virtual device listening on {} (scene '{}'{}); Ctrl-C to stop",
-        server.addr(),
-        args.scene,
-        if args.auto_arm { ", armed" } else { "" }
-    );
+    if let Some(s) = args.duration_s {
+        if !(s.is_finite() && s > 0.0) {
+            return Err(ServeError::Duration(s));
+        }
+    }
+    let log: Option<log::LogSink> = if args.quiet {
+        None
+    } else {
+        Some(Arc::new(Mutex::new(std::io::stdout())))
+    };
+    let servers = start_all(args, log)?;
+    let armed = if args.auto_arm { ", armed" } else { "" };
+    for (i, server) in servers.iter().enumerate() {
+        if servers.len() == 1 {
+            println!(
+                "virtual device listening on {} (scene '{}'{armed}); Ctrl-C to stop",
+                server.addr(),
+                args.scene,
+            );
+        } else {
+            println!(
+                "virtual device {i} listening on {} (target tcp:{}; scene '{}'{armed}); Ctrl-C to stop",
+                server.addr(),
+                server.addr(),
+                args.scene,
+            );
+        }
+    }
     match args.duration_s {
-        Some(s) if s.is_finite() && s > 0.0 => thread::sleep(Duration::from_secs_f64(s)),
-        Some(s) => return Err(ServeError::Duration(s)),
+        Some(s) => thread::sleep(Duration::from_secs_f64(s)),
         None => loop {
             thread::sleep(Duration::from_secs(3600));
         },
     }
-    server.stop();
+    for server in servers {
+        server.stop();
+    }
     Ok(())
 }
