@@ -134,13 +134,13 @@ fn bad_input_is_counted_and_the_other_clients_go_on() {
 }
 
 fn bench_stream(t: &Target, s: f64) -> bench::StreamReport {
-    bench::stream_phase(t, s).unwrap()
+    bench::stream_phase(t, s, &BenchConfig::default()).unwrap()
 }
 fn bench_rtt(t: &Target, n: usize) -> bench::RttReport {
-    bench::rtt_phase(t, n).unwrap()
+    bench::rtt_phase(t, n, &BenchConfig::default()).unwrap()
 }
 fn bench_bad(t: &Target, delay: f64) -> bench::BadInputReport {
-    bench::bad_input_phase(t, delay).unwrap()
+    bench::bad_input_phase(t, delay, &BenchConfig::default()).unwrap()
 }
 
 /// A pressed finger: local models at 1 kHz are all applied, 1 mm jumps (2 N) are blended (no tick
