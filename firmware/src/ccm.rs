@@ -33,3 +33,11 @@ pub fn load() {
     cortex_m::asm::dsb();
     cortex_m::asm::isb();
 }
+
+/// The CCM addresses the tick's code occupies once loaded, `start..end`.
+pub fn loaded_range() -> (u32, u32) {
+    (
+        ptr::addr_of!(__sccm_text) as u32,
+        ptr::addr_of!(__eccm_text) as u32,
+    )
+}

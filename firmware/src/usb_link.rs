@@ -1,5 +1,5 @@
 //! The host link over USB (feature `usb`): a full-speed CDC-ACM function (embassy-usb) whose
-//! bytes feed the board-independent [`crate::link`] session, in two low-priority tasks: the USB
+//! bytes feed the board-independent [`softfinger_app::link`] session, in two low-priority tasks: the USB
 //! device task and the link task. The USB interrupt (USB_LP) stays at the lowest priority set by
 //! `board::stm32g474::prepare_core`; the tick (TIM6, priority 0) preempts all of it.
 //!
@@ -22,8 +22,8 @@ use embassy_usb::{Builder, UsbDevice};
 use heapless::spsc::Producer;
 use softfinger_core::control::pipeline::Command;
 
-use crate::link::session::{CommandSink, LinkSession};
-use crate::link::task::LinkQueues;
+use softfinger_app::link::session::{CommandSink, LinkSession};
+use softfinger_app::link::task::LinkQueues;
 
 /// USB vendor id: pid.codes' open-source vendor id (host/src/usb.rs finds the device by it).
 pub const USB_VID: u16 = 0x1209;
@@ -119,7 +119,7 @@ pub async fn run<const TX: usize>(
                 Either::First(Ok(n)) => {
                     for &b in &rx[..n] {
                         if session.receive(b, &mut commands) {
-                            crate::tick::note_link_activity();
+                            softfinger_app::tick::note_link_activity();
                         }
                     }
                 }

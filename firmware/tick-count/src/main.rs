@@ -17,22 +17,8 @@
 //! cycles each way on the M4), wait states.
 #![no_std]
 #![no_main]
-#![allow(dead_code)] // the firmware's config module is shared whole
 
-#[path = "../../src/board/interface.rs"]
-mod board;
-#[path = "../../src/config.rs"]
-mod config;
 mod fake_hw;
-#[allow(unsafe_code)]
-#[path = "../../src/isr_cell.rs"]
-mod isr_cell;
-#[path = "../../src/stream.rs"]
-mod stream;
-#[path = "../../src/stream_point.rs"]
-mod stream_point;
-#[path = "../../src/tick.rs"]
-mod tick;
 
 use core::hint::black_box;
 use core::sync::atomic::AtomicU32;
@@ -45,31 +31,27 @@ use cortex_m_semihosting::{debug, hprintln};
 use heapless::spsc::{Consumer, Producer, Queue};
 use softfinger_core::control::pipeline::{Command, Mode, PipelineRecord, TimingSummary};
 
+use softfinger_app::{config, stream, tick};
+
 use fake_hw::{outputs, FakeStm32, Outputs, ENC_CNT, GPIOB_IDR, TIM1_SR, TIM6_CNT};
-use isr_cell::IsrCell;
-use tick::{published_mode, CommandOutcome, ControlLoop, TickQueues, STATUS};
+use softfinger_app::isr_cell::IsrCell;
+use softfinger_app::tick::{published_mode, CommandOutcome, ControlLoop, TickQueues, STATUS};
 
 /// Ticks per measurement.
 const N: u32 = 1000;
 /// Instructions per SysTick count: 25 MHz SysTick, 1 ns per instruction under `-icount shift=0`.
 const INSTRUCTIONS_PER_COUNT: u32 = 40;
 
-/// The tick's state stream: as the USB build with the host link's fastest stream (every
-/// `STREAM_DIVISOR`-th tick streamed, into a queue drained between measurements), or none as the
-/// default build.
-#[cfg(feature = "local-model")]
+/// The tick's state stream: as the firmware with the host link's fastest stream (every
+/// `STREAM_DIVISOR`-th tick streamed, into a queue drained between measurements).
 type StreamTx = Producer<'static, stream::StreamPoint>;
-#[cfg(not(feature = "local-model"))]
-type StreamTx = stream::NoStream;
 
 /// The host link's smallest stream divisor at the control rate (its fastest stream, 2 kHz), so a
 /// fifth of the measured ticks at 10 kHz are streamed.
-#[cfg(feature = "local-model")]
 const STREAM_DIVISOR: u16 = stream::min_stream_divisor(config::CONTROL_RATE_HZ);
 
 /// Stream points queued between two drains: more than one measurement's (`N / STREAM_DIVISOR`),
 /// so every streamed tick queues its point.
-#[cfg(feature = "local-model")]
 const STREAM_QUEUE_LEN: usize = 512;
 
 static CONTROL: IsrCell<ControlLoop<FakeStm32, StreamTx>> = IsrCell::new();
@@ -108,7 +90,6 @@ struct Queues {
     outcomes: Consumer<'static, CommandOutcome>,
     records: Consumer<'static, PipelineRecord>,
     summaries: Consumer<'static, TimingSummary>,
-    #[cfg(feature = "local-model")]
     stream: Consumer<'static, stream::StreamPoint>,
     last_record: PipelineRecord,
 }
@@ -121,7 +102,6 @@ impl Queues {
         while let Some(r) = self.records.dequeue() {
             self.last_record = r;
         }
-        #[cfg(feature = "local-model")]
         while self.stream.dequeue().is_some() {}
     }
 }
@@ -215,17 +195,12 @@ fn main() -> ! {
     let (otx, orx) = oq.split();
     let (rtx, rrx) = rq.split();
     let (stx, srx) = sq.split();
-    #[cfg(feature = "local-model")]
     let Some(pq) =
         cortex_m::singleton!(: Queue<stream::StreamPoint, STREAM_QUEUE_LEN> = Queue::new())
     else {
         fail("queues")
     };
-    #[cfg(feature = "local-model")]
     let (ptx, prx) = pq.split();
-    #[cfg(not(feature = "local-model"))]
-    let ptx = stream::NoStream;
-    #[cfg(feature = "local-model")]
     stream::set_divisor(STREAM_DIVISOR);
     let tick_queues = TickQueues {
         commands: crx,
@@ -245,7 +220,6 @@ fn main() -> ! {
         outcomes: orx,
         records: rrx,
         summaries: srx,
-        #[cfg(feature = "local-model")]
         stream: prx,
         last_record: PipelineRecord::default(),
     };

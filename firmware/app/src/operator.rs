@@ -16,6 +16,7 @@ use softfinger_core::control::pipeline::{Command, Mode};
 
 use crate::board::OperatorButton;
 use crate::config;
+use crate::link::session::CommandSink;
 use crate::tick::published_mode;
 
 /// Surface stiffness presets (N/m) cycled by a very long press: soft, the default, stiff.
@@ -69,7 +70,7 @@ fn short_press_command(mode: Mode) -> Option<Command> {
 }
 
 /// Serve the button forever (the board binary spawns this as a task).
-pub async fn run(mut button: impl OperatorButton, mut commands: crate::CommandTx) {
+pub async fn run(mut button: impl OperatorButton, mut commands: impl CommandSink) {
     let mut preset = 1; // the default stiffness
     loop {
         let press = next_press(&mut button).await;
@@ -89,7 +90,7 @@ pub async fn run(mut button: impl OperatorButton, mut commands: crate::CommandTx
             None => info!("button: {} press while {}; hold 1 s to home", press, mode),
             Some(c) => {
                 info!("button: {} press while {}: {}", press, mode, c);
-                if commands.enqueue(c).is_err() {
+                if !commands.try_submit(c) {
                     warn!("operator command dropped: queue full (tick not running?)");
                 }
             }
