@@ -37,8 +37,8 @@ use softfinger_app::tick::{self, CommandOutcome, ControlLoop};
 use softfinger_app::{config, failsafe, link, logger, operator, queues, stream, supervisor};
 use softfinger_core::control::pipeline::Command;
 
-/// The operator's end of the tick's command queue (shared with the USB link when there is one).
-pub type CommandTx = usb_link::SharedCommands;
+/// The operator's end of the tick's command queue (the link has a queue of its own).
+pub type CommandTx = Producer<'static, Command>;
 
 type OutcomeTap = Producer<'static, CommandOutcome>;
 
@@ -73,13 +73,14 @@ fn main() -> ! {
     })
 }
 
-/// The USB device and the link tasks; returns the queue the supervisor forwards to, the tick's
-/// end of the stream queue, and the operator's share of the command queue.
+/// The USB device and the link tasks, the link sending to the tick's link command queue
+/// (`link_commands`); returns the queue the supervisor forwards to and the tick's end of the
+/// stream queue.
 fn start_usb_link(
     spawner: &Spawner,
     usb: bsp::UsbParts,
-    commands: Producer<'static, Command>,
-) -> Option<(OutcomeTap, bsp::StreamTx, CommandTx)> {
+    link_commands: Producer<'static, Command>,
+) -> Option<(OutcomeTap, bsp::StreamTx)> {
     let link_stream = cortex_m::singleton!(
         : Queue<stream::StreamPoint, {stream::QUEUE_LEN}> = Queue::new()
     )?;
@@ -87,17 +88,20 @@ fn start_usb_link(
         cortex_m::singleton!(: Queue<CommandOutcome, {usb_link::LINK_QUEUE_LEN}> = Queue::new())?;
     let (stream_tx, stream) = link_stream.split();
     let (outcomes_tx, outcomes) = link_outcomes.split();
-    let (operator, link) = usb_link::SharedCommands::new(commands)?;
     let (device, class) = usb_link::build(usb.driver())?;
     match usb_device_task(device) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("USB task not spawned: {}", e),
     }
-    match usb_link_task(class, link, link::task::LinkQueues { outcomes, stream }) {
+    match usb_link_task(
+        class,
+        link_commands,
+        link::task::LinkQueues { outcomes, stream },
+    ) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("USB link task not spawned: {}", e),
     }
-    Some((outcomes_tx, stream_tx, operator))
+    Some((outcomes_tx, stream_tx))
 }
 
 #[embassy_executor::task]
@@ -108,7 +112,7 @@ async fn usb_device_task(mut device: embassy_usb::UsbDevice<'static, usb_link::U
 #[embassy_executor::task]
 async fn usb_link_task(
     class: embassy_usb::class::cdc_acm::CdcAcmClass<'static, usb_link::UsbDriver>,
-    commands: usb_link::SharedCommands,
+    commands: Producer<'static, Command>,
     queues: link::task::LinkQueues,
 ) {
     let pipeline = config::pipeline_config();
@@ -166,10 +170,10 @@ async fn start(spawner: Spawner) {
         button,
         usb,
     } = Board::new(periph);
-    let Some((outcome_tap, stream_tx, command_tx)) = start_usb_link(&spawner, usb, tasks.commands)
-    else {
+    let Some((outcome_tap, stream_tx)) = start_usb_link(&spawner, usb, tasks.link_commands) else {
         return;
     };
+    let command_tx = tasks.commands;
     match logger::task(tasks.records, tasks.summaries) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("logger task not spawned: {}", e),

@@ -4,6 +4,7 @@
 
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
+use softfinger_core::control::operator::ButtonTiming;
 use softfinger_core::control::pipeline::{BoardTiming, PipelineConfig};
 use softfinger_core::device::delta::DeltaGeometry;
 use softfinger_core::device::{DeviceDefinition, OMEGA_LIKE};
@@ -117,11 +118,10 @@ pub const SUPERVISOR_POLL_MS: u64 = 10;
 /// for 5 ms (50 ticks at 10 kHz).
 pub const WATCHDOG_TIMEOUT_US: u32 = 5_000;
 
-/// User-button debounce, ms.
-pub const BUTTON_DEBOUNCE_MS: u64 = 30;
+/// The operator button's timing (softfinger-core's default, the one host-sim's fault campaign
+/// uses): 20 ms debounce, 1 s long press, 3 s very long press.
+pub const BUTTON_TIMING: ButtonTiming = ButtonTiming::DEFAULT;
 
-/// A press held at least this long is a long press (home), ms.
-pub const LONG_PRESS_MS: u64 = 1_000;
-
-/// A press held at least this long is a very long press (next stiffness preset), ms.
-pub const VERY_LONG_PRESS_MS: u64 = 3_000;
+/// How often the button task samples the button while a press is in progress, ms (it waits for
+/// the button's edge otherwise). The debounce is then 4 samples.
+pub const BUTTON_SAMPLE_MS: u64 = 5;

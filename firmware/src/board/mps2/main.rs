@@ -192,6 +192,7 @@ fn spawn_command_side(
     rate_hz: u32,
     config: &PipelineConfig<config::TickScene>,
     command_tx: Producer<'static, Command>,
+    link_command_tx: Producer<'static, Command>,
     outcome_rx: Consumer<'static, CommandOutcome>,
 ) -> (Producer<'static, Command>, hw::StreamTx) {
     if host_link {
@@ -199,7 +200,7 @@ fn spawn_command_side(
             error!("the host link needs the local-model build (as the STM32's USB build)");
             exit(false)
         };
-        match host_link_task(host_link_config(rate_hz, config), command_tx, queues) {
+        match host_link_task(host_link_config(rate_hz, config), link_command_tx, queues) {
             Ok(t) => spawner.spawn(t),
             Err(e) => error!("host link task not spawned: {}", e),
         }
@@ -258,6 +259,7 @@ async fn main(spawner: Spawner) {
         rate_hz,
         &config,
         tasks.commands,
+        tasks.link_commands,
         tasks.outcomes,
     );
     let fault = hw::Injected::from_code(fault_code);
