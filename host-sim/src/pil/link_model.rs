@@ -19,7 +19,7 @@ use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::local_model::RendererConfig;
 use softfinger_core::Flags;
 use softfinger_protocol::{
-    AckResult, ContactState, LocalModel, Mode, Request, StateSample, SurfaceShape,
+    AckResult, ContactState, ErrorCode, LocalModel, Mode, Request, StateSample, SurfaceShape,
 };
 
 /// The default contact material and fingertip (the firmware's, `config::pipeline_config`).
@@ -53,6 +53,10 @@ const CONTACT_POINT_TOL_M: f32 = 1.5e-7;
 
 /// The communication watchdog's timeout for the test, ms.
 const WATCHDOG_MS: u16 = 50;
+
+/// The watchdog the check arms with, ms: long enough for its waits without pings (the firmware
+/// turns a 200 ms watchdog on for a host that arms with it off, `Pipeline::link_command`).
+pub(super) const HOLD_WATCHDOG_MS: u16 = 5_000;
 
 /// After the first sample flagged COMM_TIMEOUT the force is exactly zero from this long on, s:
 /// the watchdog latched at or before that sample, and its gain reaches 0 within the fade
@@ -332,11 +336,17 @@ fn watchdog_silence(
     Ok(())
 }
 
-/// Check 3, last part: watchdog off, re-armed: the latch clears and the force returns.
+/// Check 3, last part: the watchdog cannot be turned off while the host keeps the device armed;
+/// a long one, re-armed: the latch clears and the force returns.
 fn watchdog_off_and_rearm(c: &mut Client, r: &mut LinkReport) -> Result<(), LinkError> {
-    // Watchdog off (itself a message), then re-arm: the latch clears and the force comes back.
+    // Watchdog off (itself a message): refused while this host holds the device armed
+    // (`CommandError::WatchdogRequired`, on the wire InvalidValue).
     let seq = c.request(Request::SetWatchdog { timeout_ms: 0 })?;
     let off = c.ack(seq)?;
+    let seq = c.request(Request::SetWatchdog {
+        timeout_ms: HOLD_WATCHDOG_MS,
+    })?;
+    let long = c.ack(seq)?;
     let seq = c.request(Request::Arm)?;
     let rearm = c.ack(seq)?;
     let seen = c.states.len();
@@ -346,9 +356,11 @@ fn watchdog_off_and_rearm(c: &mut Client, r: &mut LinkReport) -> Result<(), Link
             .any(|x| !timed_out(x) && x.force_n[2] > 0.0)
     })?;
     r.check(
-        "watchdog off and re-armed: the latch clears, the force returns",
-        off == AckResult::Ok && rearm == AckResult::Ok,
-        format!("{off:?} {rearm:?}"),
+        "watchdog off refused while host-armed; a long one and re-armed: the latch clears, the force returns",
+        off == AckResult::Err(ErrorCode::InvalidValue)
+            && long == AckResult::Ok
+            && rearm == AckResult::Ok,
+        format!("{off:?} {long:?} {rearm:?}"),
     );
     Ok(())
 }
