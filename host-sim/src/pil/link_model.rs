@@ -89,7 +89,12 @@ pub(super) fn model(seq: u32, shape: SurfaceShape, position_m: [f32; 3]) -> Loca
 }
 
 /// Send `m`; the ack, then `SAMPLES` states from `settle_ticks` after the first state that
-/// followed the ack (records queued before the model applied are at most a few ticks old).
+/// followed the ack and names `m` (`model_seq`: the renderer names the incoming model once its
+/// weight reaches ½, so its blend is over within `settle_ticks` of that state). The first state
+/// after the ack alone is not a bound: the link task can send the ack before stream points the
+/// tick queued before it applied the model (host-link commands go through a queue of their own
+/// that the tick applies), and a run here started the force check 3 ticks inside the blend
+/// (10.2 N of 12 N, weight 0.85).
 fn switch_to(
     c: &mut Client,
     m: LocalModel,
@@ -98,7 +103,17 @@ fn switch_to(
     let seq = c.request(Request::SetLocalModel(m))?;
     let ack = c.ack(seq)?;
     let seen = c.states.len();
-    let first = c.wait_states(seen + 1)?[seen].tick;
+    let first = if ack == AckResult::Ok {
+        c.wait_for(|s| s.iter().skip(seen).any(|x| x.model_seq == m.seq))?;
+        c.states
+            .iter()
+            .skip(seen)
+            .find(|x| x.model_seq == m.seq)
+            .map(|x| x.tick)
+            .ok_or(LinkError::NoState)?
+    } else {
+        c.wait_states(seen + 1)?[seen].tick
+    };
     let from = first + settle_ticks;
     c.wait_for(|s| s.iter().filter(|x| x.tick >= from).count() >= SAMPLES)?;
     let after: Vec<StateSample> = c
