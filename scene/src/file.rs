@@ -356,20 +356,31 @@ impl Scene {
 mod tests {
     use super::*;
 
+    /// The first built-in scene with its `model = "..."` line replaced by `line` (whatever
+    /// model it names today).
+    fn with_model_line(line: &str) -> String {
+        let text = BUILT_IN[0].1;
+        assert!(
+            text.lines().any(|l| l.starts_with("model = ")),
+            "the scene names a model"
+        );
+        text.lines()
+            .map(|l| if l.starts_with("model = ") { line } else { l })
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
     #[test]
     fn a_scene_names_a_known_model_or_is_refused() {
-        let text = BUILT_IN[0]
-            .1
-            .replace("model = \"full\"", "model = \"spin-rolling\"");
-        let s = Scene::parse(&text, "x").unwrap();
+        let s = Scene::parse(&with_model_line("model = \"spin-rolling\""), "x").unwrap();
         assert_eq!(s.model(), Ok(ModelChoice::SpinRolling));
         assert_eq!(Scene::parse(&s.to_toml(), "x").unwrap(), s);
-        let bad = BUILT_IN[0]
-            .1
-            .replace("model = \"full\"", "model = \"fulll\"");
+        let s = Scene::parse(&with_model_line("model = \"full\""), "x").unwrap();
+        assert_eq!(s.model(), Ok(ModelChoice::Full));
+        let bad = with_model_line("model = \"fulll\"");
         let e = Scene::parse(&bad, "x").unwrap_err().to_string();
         assert!(e.contains("unknown model 'fulll'"), "{e}");
-        let none = BUILT_IN[0].1.replace("model = \"full\"", "");
+        let none = with_model_line("");
         assert_eq!(
             Scene::parse(&none, "x").unwrap().model(),
             Ok(ModelChoice::Full)
