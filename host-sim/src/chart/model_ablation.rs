@@ -6,7 +6,8 @@
 //! marked.
 
 use crate::chart::style::{
-    draw_axes, draw_line, draw_markers, drawing_err, linear_range, render_svg, Shape, FONT, PALETTE,
+    draw_axes, draw_line, draw_markers, draw_side_legend, drawing_err, linear_range, render_svg,
+    split_for_legend, Entry, Key, Shape, FONT, PALETTE,
 };
 use crate::error::ChartError;
 use crate::model::Report;
@@ -48,20 +49,53 @@ pub fn write(path: &Path, report: &Report) -> Result<(), ChartError> {
         .filter_map(|r| r.instructions.map(|n| (n as f64, worst_ratio(r, true))))
         .collect();
     let (x_lo, x_hi) = linear_range(pts.iter().map(|p| p.0), 20.0, 0.0);
-    let y_hi = with_torque.iter().map(|p| p.1).fold(10.0f64, f64::max) * 300.0; // room above the points for the legend
-    render_svg(path, (760, 480), |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                format!(
-                    "{}: contact model cost against difference (least: {}, named: {})",
+    let y_hi = with_torque.iter().map(|p| p.1).fold(10.0f64, f64::max) * 4.0;
+    let labels = label_positions(&pts, x_hi - x_lo);
+    let choice = if device {
+        "model choice"
+    } else {
+        "model choice (force, path: this device shows no torque)"
+    };
+    let mut entries = vec![
+        Entry {
+            label: "yardstick (just noticeable)".into(),
+            key: Key::Line(RED, None),
+        },
+        Entry {
+            label: choice.into(),
+            key: Key::Marker(PALETTE[0], Shape::Circle),
+        },
+    ];
+    if !device {
+        entries.push(Entry {
+            label: "the same if the spin torque were displayed".into(),
+            key: Key::Marker(PALETTE[1], Shape::Triangle),
+        });
+    }
+    entries.push(Entry {
+        label: "named in the scene file (ringed)".into(),
+        key: Key::Marker(BLACK, Shape::Circle),
+    });
+    render_svg(path, (900, 480), |root| {
+        let root = root
+            .titled(
+                &format!(
+                    "{}: which contact model does this scene need? Cost against difference \
+                     (least: {}, named: {})",
                     report.scene, report.least_model, report.named_model
                 ),
-                (FONT, 17),
+                (FONT, 16),
             )
+            .map_err(drawing_err)?;
+        let (plot, legend) = split_for_legend(&root, &entries, 12);
+        if let Some(l) = &legend {
+            draw_side_legend(&l.margin(10, 0, 0, 0), &entries, 12)?;
+        }
+        let mut chart = ChartBuilder::on(&plot)
             .margin(12)
             .x_label_area_size(44)
             .y_label_area_size(64)
-            .build_cartesian_2d(x_lo..x_hi, (RATIO_FLOOR / 2.0..y_hi).log_scale())
+            .build_cartesian_2d(x_lo..x_hi, (RATIO_FLOOR / 5.0..y_hi).log_scale())
             .map_err(drawing_err)?;
         draw_axes(
             &mut chart,
@@ -72,27 +106,17 @@ pub fn write(path: &Path, report: &Report) -> Result<(), ChartError> {
             &mut chart,
             &[(x_lo, 1.0), (x_hi, 1.0)],
             ShapeStyle::from(&RED).stroke_width(2),
-            Some("yardstick (just noticeable)"),
+            None,
         )?;
         let all: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.1)).collect();
-        draw_markers(
-            &mut chart,
-            &all,
-            Shape::Circle,
-            PALETTE[0].filled(),
-            Some(if device {
-                "model choice"
-            } else {
-                "model choice (force, path: this device shows no torque)"
-            }),
-        )?;
+        draw_markers(&mut chart, &all, Shape::Circle, PALETTE[0].filled(), None)?;
         if !device {
             draw_markers(
                 &mut chart,
                 &with_torque,
                 Shape::Triangle,
                 PALETTE[1].stroke_width(2),
-                Some("the same if the spin torque were displayed"),
+                None,
             )?;
         }
         if let Some(&(x, y, _)) = pts.iter().find(|p| p.2 == report.named_model) {
@@ -102,15 +126,54 @@ pub fn write(path: &Path, report: &Report) -> Result<(), ChartError> {
                     9,
                     ShapeStyle::from(&BLACK).stroke_width(2),
                 )))
-                .map_err(drawing_err)?
-                .label("named in the scene file")
-                .legend(|(x, y)| Circle::new((x, y), 6, ShapeStyle::from(&BLACK).stroke_width(2)));
+                .map_err(drawing_err)?;
         }
         chart
-            .draw_series(pts.iter().map(|&(x, y, name)| {
-                Text::new(name.to_string(), (x, y * 1.4), (FONT, 13).into_font())
+            .draw_series(pts.iter().zip(&labels).map(|(&(_, _, name), &at)| {
+                Text::new(name.to_string(), at, (FONT, 13).into_font())
             }))
             .map_err(drawing_err)?;
-        crate::chart::style::draw_legend(&mut chart, SeriesLabelPosition::UpperRight, 13)
+        Ok(())
     })
+}
+
+/// Where each point's label goes, in data coordinates: right of the point (clear of the ring),
+/// above it; a point whose label would meet an earlier one's (closer than 12 % of the x span and
+/// within a factor 4 in y) takes the next slot below instead, so no two labels overlap.
+fn label_positions(pts: &[(f64, f64, &str)], x_span: f64) -> Vec<(f64, f64)> {
+    let dx = 0.015 * x_span;
+    let mut placed: Vec<(f64, f64, usize)> = Vec::new();
+    pts.iter()
+        .map(|&(x, y, _)| {
+            let near = placed
+                .iter()
+                .filter(|&&(px, py, _)| {
+                    (px - x).abs() < 0.12 * x_span && (py / y).ln().abs() < 4f64.ln()
+                })
+                .map(|&(_, _, slot)| slot + 1)
+                .max()
+                .unwrap_or(0);
+            placed.push((x, y, near));
+            // Slot 0 above the point, then each further slot a factor 3 lower.
+            (x + dx, y * 1.4 / 3f64.powi(near as i32))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod label_tests {
+    use super::label_positions;
+
+    #[test]
+    fn labels_of_nearby_points_take_different_slots() {
+        // spin-rolling and full: 5 instructions apart at the same ratio (finger-on-plane).
+        let pts = [(256.0, 8.0, "a"), (435.0, 1e-3, "b"), (440.0, 1e-3, "c")];
+        let l = label_positions(&pts, 200.0);
+        assert_eq!(l[0].1, 8.0 * 1.4);
+        assert_eq!(l[1].1, 1e-3 * 1.4);
+        assert!((l[2].1 - 1e-3 * 1.4 / 3.0).abs() < 1e-12, "{l:?}");
+        // Far apart in x: both above their points.
+        let l = label_positions(&[(256.0, 1.0, "a"), (440.0, 1.0, "b")], 200.0);
+        assert_eq!(l[0].1, l[1].1);
+    }
 }
