@@ -17,22 +17,8 @@
 //! cycles each way on the M4), wait states.
 #![no_std]
 #![no_main]
-#![allow(dead_code)] // the firmware's config module is shared whole
 
-#[path = "../../src/board/interface.rs"]
-mod board;
-#[path = "../../src/config.rs"]
-mod config;
 mod fake_hw;
-#[allow(unsafe_code)]
-#[path = "../../src/isr_cell.rs"]
-mod isr_cell;
-#[path = "../../src/stream.rs"]
-mod stream;
-#[path = "../../src/stream_point.rs"]
-mod stream_point;
-#[path = "../../src/tick.rs"]
-mod tick;
 
 use core::hint::black_box;
 use core::sync::atomic::AtomicU32;
@@ -45,31 +31,27 @@ use cortex_m_semihosting::{debug, hprintln};
 use heapless::spsc::{Consumer, Producer, Queue};
 use softfinger_core::control::pipeline::{Command, Mode, PipelineRecord, TimingSummary};
 
+use softfinger_app::{config, stream, tick};
+
 use fake_hw::{outputs, FakeStm32, Outputs, ENC_CNT, GPIOB_IDR, TIM1_SR, TIM6_CNT};
-use isr_cell::IsrCell;
-use tick::{published_mode, CommandOutcome, ControlLoop, TickQueues, STATUS};
+use softfinger_app::isr_cell::IsrCell;
+use softfinger_app::tick::{published_mode, CommandOutcome, ControlLoop, TickQueues, STATUS};
 
 /// Ticks per measurement.
 const N: u32 = 1000;
 /// Instructions per SysTick count: 25 MHz SysTick, 1 ns per instruction under `-icount shift=0`.
 const INSTRUCTIONS_PER_COUNT: u32 = 40;
 
-/// The tick's state stream: as the USB build with the host link's fastest stream (every
-/// `STREAM_DIVISOR`-th tick streamed, into a queue drained between measurements), or none as the
-/// default build.
-#[cfg(feature = "local-model")]
+/// The tick's state stream: as the firmware with the host link's fastest stream (every
+/// `STREAM_DIVISOR`-th tick streamed, into a queue drained between measurements).
 type StreamTx = Producer<'static, stream::StreamPoint>;
-#[cfg(not(feature = "local-model"))]
-type StreamTx = stream::NoStream;
 
 /// The host link's smallest stream divisor at the control rate (its fastest stream, 2 kHz), so a
 /// fifth of the measured ticks at 10 kHz are streamed.
-#[cfg(feature = "local-model")]
 const STREAM_DIVISOR: u16 = stream::min_stream_divisor(config::CONTROL_RATE_HZ);
 
 /// Stream points queued between two drains: more than one measurement's (`N / STREAM_DIVISOR`),
 /// so every streamed tick queues its point.
-#[cfg(feature = "local-model")]
 const STREAM_QUEUE_LEN: usize = 512;
 
 static CONTROL: IsrCell<ControlLoop<FakeStm32, StreamTx>> = IsrCell::new();
@@ -95,6 +77,9 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 /// The body of `TIM6_DAC` (board/stm32g474.rs), with the fake tick timer.
 #[inline(never)]
 fn isr() {
+    // The thread mode's heartbeat (the board's logger task beats it every 5 ms): without it the
+    // tick would stop the outputs (THREAD_STALLED) after 50 ms.
+    tick::thread_heartbeat();
     let entry = TIM6_CNT.load(Relaxed) & 0xFFFF;
     // SAFETY: only this function calls `get_mut`, and it never re-enters itself.
     match unsafe { CONTROL.get_mut() } {
@@ -108,7 +93,6 @@ struct Queues {
     outcomes: Consumer<'static, CommandOutcome>,
     records: Consumer<'static, PipelineRecord>,
     summaries: Consumer<'static, TimingSummary>,
-    #[cfg(feature = "local-model")]
     stream: Consumer<'static, stream::StreamPoint>,
     last_record: PipelineRecord,
 }
@@ -121,7 +105,6 @@ impl Queues {
         while let Some(r) = self.records.dequeue() {
             self.last_record = r;
         }
-        #[cfg(feature = "local-model")]
         while self.stream.dequeue().is_some() {}
     }
 }
@@ -134,6 +117,8 @@ fn now() -> u32 {
 /// `step(SCRATCH)` and no `isr` (the same work on counters no tick reads).
 fn measure(step: &mut impl FnMut(&[AtomicU32; 6])) -> u32 {
     let t0 = now();
+    // `isr` beats the thread mode's heartbeat first (the logger's, on the board): not the tick's
+    // cost, so the loop without the tick beats it too.
     for _ in 0..N {
         step(black_box(&ENC_CNT));
         isr();
@@ -141,6 +126,7 @@ fn measure(step: &mut impl FnMut(&[AtomicU32; 6])) -> u32 {
     let t1 = now();
     for _ in 0..N {
         step(black_box(&SCRATCH));
+        tick::thread_heartbeat();
         black_box(());
     }
     let t2 = now();
@@ -203,7 +189,8 @@ fn main() -> ! {
     let Ok(pipeline) = tick::TickPipeline::new(config::pipeline_config()) else {
         fail("pipeline configuration")
     };
-    let (Some(cq), Some(oq), Some(rq), Some(sq)) = (
+    let (Some(cq), Some(lq), Some(oq), Some(rq), Some(sq)) = (
+        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
         cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
         cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
         cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new()),
@@ -212,23 +199,21 @@ fn main() -> ! {
         fail("queues")
     };
     let (ctx, crx) = cq.split();
+    // The host link's queue: empty here (the operator's commands drive the phases).
+    let (_ltx, lrx) = lq.split();
     let (otx, orx) = oq.split();
     let (rtx, rrx) = rq.split();
     let (stx, srx) = sq.split();
-    #[cfg(feature = "local-model")]
     let Some(pq) =
         cortex_m::singleton!(: Queue<stream::StreamPoint, STREAM_QUEUE_LEN> = Queue::new())
     else {
         fail("queues")
     };
-    #[cfg(feature = "local-model")]
     let (ptx, prx) = pq.split();
-    #[cfg(not(feature = "local-model"))]
-    let ptx = stream::NoStream;
-    #[cfg(feature = "local-model")]
     stream::set_divisor(STREAM_DIVISOR);
     let tick_queues = TickQueues {
         commands: crx,
+        link_commands: lrx,
         outcomes: otx,
         records: rtx,
         summaries: stx,
@@ -245,7 +230,6 @@ fn main() -> ! {
         outcomes: orx,
         records: rrx,
         summaries: srx,
-        #[cfg(feature = "local-model")]
         stream: prx,
         last_record: PipelineRecord::default(),
     };
