@@ -3,6 +3,7 @@
 //! physical units, derived for the control rate by the pipeline).
 
 use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::RollingOnly;
 use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
 use softfinger_core::control::operator::ButtonTiming;
 use softfinger_core::control::pipeline::{BoardTiming, PipelineConfig};
@@ -66,7 +67,7 @@ pub const BENCH_WATCHDOG_MS: u16 = 0;
 
 /// The scene the tick renders: the application's local model, initially the default scene's
 /// plane (what a device nobody talks to renders).
-pub type TickScene = LocalModelScene;
+pub type TickScene = LocalModelScene<RollingOnly>;
 
 /// The local model until an application sends one: the default scene's plane (top at
 /// [`INITIAL_PLANE_TOP_M`], the default contact material, never stale), the watchdog off
@@ -76,7 +77,7 @@ fn scene(contact: &ContactParams) -> (TickScene, Vec3) {
     let initial = LocalModelSpec::plane(0, ModelPose::at(INITIAL_PLANE_TOP_M), contact);
     let scene = LocalModelScene {
         watchdog_timeout_s: f32::from(BENCH_WATCHDOG_MS) * 1e-3,
-        ..LocalModelScene::new(initial)
+        ..LocalModelScene::with_parts(initial)
     };
     (scene, Vec3::ZERO)
 }
