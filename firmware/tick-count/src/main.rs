@@ -11,7 +11,8 @@
 //! real command sequence: power-up (Unhomed), Home, homing drive with the arms moving down, the stall at
 //! the far stops, the arms moved up the mechanism's range to the reference stops and stalled
 //! there, the arms moved to the park angle, Disarmed, Arm (the force ramping in), then the arms
-//! moved down until the probe touches the plane, Armed in contact.
+//! moved down until the probe touches the plane, Armed in contact, then pressed on and stroked
+//! sideways back and forth until it slides (the dearest contact path), Armed sliding.
 //!
 //! Not included (no instructions, or not the app's): exception entry/exit (hardware stacking, 12
 //! cycles each way on the M4), wait states.
@@ -29,6 +30,7 @@ use cortex_m::peripheral::SYST;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use heapless::spsc::{Consumer, Producer, Queue};
+use softfinger_core::contact::state::ContactState;
 use softfinger_core::control::pipeline::{Command, Mode, PipelineRecord, TimingSummary};
 
 use softfinger_app::{config, stream, tick};
@@ -297,6 +299,24 @@ fn run_phases(q: &mut Queues) {
         q.last_record.compare,
         q.last_record.flags.0
     );
+    slide(q);
+    report(
+        "armed_sliding",
+        measure(&mut |c| move_sideways_of(c, SLIDE_STEP)),
+    );
+    q.drain();
+    check(
+        q.last_record.state == ContactState::Sliding,
+        "armed sliding: not sliding at the end of the phase",
+    );
+    hprintln!(
+        "record sliding: mode {} state {} force_mn {:?} compare {:?} flags {:#x}",
+        q.last_record.mode.name(),
+        q.last_record.state as u8,
+        q.last_record.force_mn,
+        q.last_record.compare,
+        q.last_record.flags.0
+    );
     fault_checks(q);
 }
 
@@ -416,6 +436,47 @@ fn park(q: &mut Queues) {
 }
 
 /// Lower the arms until the probe presses the plane (a record shows a force), still armed.
+/// The sliding phase's stroke per tick (see [`move_sideways_of`]), faster than the static friction
+/// holds the fingertip.
+const SLIDE_STEP: i32 = 2;
+
+/// Motor 0 by +2·`step`, motors 1 and 2 by −`step` counts each (the sum kept, so about the same
+/// height): the fingertip moves along the plane.
+fn move_sideways_of(counters: &[AtomicU32; 6], step: i32) {
+    // Back and forth, 100 ticks each way, so the stroke stays on the plane.
+    let n = STROKE.fetch_add(1, Relaxed);
+    let step = if (n / 400) % 2 == 0 { step } else { -step };
+    counters[0].store(
+        counters[0].load(Relaxed).wrapping_add(2 * step as u32),
+        Relaxed,
+    );
+    for c in &counters[1..3] {
+        c.store(c.load(Relaxed).wrapping_sub(step as u32), Relaxed);
+    }
+}
+
+/// Ticks stroked sideways so far (the stroke's direction flips every 100).
+static STROKE: AtomicU32 = AtomicU32::new(0);
+
+/// Press on, then stroke sideways until the contact slides (at most 2 000 ticks).
+fn slide(q: &mut Queues) {
+    for _ in 0..200 {
+        move_motors(1);
+        isr();
+    }
+    for _ in 0..20 {
+        for _ in 0..100 {
+            move_sideways_of(&ENC_CNT, SLIDE_STEP);
+            isr();
+        }
+        q.drain();
+        if q.last_record.state == ContactState::Sliding {
+            return;
+        }
+    }
+    fail("no sliding reached");
+}
+
 fn lower_until_contact(q: &mut Queues) {
     for _ in 0..3_000 {
         // 20 counts per telemetry record (one record per 100 ticks).
