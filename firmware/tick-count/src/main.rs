@@ -443,9 +443,13 @@ const SLIDE_STEP: i32 = 2;
 /// Motor 0 by +2·`step`, motors 1 and 2 by −`step` counts each (the sum kept, so about the same
 /// height): the fingertip moves along the plane.
 fn move_sideways_of(counters: &[AtomicU32; 6], step: i32) {
-    // Back and forth, 100 ticks each way, so the stroke stays on the plane.
+    // Back and forth, 400 ticks each way, so the stroke stays on the plane.
     let n = STROKE.fetch_add(1, Relaxed);
-    let step = if (n / 400) % 2 == 0 { step } else { -step };
+    let step = if (n / 400).is_multiple_of(2) {
+        step
+    } else {
+        -step
+    };
     counters[0].store(
         counters[0].load(Relaxed).wrapping_add(2 * step as u32),
         Relaxed,
@@ -455,7 +459,7 @@ fn move_sideways_of(counters: &[AtomicU32; 6], step: i32) {
     }
 }
 
-/// Ticks stroked sideways so far (the stroke's direction flips every 100).
+/// Ticks stroked sideways so far (the stroke's direction flips every 400).
 static STROKE: AtomicU32 = AtomicU32::new(0);
 
 /// Press on, then stroke sideways until the contact slides (at most 2 000 ticks).
