@@ -19,7 +19,9 @@ use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::contact::{
     ContactInput, ContactModel, Full, Parts, PointFriction, RollingOnly, WithRolling, WithSpin,
 };
-use softfinger_core::control::controller::{Controller, ControllerConfig, Scene, TickInput, WithParts};
+use softfinger_core::control::controller::{
+    Controller, ControllerConfig, Scene, TickInput, WithParts,
+};
 use softfinger_core::control::pipeline::passivity::{Passivity, PassivityConfig};
 use softfinger_core::device::DeviceParams;
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Rot3, Vec3};
