@@ -1,15 +1,8 @@
-//! The firmware's host link (`firmware/src/link`, no_std, board-independent) compiled for the
-//! host: real frames in, the device's frames out, the command queue and the tick's outcomes
-//! played by the test.
+//! The firmware's host link (`softfinger_app::link`, the firmware's no_std, board-independent
+//! app, `firmware/app`) compiled for the host: real frames in, the device's frames out, the
+//! command queue and the tick's outcomes played by the test.
 
-#[allow(dead_code)] // items the firmware's link task uses and these tests do not
-#[path = "../firmware/src/link/mod.rs"]
-mod link;
-#[allow(dead_code)] // `NoStream`: the STM32 build without a link
-#[path = "../firmware/src/stream.rs"]
-mod stream;
-#[path = "../firmware/src/stream_point.rs"]
-mod stream_point;
+use softfinger_app::{link, stream, stream_point};
 
 use link::info::{min_stream_divisor, InfoSource};
 use link::session::{CommandSink, LinkConfig, LinkSession};

@@ -1,11 +1,13 @@
-//! softfinger firmware for the NUCLEO-G474RE (STM32G474RE, Cortex-M4F at 170 MHz).
+//! softfinger firmware for the NUCLEO-G474RE (STM32G474RE, Cortex-M4F at 170 MHz): the one image
+//! users flash, with the USB host link, the application's local model (the default scene's plane
+//! until an application sends one) and the button bench.
 //!
-//! - `board`: the hardware traits the app is written against, and `board::stm32g474`, this
-//!   binary's board (clocks, pins, timers, the tick interrupt).
-//! - `tick`: the board-independent control tick (read -> control -> write), run by the board's
-//!   highest-priority timer interrupt; `isr_cell` hands it its state without a lock.
-//! - `logger`, `supervisor`, `operator`: board-independent low-priority tasks (telemetry log,
-//!   fault report and blink code, the operator's button).
+//! The app is the board-independent library `softfinger-app` (`firmware/app`): the control tick,
+//! the host link, the logger, supervisor and operator tasks. This binary adds the board:
+//!
+//! - `board::stm32g474`: clocks, pins, timers, the tick interrupt, the emergency stop.
+//! - `ccm`: the tick's code copied to CCM SRAM at start-up.
+//! - `usb_link`: the host link's transport (USB CDC-ACM).
 //!
 //! The control logic itself is `softfinger-core`, tested on the host.
 #![no_std]
@@ -15,49 +17,29 @@
 mod board;
 #[allow(unsafe_code)] // the copy of the CCM code image; justified in place
 mod ccm;
-mod config;
-#[allow(unsafe_code)] // implementing `critical_section::Impl` is unsafe by definition
-mod critical_section_basepri;
-#[allow(unsafe_code)] // cortex-m-rt requires the HardFault handler to be an `unsafe fn`
-mod failsafe;
-#[allow(unsafe_code)] // the lock-free handoff to the interrupt; each block justified in place
-mod isr_cell;
-#[allow(dead_code)] // items for the emulated board's UART transport and the host tests
-#[cfg(feature = "usb")]
-mod link;
-mod logger;
-mod operator;
-mod queues;
-mod stream;
-mod stream_point;
-mod supervisor;
-mod tap;
-mod tick;
-#[cfg(feature = "usb")]
 mod usb_link;
+
+// The critical section (BASEPRI, never masking the tick) and the fail-safe handlers (panic,
+// HardFault, default handler: bridges off first), with this board's mask and emergency stop.
+critical_section::set_impl!(
+    softfinger_app::critical_section_basepri::BasepriCriticalSection<{ board::BASEPRI_BELOW_TICK }>
+);
+softfinger_app::install_fail_safe!(board::emergency_stop);
 
 use board::stm32g474::{self as bsp, Board};
 use defmt::{error, info};
 use defmt_rtt as _;
 use embassy_executor::{Executor, Spawner};
-#[cfg(feature = "usb")]
 use heapless::spsc::Queue;
 use heapless::spsc::{Consumer, Producer};
+use softfinger_app::tap::Tap;
+use softfinger_app::tick::{self, CommandOutcome, ControlLoop};
+use softfinger_app::{config, failsafe, link, logger, operator, queues, stream, supervisor};
 use softfinger_core::control::pipeline::Command;
-use tap::Tap;
-use tick::{CommandOutcome, ControlLoop};
 
-/// The operator's end of the tick's command queue (shared with the USB link when there is one).
-#[cfg(not(feature = "usb"))]
+/// The operator's end of the tick's command queue (the link has a queue of its own).
 pub type CommandTx = Producer<'static, Command>;
-/// The operator's end of the tick's command queue (shared with the USB link when there is one).
-#[cfg(feature = "usb")]
-pub type CommandTx = usb_link::SharedCommands;
 
-/// Where the supervisor forwards command outcomes (`NoTap`: nowhere; with USB: the link's queue).
-#[cfg(not(feature = "usb"))]
-type OutcomeTap = tap::NoTap;
-#[cfg(feature = "usb")]
 type OutcomeTap = Producer<'static, CommandOutcome>;
 
 #[embassy_executor::task]
@@ -91,14 +73,14 @@ fn main() -> ! {
     })
 }
 
-/// The USB device and the link tasks; returns the queue the supervisor forwards to, the tick's
-/// end of the stream queue, and the operator's share of the command queue.
-#[cfg(feature = "usb")]
+/// The USB device and the link tasks, the link sending to the tick's link command queue
+/// (`link_commands`); returns the queue the supervisor forwards to and the tick's end of the
+/// stream queue.
 fn start_usb_link(
     spawner: &Spawner,
     usb: bsp::UsbParts,
-    commands: Producer<'static, Command>,
-) -> Option<(OutcomeTap, bsp::StreamTx, CommandTx)> {
+    link_commands: Producer<'static, Command>,
+) -> Option<(OutcomeTap, bsp::StreamTx)> {
     let link_stream = cortex_m::singleton!(
         : Queue<stream::StreamPoint, {stream::QUEUE_LEN}> = Queue::new()
     )?;
@@ -106,30 +88,31 @@ fn start_usb_link(
         cortex_m::singleton!(: Queue<CommandOutcome, {usb_link::LINK_QUEUE_LEN}> = Queue::new())?;
     let (stream_tx, stream) = link_stream.split();
     let (outcomes_tx, outcomes) = link_outcomes.split();
-    let (operator, link) = usb_link::SharedCommands::new(commands)?;
     let (device, class) = usb_link::build(usb.driver())?;
     match usb_device_task(device) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("USB task not spawned: {}", e),
     }
-    match usb_link_task(class, link, link::task::LinkQueues { outcomes, stream }) {
+    match usb_link_task(
+        class,
+        link_commands,
+        link::task::LinkQueues { outcomes, stream },
+    ) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("USB link task not spawned: {}", e),
     }
-    Some((outcomes_tx, stream_tx, operator))
+    Some((outcomes_tx, stream_tx))
 }
 
-#[cfg(feature = "usb")]
 #[embassy_executor::task]
 async fn usb_device_task(mut device: embassy_usb::UsbDevice<'static, usb_link::UsbDriver>) {
     device.run().await
 }
 
-#[cfg(feature = "usb")]
 #[embassy_executor::task]
 async fn usb_link_task(
     class: embassy_usb::class::cdc_acm::CdcAcmClass<'static, usb_link::UsbDriver>,
-    commands: usb_link::SharedCommands,
+    commands: Producer<'static, Command>,
     queues: link::task::LinkQueues,
 ) {
     let pipeline = config::pipeline_config();
@@ -164,6 +147,10 @@ async fn start(spawner: Spawner) {
     let pipeline = tick::TickPipeline::new(config::pipeline_config());
     let periph = embassy_stm32::init(bsp::hal_config());
     bsp::after_hal_init();
+    let (ccm_start, ccm_end) = ccm::loaded_range();
+    bsp::write_protect_ccm(ccm_start, ccm_end);
+    let reset_cause = bsp::take_reset_cause();
+    info!("reset cause: {=str}", reset_cause.name());
     let pipeline = match pipeline {
         Ok(p) => p,
         Err(e) => {
@@ -181,16 +168,12 @@ async fn start(spawner: Spawner) {
         control,
         led,
         button,
-        #[cfg(feature = "usb")]
         usb,
     } = Board::new(periph);
-    #[cfg(not(feature = "usb"))]
-    let (outcome_tap, stream_tx, command_tx): (OutcomeTap, bsp::StreamTx, CommandTx) =
-        (tap::NoTap, stream::NoStream, tasks.commands);
-    #[cfg(feature = "usb")]
-    let Some((outcome_tap, stream_tx, command_tx)) = start_usb_link(&spawner, usb, tasks.commands) else {
+    let Some((outcome_tap, stream_tx)) = start_usb_link(&spawner, usb, tasks.link_commands) else {
         return;
     };
+    let command_tx = tasks.commands;
     match logger::task(tasks.records, tasks.summaries) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("logger task not spawned: {}", e),

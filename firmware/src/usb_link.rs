@@ -1,29 +1,33 @@
-//! The host link over USB (feature `usb`): a full-speed CDC-ACM function (embassy-usb) whose
-//! bytes feed the board-independent [`crate::link`] session, in two low-priority tasks: the USB
+//! The host link over USB: a full-speed CDC-ACM function (embassy-usb) whose
+//! bytes feed the board-independent [`softfinger_app::link`] session, in two low-priority tasks: the USB
 //! device task and the link task. The USB interrupt (USB_LP) stays at the lowest priority set by
 //! `board::stm32g474::prepare_core`; the tick (TIM6, priority 0) preempts all of it.
 //!
-//! Nothing here can stall the tick: commands reach it through its lock-free command queue (shared
-//! with the operator task through a thread-mode mutex, never touched by the tick), outcomes come
+//! A lost link lets go: a bus reset, a suspend (an unplug, without VBUS sensing), the
+//! configuration dropped, DTR dropped by the host, a read error, or no write taken by the host for
+//! [`WRITE_STALL_MS`] each call `tick::note_link_lost`; the tick then applies the core's link rule
+//! (`Pipeline::link_lost`: a host-armed device fades to zero within 20 ms and latches
+//! `COMM_TIMEOUT` until re-armed). Commands from the link go to the tick's link queue, where the
+//! core's `Pipeline::link_command` applies them (an `Arm` from the link turns the communication
+//! watchdog on).
+//!
+//! Nothing here can stall the tick: commands reach it through its lock-free link command queue,
+//! outcomes come
 //! back through a queue the supervisor forwards, stream points through a queue the tick fills
 //! (full: dropped and counted), and a host that stops reading makes a write time out, which drops the bytes waiting
 //! (the host's decoder counts the one cut frame and resynchronises at the next delimiter).
 
-use core::cell::RefCell;
-
 use embassy_futures::select::{select, Either};
 use embassy_stm32::peripherals::USB;
 use embassy_stm32::usb::Driver;
-use embassy_sync::blocking_mutex::raw::ThreadModeRawMutex;
-use embassy_sync::blocking_mutex::Mutex;
-use embassy_time::{with_timeout, Duration, Timer};
+use embassy_time::{with_timeout, Duration, Instant, Timer};
 use embassy_usb::class::cdc_acm::{CdcAcmClass, State};
 use embassy_usb::{Builder, UsbDevice};
 use heapless::spsc::Producer;
 use softfinger_core::control::pipeline::Command;
 
-use crate::link::session::{CommandSink, LinkSession};
-use crate::link::task::LinkQueues;
+use softfinger_app::link::session::LinkSession;
+use softfinger_app::link::task::LinkQueues;
 
 /// USB vendor id: pid.codes' open-source vendor id (host/src/usb.rs finds the device by it).
 pub const USB_VID: u16 = 0x1209;
@@ -46,29 +50,30 @@ const POLL_MS: u64 = 1;
 /// The STM32G474's USB driver.
 pub type UsbDriver = Driver<'static, USB>;
 
-/// The tick's command queue, shared by the operator task and the link task (both thread mode).
-pub struct SharedCommands(&'static Mutex<ThreadModeRawMutex, RefCell<Producer<'static, Command>>>);
+/// How long the host may leave the device's writes untaken before the link counts as lost, ms
+/// (each write is abandoned after [`WRITE_TIMEOUT_MS`]; the link is lost once none has been taken
+/// for this long while there was something to send).
+pub const WRITE_STALL_MS: u64 = 100;
 
-impl SharedCommands {
-    /// Share `producer`; `None` if called twice.
-    pub fn new(producer: Producer<'static, Command>) -> Option<(SharedCommands, SharedCommands)> {
-        let m = cortex_m::singleton!(
-            : Mutex<ThreadModeRawMutex, RefCell<Producer<'static, Command>>> =
-                Mutex::new(RefCell::new(producer))
-        )?;
-        let m: &'static _ = m;
-        Some((SharedCommands(m), SharedCommands(m)))
+/// The USB device's bus events that lose the link: a bus reset, a suspend (what an unplug looks
+/// like without VBUS sensing), the configuration dropped. Runs in the USB device task.
+struct LinkEvents;
+
+impl embassy_usb::Handler for LinkEvents {
+    fn reset(&mut self) {
+        softfinger_app::tick::note_link_lost();
     }
 
-    /// Queue `command` for the tick (the operator's interface: `Err` when the queue is full).
-    pub fn enqueue(&mut self, command: Command) -> Result<(), Command> {
-        self.0.lock(|p| p.borrow_mut().enqueue(command))
+    fn suspended(&mut self, suspended: bool) {
+        if suspended {
+            softfinger_app::tick::note_link_lost();
+        }
     }
-}
 
-impl CommandSink for SharedCommands {
-    fn try_submit(&mut self, command: Command) -> bool {
-        self.enqueue(command).is_ok()
+    fn configured(&mut self, configured: bool) {
+        if !configured {
+            softfinger_app::tick::note_link_lost();
+        }
     }
 }
 
@@ -99,6 +104,8 @@ pub fn build(
         control,
     );
     let class = CdcAcmClass::new(&mut builder, state, PACKET as u16);
+    let events = cortex_m::singleton!(: LinkEvents = LinkEvents)?;
+    builder.handler(events);
     Some((builder.build(), class))
 }
 
@@ -107,24 +114,36 @@ pub fn build(
 pub async fn run<const TX: usize>(
     mut class: CdcAcmClass<'static, UsbDriver>,
     mut session: LinkSession<TX>,
-    mut commands: SharedCommands,
+    mut commands: Producer<'static, Command>,
     mut q: LinkQueues,
 ) -> ! {
     let mut rx = [0u8; PACKET];
     let mut tx = [0u8; TX_CHUNK];
     loop {
         class.wait_connection().await;
+        let mut dtr = class.dtr();
+        let mut last_taken = Instant::now();
         loop {
+            // The host closed the port (DTR dropped): the link is lost.
+            let now_dtr = class.dtr();
+            if dtr && !now_dtr {
+                softfinger_app::tick::note_link_lost();
+            }
+            dtr = now_dtr;
             match select(class.read_packet(&mut rx), Timer::after_millis(POLL_MS)).await {
                 Either::First(Ok(n)) => {
                     for &b in &rx[..n] {
                         if session.receive(b, &mut commands) {
-                            crate::tick::note_link_activity();
+                            softfinger_app::tick::note_link_activity();
                         }
                     }
                 }
-                // Disconnected (or the host reset the endpoint): wait for the next connection.
-                Either::First(Err(_)) => break,
+                // Disconnected (or the host reset the endpoint): the link is lost; wait for the
+                // next connection.
+                Either::First(Err(_)) => {
+                    softfinger_app::tick::note_link_lost();
+                    break;
+                }
                 Either::Second(()) => {}
             }
             q.forward_news(&mut session);
@@ -135,8 +154,13 @@ pub async fn run<const TX: usize>(
                     class.write_packet(&tx[..n]),
                 )
                 .await;
-                if !matches!(sent, Ok(Ok(()))) {
+                if matches!(sent, Ok(Ok(()))) {
+                    last_taken = Instant::now();
+                } else {
                     while session.tx().pop().is_some() {}
+                    if last_taken.elapsed() >= Duration::from_millis(WRITE_STALL_MS) {
+                        softfinger_app::tick::note_link_lost();
+                    }
                     break;
                 }
             }

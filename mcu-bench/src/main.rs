@@ -19,7 +19,9 @@ use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::contact::{
     ContactInput, ContactModel, Full, Parts, PointFriction, RollingOnly, WithRolling, WithSpin,
 };
-use softfinger_core::control::controller::{Controller, ControllerConfig, TickInput};
+use softfinger_core::control::controller::{
+    Controller, ControllerConfig, Scene, TickInput, WithParts,
+};
 use softfinger_core::control::pipeline::passivity::{Passivity, PassivityConfig};
 use softfinger_core::device::DeviceParams;
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Rot3, Vec3};
@@ -185,6 +187,7 @@ fn pipeline(b: &mut Bencher) {
     control_tick::<Libm>(b);
     control_tick::<Micromath>(b);
     control_tick::<Fast>(b);
+    control_tick_rolling(b);
     pipeline_tick(b);
 }
 
@@ -359,10 +362,33 @@ fn contact_step_parts<M: Math, S: Surface, P: Parts>(
 /// of 40 rad/s), so every tick rolls when the kinematics are accurate. Afterwards the drivers must be
 /// enabled with no latched fault; the contact state reached is printed as a `NOTE`.
 fn control_tick<M: Math>(b: &mut Bencher) {
-    let config = ControllerConfig::default_plane();
-    let Ok(mut ctrl) = Controller::<M, Plane>::new(config) else {
+    control_tick_on::<M, Plane>(b, "control_tick", ControllerConfig::default_plane());
+}
+
+/// [`control_tick`] (fast backend) with the contact model the firmware compiles for the default
+/// scene (`rolling`, `firmware/app/src/config.rs`): the same plane, inputs and checks.
+fn control_tick_rolling(b: &mut Bencher) {
+    let c = ControllerConfig::default_plane();
+    let config = ControllerConfig {
+        rate_hz: c.rate_hz,
+        device: c.device,
+        contact: c.contact,
+        surface: WithParts::<Plane, RollingOnly>::new(c.surface),
+        object_origin_m: c.object_origin_m,
+        limits: c.limits,
+    };
+    control_tick_on::<Fast, _>(b, "control_tick_rolling", config);
+}
+
+fn control_tick_on<M: Math, S: Scene>(
+    b: &mut Bencher,
+    name: &'static str,
+    config: ControllerConfig<S>,
+) {
+    let Ok(mut ctrl) = Controller::<M, S>::new(config) else {
         hprintln!(
-            "ERROR control_tick [{}]: the default configuration was rejected",
+            "ERROR {} [{}]: the default configuration was rejected",
+            name,
             M::NAME
         );
         b.fail();
@@ -374,7 +400,7 @@ fn control_tick<M: Math>(b: &mut Bencher) {
         config.device.counts_at::<Libm>(touching, [0, 0, 0]),
         config.device.counts_at::<Libm>(touching, [0, 1, 0]),
     ) else {
-        hprintln!("ERROR control_tick: the pressing position is out of reach");
+        hprintln!("ERROR {}: the pressing position is out of reach", name);
         b.fail();
         return;
     };
@@ -392,7 +418,7 @@ fn control_tick<M: Math>(b: &mut Bencher) {
         ctrl.tick(&inputs[0]);
     }
     let mut k = 0;
-    bench!(b, "control_tick", M, || {
+    bench!(b, name, M, || {
         let out = ctrl.tick(&bb(inputs[k]));
         k ^= 1;
         out
@@ -401,7 +427,8 @@ fn control_tick<M: Math>(b: &mut Bencher) {
     // different end state is reported, not failed; a latched fault or disabled drivers fail.
     let out = ctrl.tick(&inputs[k]);
     hprintln!(
-        "NOTE control_tick [{}]: ends {} with probe {:?} m, force {:?} N",
+        "NOTE {} [{}]: ends {} with probe {:?} m, force {:?} N",
+        name,
         M::NAME,
         out.state.name(),
         out.probe_m.to_array(),
@@ -409,7 +436,8 @@ fn control_tick<M: Math>(b: &mut Bencher) {
     );
     if !out.enable || !ctrl.latched_faults().is_empty() {
         hprintln!(
-            "ERROR control_tick [{}]: expected enabled drivers and no latched fault; got enable {}, flags {:?}",
+            "ERROR {} [{}]: expected enabled drivers and no latched fault; got enable {}, flags {:?}",
+            name,
             M::NAME,
             out.enable,
             out.flags

@@ -25,8 +25,10 @@ use embassy_stm32::timer::simple_pwm::{PwmPin, SimplePwm};
 use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{bind_interrupts, interrupt, rcc, Config, Peripherals};
 
+use softfinger_app::reset_cause::{ResetCause, ResetFlags};
+
 use super::{BridgeCommands, ControlHw, Indicator, OperatorButton, RawSample};
-use crate::config;
+use softfinger_app::config;
 
 mod tick;
 pub use tick::{after_hal_init, prepare_core, start_tick, StreamTx};
@@ -35,20 +37,17 @@ bind_interrupts!(struct Irqs {
     EXTI15_10 => exti::InterruptHandler<interrupt::typelevel::EXTI15_10>;
 });
 
-#[cfg(feature = "usb")]
 bind_interrupts!(struct UsbIrqs {
     USB_LP => embassy_stm32::usb::InterruptHandler<embassy_stm32::peripherals::USB>;
 });
 
 /// The USB peripheral and its pins (PA12 = D+, PA11 = D−), for the host link (feature `usb`).
-#[cfg(feature = "usb")]
 pub struct UsbParts {
     usb: embassy_stm32::Peri<'static, embassy_stm32::peripherals::USB>,
     dp: embassy_stm32::Peri<'static, embassy_stm32::peripherals::PA12>,
     dm: embassy_stm32::Peri<'static, embassy_stm32::peripherals::PA11>,
 }
 
-#[cfg(feature = "usb")]
 impl UsbParts {
     /// The full-speed device driver. Its interrupt (USB_LP) keeps the lowest priority that
     /// [`prepare_core`] gave every device interrupt: below the tick and everything else.
@@ -94,7 +93,6 @@ pub fn hal_config() -> Config {
     c.bdma_interrupt_priority = interrupt::Priority::P4;
     // USB's 48 MHz from the internal HSI48, trimmed by the clock recovery system (CRS) to the
     // host's start-of-frame packets: no crystal needed for USB.
-    #[cfg(feature = "usb")]
     {
         c.rcc.hsi48 = Some(rcc::Hsi48Config {
             sync_from_usb: true,
@@ -118,6 +116,49 @@ pub fn emergency_stop() {
         reset |= 1 << (16 + pin);
     }
     pac::GPIOB.bsrr().write_value(pac::gpio::regs::Bsrr(reset));
+}
+
+/// The non-maskable interrupt (on the G474: the clock security system, a flash ECC double error,
+/// an SRAM parity error): bridges off first, then logged; it waits for the watchdog (returning
+/// would re-enter for a source still asserted).
+#[cortex_m_rt::exception]
+unsafe fn NonMaskableInt() -> ! {
+    emergency_stop();
+    defmt::error!("NMI; bridges off, waiting for the watchdog");
+    softfinger_app::failsafe::halt()
+}
+
+/// Why the MCU last reset (RCC_CSR), read once at start-up; the flags are then cleared (RMVF) so
+/// the next boot reads only its own.
+pub fn take_reset_cause() -> ResetCause {
+    let csr = pac::RCC.csr().read();
+    let flags = ResetFlags {
+        low_power: csr.lpwrrstf(),
+        window_watchdog: csr.wwdgrstf(),
+        independent_watchdog: csr.iwdgrstf(),
+        software: csr.sftrstf(),
+        option_bytes: csr.oblrstf(),
+        brown_out: csr.borrstf(),
+        pin: csr.pinrstf(),
+    };
+    pac::RCC.csr().modify(|w| w.set_rmvf(true));
+    ResetCause::from_flags(flags)
+}
+
+/// Write-protect the CCM SRAM pages (1 KiB each, SYSCFG_SWPR, until the next reset) that hold the
+/// tick's code, `start..end` (CCM addresses, from `ccm::loaded_range`): a stray write, e.g. past
+/// the end of RAM into CCM's alias at 0x2001_8000, then faults instead of changing the tick.
+/// SYSCFG's clock must be on (`embassy_stm32::init` enables it).
+pub fn write_protect_ccm(start: u32, end: u32) {
+    const CCM_BASE: u32 = 0x1000_0000;
+    const PAGE: u32 = 1024;
+    let first = (start.saturating_sub(CCM_BASE) / PAGE) as usize;
+    let last = (end.saturating_sub(CCM_BASE).div_ceil(PAGE)) as usize;
+    let mut swpr = pac::SYSCFG.swpr().read();
+    for page in first..last.min(32) {
+        swpr.set_page_wp(page, true);
+    }
+    pac::SYSCFG.swpr().write_value(swpr);
 }
 
 /// The six quadrature decoders: motor 0..2 (TIM2/3/4), wrist 0..2 (TIM5/8/20).
@@ -256,7 +297,6 @@ pub struct Board {
     pub control: Stm32Control,
     pub led: Led,
     pub button: Button,
-    #[cfg(feature = "usb")]
     pub usb: UsbParts,
 }
 
@@ -329,7 +369,6 @@ impl Board {
             },
             led: Led(Output::new(p.PA5, Level::Low, Speed::Low)),
             button: Button(ExtiInput::new(p.PC13, p.EXTI13, Pull::Down, Irqs)),
-            #[cfg(feature = "usb")]
             usb: UsbParts {
                 usb: p.USB,
                 dp: p.PA12,

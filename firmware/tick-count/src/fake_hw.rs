@@ -5,7 +5,7 @@
 
 use core::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
-use crate::board::{BridgeCommands, ControlHw, RawSample};
+use softfinger_app::board::{BridgeCommands, ControlHw, RawSample};
 
 /// Fake registers, by role.
 pub static TIM6_CNT: AtomicU32 = AtomicU32::new(0);

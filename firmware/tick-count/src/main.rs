@@ -11,28 +11,15 @@
 //! real command sequence: power-up (Unhomed), Home, homing drive with the arms moving down, the stall at
 //! the far stops, the arms moved up the mechanism's range to the reference stops and stalled
 //! there, the arms moved to the park angle, Disarmed, Arm (the force ramping in), then the arms
-//! moved down until the probe touches the plane, Armed in contact.
+//! moved down until the probe touches the plane, Armed in contact, then pressed on and stroked
+//! sideways back and forth until it slides (the dearest contact path), Armed sliding.
 //!
 //! Not included (no instructions, or not the app's): exception entry/exit (hardware stacking, 12
 //! cycles each way on the M4), wait states.
 #![no_std]
 #![no_main]
-#![allow(dead_code)] // the firmware's config module is shared whole
 
-#[path = "../../src/board/interface.rs"]
-mod board;
-#[path = "../../src/config.rs"]
-mod config;
 mod fake_hw;
-#[allow(unsafe_code)]
-#[path = "../../src/isr_cell.rs"]
-mod isr_cell;
-#[path = "../../src/stream.rs"]
-mod stream;
-#[path = "../../src/stream_point.rs"]
-mod stream_point;
-#[path = "../../src/tick.rs"]
-mod tick;
 
 use core::hint::black_box;
 use core::sync::atomic::AtomicU32;
@@ -43,33 +30,30 @@ use cortex_m::peripheral::SYST;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use heapless::spsc::{Consumer, Producer, Queue};
+use softfinger_core::contact::state::ContactState;
 use softfinger_core::control::pipeline::{Command, Mode, PipelineRecord, TimingSummary};
 
+use softfinger_app::{config, stream, tick};
+
 use fake_hw::{outputs, FakeStm32, Outputs, ENC_CNT, GPIOB_IDR, TIM1_SR, TIM6_CNT};
-use isr_cell::IsrCell;
-use tick::{published_mode, CommandOutcome, ControlLoop, TickQueues, STATUS};
+use softfinger_app::isr_cell::IsrCell;
+use softfinger_app::tick::{published_mode, CommandOutcome, ControlLoop, TickQueues, STATUS};
 
 /// Ticks per measurement.
 const N: u32 = 1000;
 /// Instructions per SysTick count: 25 MHz SysTick, 1 ns per instruction under `-icount shift=0`.
 const INSTRUCTIONS_PER_COUNT: u32 = 40;
 
-/// The tick's state stream: as the USB build with the host link's fastest stream (every
-/// `STREAM_DIVISOR`-th tick streamed, into a queue drained between measurements), or none as the
-/// default build.
-#[cfg(feature = "local-model")]
+/// The tick's state stream: as the firmware with the host link's fastest stream (every
+/// `STREAM_DIVISOR`-th tick streamed, into a queue drained between measurements).
 type StreamTx = Producer<'static, stream::StreamPoint>;
-#[cfg(not(feature = "local-model"))]
-type StreamTx = stream::NoStream;
 
 /// The host link's smallest stream divisor at the control rate (its fastest stream, 2 kHz), so a
 /// fifth of the measured ticks at 10 kHz are streamed.
-#[cfg(feature = "local-model")]
 const STREAM_DIVISOR: u16 = stream::min_stream_divisor(config::CONTROL_RATE_HZ);
 
 /// Stream points queued between two drains: more than one measurement's (`N / STREAM_DIVISOR`),
 /// so every streamed tick queues its point.
-#[cfg(feature = "local-model")]
 const STREAM_QUEUE_LEN: usize = 512;
 
 static CONTROL: IsrCell<ControlLoop<FakeStm32, StreamTx>> = IsrCell::new();
@@ -95,6 +79,9 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 /// The body of `TIM6_DAC` (board/stm32g474.rs), with the fake tick timer.
 #[inline(never)]
 fn isr() {
+    // The thread mode's heartbeat (the board's logger task beats it every 5 ms): without it the
+    // tick would stop the outputs (THREAD_STALLED) after 50 ms.
+    tick::thread_heartbeat();
     let entry = TIM6_CNT.load(Relaxed) & 0xFFFF;
     // SAFETY: only this function calls `get_mut`, and it never re-enters itself.
     match unsafe { CONTROL.get_mut() } {
@@ -108,7 +95,6 @@ struct Queues {
     outcomes: Consumer<'static, CommandOutcome>,
     records: Consumer<'static, PipelineRecord>,
     summaries: Consumer<'static, TimingSummary>,
-    #[cfg(feature = "local-model")]
     stream: Consumer<'static, stream::StreamPoint>,
     last_record: PipelineRecord,
 }
@@ -121,7 +107,6 @@ impl Queues {
         while let Some(r) = self.records.dequeue() {
             self.last_record = r;
         }
-        #[cfg(feature = "local-model")]
         while self.stream.dequeue().is_some() {}
     }
 }
@@ -134,6 +119,8 @@ fn now() -> u32 {
 /// `step(SCRATCH)` and no `isr` (the same work on counters no tick reads).
 fn measure(step: &mut impl FnMut(&[AtomicU32; 6])) -> u32 {
     let t0 = now();
+    // `isr` beats the thread mode's heartbeat first (the logger's, on the board): not the tick's
+    // cost, so the loop without the tick beats it too.
     for _ in 0..N {
         step(black_box(&ENC_CNT));
         isr();
@@ -141,6 +128,7 @@ fn measure(step: &mut impl FnMut(&[AtomicU32; 6])) -> u32 {
     let t1 = now();
     for _ in 0..N {
         step(black_box(&SCRATCH));
+        tick::thread_heartbeat();
         black_box(());
     }
     let t2 = now();
@@ -203,7 +191,8 @@ fn main() -> ! {
     let Ok(pipeline) = tick::TickPipeline::new(config::pipeline_config()) else {
         fail("pipeline configuration")
     };
-    let (Some(cq), Some(oq), Some(rq), Some(sq)) = (
+    let (Some(cq), Some(lq), Some(oq), Some(rq), Some(sq)) = (
+        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
         cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
         cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
         cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new()),
@@ -212,23 +201,21 @@ fn main() -> ! {
         fail("queues")
     };
     let (ctx, crx) = cq.split();
+    // The host link's queue: empty here (the operator's commands drive the phases).
+    let (_ltx, lrx) = lq.split();
     let (otx, orx) = oq.split();
     let (rtx, rrx) = rq.split();
     let (stx, srx) = sq.split();
-    #[cfg(feature = "local-model")]
     let Some(pq) =
         cortex_m::singleton!(: Queue<stream::StreamPoint, STREAM_QUEUE_LEN> = Queue::new())
     else {
         fail("queues")
     };
-    #[cfg(feature = "local-model")]
     let (ptx, prx) = pq.split();
-    #[cfg(not(feature = "local-model"))]
-    let ptx = stream::NoStream;
-    #[cfg(feature = "local-model")]
     stream::set_divisor(STREAM_DIVISOR);
     let tick_queues = TickQueues {
         commands: crx,
+        link_commands: lrx,
         outcomes: otx,
         records: rtx,
         summaries: stx,
@@ -245,7 +232,6 @@ fn main() -> ! {
         outcomes: orx,
         records: rrx,
         summaries: srx,
-        #[cfg(feature = "local-model")]
         stream: prx,
         last_record: PipelineRecord::default(),
     };
@@ -307,6 +293,24 @@ fn run_phases(q: &mut Queues) {
     q.drain();
     hprintln!(
         "record in contact: mode {} state {} force_mn {:?} compare {:?} flags {:#x}",
+        q.last_record.mode.name(),
+        q.last_record.state as u8,
+        q.last_record.force_mn,
+        q.last_record.compare,
+        q.last_record.flags.0
+    );
+    slide(q);
+    report(
+        "armed_sliding",
+        measure(&mut |c| move_sideways_of(c, SLIDE_STEP)),
+    );
+    q.drain();
+    check(
+        q.last_record.state == ContactState::Sliding,
+        "armed sliding: not sliding at the end of the phase",
+    );
+    hprintln!(
+        "record sliding: mode {} state {} force_mn {:?} compare {:?} flags {:#x}",
         q.last_record.mode.name(),
         q.last_record.state as u8,
         q.last_record.force_mn,
@@ -432,6 +436,51 @@ fn park(q: &mut Queues) {
 }
 
 /// Lower the arms until the probe presses the plane (a record shows a force), still armed.
+/// The sliding phase's stroke per tick (see [`move_sideways_of`]), faster than the static friction
+/// holds the fingertip.
+const SLIDE_STEP: i32 = 2;
+
+/// Motor 0 by +2·`step`, motors 1 and 2 by −`step` counts each (the sum kept, so about the same
+/// height): the fingertip moves along the plane.
+fn move_sideways_of(counters: &[AtomicU32; 6], step: i32) {
+    // Back and forth, 400 ticks each way, so the stroke stays on the plane.
+    let n = STROKE.fetch_add(1, Relaxed);
+    let step = if (n / 400).is_multiple_of(2) {
+        step
+    } else {
+        -step
+    };
+    counters[0].store(
+        counters[0].load(Relaxed).wrapping_add(2 * step as u32),
+        Relaxed,
+    );
+    for c in &counters[1..3] {
+        c.store(c.load(Relaxed).wrapping_sub(step as u32), Relaxed);
+    }
+}
+
+/// Ticks stroked sideways so far (the stroke's direction flips every 400).
+static STROKE: AtomicU32 = AtomicU32::new(0);
+
+/// Press on, then stroke sideways until the contact slides (at most 2 000 ticks).
+fn slide(q: &mut Queues) {
+    for _ in 0..200 {
+        move_motors(1);
+        isr();
+    }
+    for _ in 0..20 {
+        for _ in 0..100 {
+            move_sideways_of(&ENC_CNT, SLIDE_STEP);
+            isr();
+        }
+        q.drain();
+        if q.last_record.state == ContactState::Sliding {
+            return;
+        }
+    }
+    fail("no sliding reached");
+}
+
 fn lower_until_contact(q: &mut Queues) {
     for _ in 0..3_000 {
         // 20 counts per telemetry record (one record per 100 ticks).

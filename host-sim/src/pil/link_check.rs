@@ -245,6 +245,17 @@ fn home_and_arm(
         format!("{homed:?}"),
     );
     homed?;
+    // A host that arms holds the force by its link: with the watchdog off the firmware would turn
+    // a 200 ms one on; this check's waits send nothing, so it arms with a long one.
+    let seq = c.request(Request::SetWatchdog {
+        timeout_ms: super::link_model::HOLD_WATCHDOG_MS,
+    })?;
+    let hold = c.ack(seq)?;
+    r.check(
+        "a long watchdog before arming",
+        hold == AckResult::Ok,
+        format!("{hold:?}"),
+    );
     let seq = c.request(Request::Arm)?;
     let arm = c.ack(seq)?;
     r.check("arm accepted", arm == AckResult::Ok, format!("{arm:?}"));

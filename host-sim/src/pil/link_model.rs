@@ -19,7 +19,7 @@ use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::local_model::RendererConfig;
 use softfinger_core::Flags;
 use softfinger_protocol::{
-    AckResult, ContactState, LocalModel, Mode, Request, StateSample, SurfaceShape,
+    AckResult, ContactState, ErrorCode, LocalModel, Mode, Request, StateSample, SurfaceShape,
 };
 
 /// The default contact material and fingertip (the firmware's, `config::pipeline_config`).
@@ -54,6 +54,10 @@ const CONTACT_POINT_TOL_M: f32 = 1.5e-7;
 /// The communication watchdog's timeout for the test, ms.
 const WATCHDOG_MS: u16 = 50;
 
+/// The watchdog the check arms with, ms: long enough for its waits without pings (the firmware
+/// turns a 200 ms watchdog on for a host that arms with it off, `Pipeline::link_command`).
+pub(super) const HOLD_WATCHDOG_MS: u16 = 5_000;
+
 /// After the first sample flagged COMM_TIMEOUT the force is exactly zero from this long on, s:
 /// the watchdog latched at or before that sample, and its gain reaches 0 within the fade
 /// (`LocalModelScene::new`: 20 ms, the firmware's). The passivity damper stands aside while the
@@ -85,7 +89,12 @@ pub(super) fn model(seq: u32, shape: SurfaceShape, position_m: [f32; 3]) -> Loca
 }
 
 /// Send `m`; the ack, then `SAMPLES` states from `settle_ticks` after the first state that
-/// followed the ack (records queued before the model applied are at most a few ticks old).
+/// followed the ack and names `m` (`model_seq`: the renderer names the incoming model once its
+/// weight reaches ½, so its blend is over within `settle_ticks` of that state). The first state
+/// after the ack alone is not a bound: the link task can send the ack before stream points the
+/// tick queued before it applied the model (host-link commands go through a queue of their own
+/// that the tick applies), and a run here started the force check 3 ticks inside the blend
+/// (10.2 N of 12 N, weight 0.85).
 fn switch_to(
     c: &mut Client,
     m: LocalModel,
@@ -94,7 +103,17 @@ fn switch_to(
     let seq = c.request(Request::SetLocalModel(m))?;
     let ack = c.ack(seq)?;
     let seen = c.states.len();
-    let first = c.wait_states(seen + 1)?[seen].tick;
+    let first = if ack == AckResult::Ok {
+        c.wait_for(|s| s.iter().skip(seen).any(|x| x.model_seq == m.seq))?;
+        c.states
+            .iter()
+            .skip(seen)
+            .find(|x| x.model_seq == m.seq)
+            .map(|x| x.tick)
+            .ok_or(LinkError::NoState)?
+    } else {
+        c.wait_states(seen + 1)?[seen].tick
+    };
     let from = first + settle_ticks;
     c.wait_for(|s| s.iter().filter(|x| x.tick >= from).count() >= SAMPLES)?;
     let after: Vec<StateSample> = c
@@ -332,11 +351,17 @@ fn watchdog_silence(
     Ok(())
 }
 
-/// Check 3, last part: watchdog off, re-armed: the latch clears and the force returns.
+/// Check 3, last part: the watchdog cannot be turned off while the host keeps the device armed;
+/// a long one, re-armed: the latch clears and the force returns.
 fn watchdog_off_and_rearm(c: &mut Client, r: &mut LinkReport) -> Result<(), LinkError> {
-    // Watchdog off (itself a message), then re-arm: the latch clears and the force comes back.
+    // Watchdog off (itself a message): refused while this host holds the device armed
+    // (`CommandError::WatchdogRequired`, on the wire InvalidValue).
     let seq = c.request(Request::SetWatchdog { timeout_ms: 0 })?;
     let off = c.ack(seq)?;
+    let seq = c.request(Request::SetWatchdog {
+        timeout_ms: HOLD_WATCHDOG_MS,
+    })?;
+    let long = c.ack(seq)?;
     let seq = c.request(Request::Arm)?;
     let rearm = c.ack(seq)?;
     let seen = c.states.len();
@@ -346,9 +371,11 @@ fn watchdog_off_and_rearm(c: &mut Client, r: &mut LinkReport) -> Result<(), Link
             .any(|x| !timed_out(x) && x.force_n[2] > 0.0)
     })?;
     r.check(
-        "watchdog off and re-armed: the latch clears, the force returns",
-        off == AckResult::Ok && rearm == AckResult::Ok,
-        format!("{off:?} {rearm:?}"),
+        "watchdog off refused while host-armed; a long one and re-armed: the latch clears, the force returns",
+        off == AckResult::Err(ErrorCode::InvalidValue)
+            && long == AckResult::Ok
+            && rearm == AckResult::Ok,
+        format!("{off:?} {long:?} {rearm:?}"),
     );
     Ok(())
 }

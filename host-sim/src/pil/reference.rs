@@ -13,6 +13,7 @@ use super::PilError;
 use crate::plant::Plant;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
+use softfinger_core::contact::RollingOnly;
 use softfinger_core::control::controller::Scene;
 use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
 use softfinger_core::control::pipeline::output_timing::OutputTiming;
@@ -36,6 +37,11 @@ pub struct RefRun {
     pub scene_start: Option<u64>,
 }
 
+/// The firmware's scene (`firmware/app/src/config.rs`, `TickScene`): the application's local
+/// model with the contact model the default scene names (`rolling`: the device displays no
+/// torque about the normal, so the firmware compiles no spin torque and no limit surface).
+pub type FirmwareScene = LocalModelScene<RollingOnly>;
+
 /// The firmware's pipeline configuration (`firmware/src/config.rs`, `pipeline_config`) on
 /// `timing`: the local-model scene whose initial model is the plane 10 mm below the workspace
 /// centre with `contact`'s material, watchdog off, poses in the base frame. The plane's height
@@ -43,7 +49,7 @@ pub struct RefRun {
 pub fn firmware_config(
     timing: softfinger_core::control::pipeline::BoardTiming,
     contact: ContactParams,
-) -> PipelineConfig<LocalModelScene> {
+) -> PipelineConfig<FirmwareScene> {
     let top = Vec3::new(
         0.0,
         0.0,
@@ -54,7 +60,7 @@ pub fn firmware_config(
         device: softfinger_core::device::OMEGA_LIKE,
         timing,
         contact,
-        surface: LocalModelScene::new(initial),
+        surface: LocalModelScene::with_parts(initial),
         object_origin_m: Vec3::ZERO,
         log_rate_hz: softfinger_core::control::telemetry::DEFAULT_LOG_RATE_HZ,
     }

@@ -229,3 +229,22 @@ fn the_firmware_configs_initial_model_is_the_scenes_plane() {
     assert_eq!(lm.surface.watchdog_timeout_s, 0.0);
     assert_eq!(lm.object_origin_m, softfinger_core::Vec3::ZERO);
 }
+
+/// The firmware compiles the contact model the default scene names (issue: model no more than a
+/// scene needs): the reference's parts are that model's, so a scene file naming another model
+/// fails here until the firmware's `TickScene` follows it.
+#[test]
+fn the_firmware_runs_the_model_the_default_scene_names() {
+    use crate::closed_loop;
+    use crate::scene::Scene;
+    use softfinger_core::contact::Parts;
+    use softfinger_core::control::local_model::LocalModelScene;
+    fn parts_name<P: Parts>(_: &LocalModelScene<P>) -> &'static str {
+        P::NAME
+    }
+    let scene = Scene::load("finger-on-plane").unwrap();
+    let contact = closed_loop::contact_params(&scene).unwrap();
+    let plane = closed_loop::plane_config(&scene, contact).unwrap();
+    let lm = super::reference::firmware_config(plane.timing, contact);
+    assert_eq!(parts_name(&lm.surface), scene.model().unwrap().name());
+}

@@ -18,9 +18,9 @@ use softfinger_core::control::pipeline::{BridgeCommands, Command};
 use super::cmsdk::{FreeRunning, Irq, Watchdog, PCLK_HZ, TICK_TIMER};
 use super::defmt_sink::READER_STALLED;
 use super::link::{self, CONTROL_INJECT, CONTROL_LOG_STALL, CONTROL_STOP};
-use crate::board::{ControlHw, Indicator, RawSample};
-use crate::isr_cell::IsrCell;
-use crate::tick::{ControlLoop, STATUS};
+use softfinger_app::board::{ControlHw, Indicator, RawSample};
+use softfinger_app::isr_cell::IsrCell;
+use softfinger_app::tick::{ControlLoop, STATUS};
 
 /// The critical section's BASEPRI: masks everything below the tick (priority 0x00).
 pub const BASEPRI_BELOW_TICK: u8 = 0x20;
@@ -167,26 +167,14 @@ impl Indicator for Led {
 
 /// Where the tick's state stream goes: the host link's queue in the local-model build (the
 /// STM32's USB build), nowhere in the fixed plane's (the STM32's default build).
-#[cfg(feature = "local-model")]
-pub type StreamTx = heapless::spsc::Producer<'static, crate::stream::StreamPoint>;
-/// Where the tick's state stream goes: the host link's queue in the local-model build (the
-/// STM32's USB build), nowhere in the fixed plane's (the STM32's default build).
-#[cfg(not(feature = "local-model"))]
-pub type StreamTx = crate::stream::NoStream;
+pub type StreamTx = heapless::spsc::Producer<'static, softfinger_app::stream::StreamPoint>;
 
 /// The stream's end when no host link runs: a queue nobody reads (the tick's code stays the
 /// linked run's; the divisor stays 0, so nothing is queued).
-#[cfg(feature = "local-model")]
 pub fn idle_stream() -> Option<StreamTx> {
     use heapless::spsc::Queue;
-    let q = cortex_m::singleton!(: Queue<crate::stream::StreamPoint, 2> = Queue::new())?;
+    let q = cortex_m::singleton!(: Queue<softfinger_app::stream::StreamPoint, 2> = Queue::new())?;
     Some(q.split().0)
-}
-
-/// The stream's end when no host link runs: nowhere.
-#[cfg(not(feature = "local-model"))]
-pub fn idle_stream() -> Option<StreamTx> {
-    Some(crate::stream::NoStream)
 }
 
 static CONTROL: IsrCell<ControlLoop<Mps2Control, StreamTx>> = IsrCell::new();

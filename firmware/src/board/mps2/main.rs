@@ -1,8 +1,9 @@
 //! softfinger firmware on the emulated board: QEMU mps2-an386 (Cortex-M4F), processor in the loop
 //! with host-sim's plant (`scripts/pil`, `host-sim pil`).
 //!
-//! The app is the STM32G474 build's, file for file (`tick`, `logger`, `supervisor`, `failsafe`,
-//! `isr_cell`, `critical_section_basepri`, `config`, the board traits); only the board differs:
+//! The app is the STM32G474 binary's: the library `softfinger-app` (`firmware/app`: `tick`,
+//! `logger`, `supervisor`, `failsafe`, `isr_cell`, `critical_section_basepri`, `config`, `link`, the
+//! board traits); only the board differs:
 //! CMSDK timers instead of TIM6/TIM15, the CMSDK watchdog (NMI, then reset) instead of the IWDG,
 //! the plant link ([`link`]: semihosting, lock step) instead of the encoder timers, nFAULT and
 //! TIM1, a non-blocking defmt ring drained to a host file instead of RTT, and the operator's
@@ -12,47 +13,21 @@
 #![no_main]
 #![deny(unsafe_code)]
 
-mod board;
 mod cmsdk;
-#[allow(dead_code)] // the STM32 build's configuration; not every item applies to this board
-#[path = "../../config.rs"]
-mod config;
-#[allow(unsafe_code)] // implementing `critical_section::Impl` is unsafe by definition
-#[path = "../../critical_section_basepri.rs"]
-mod critical_section_basepri;
 mod defmt_sink;
-#[allow(unsafe_code)] // cortex-m-rt requires the HardFault handler to be an `unsafe fn`
-#[allow(dead_code)] // `halt` is for the STM32 start-up
-#[path = "../../failsafe.rs"]
-mod failsafe;
 mod faults;
-#[allow(dead_code)] // items for other transports and for the host tests
-#[path = "../../link/mod.rs"]
-mod host_link;
 mod hw;
-#[allow(dead_code)] // `OperatorButton`: this board's operator is the plant's (commands on the link)
-#[path = "../interface.rs"]
-mod interface;
-#[allow(unsafe_code)] // the lock-free handoff to the interrupt; each block justified in place
-#[path = "../../isr_cell.rs"]
-mod isr_cell;
 mod link;
-#[path = "../../logger.rs"]
-mod logger;
-#[path = "../../queues.rs"]
-mod queues;
-#[path = "../../stream.rs"]
-mod stream;
-#[path = "../../stream_point.rs"]
-mod stream_point;
-#[path = "../../supervisor.rs"]
-mod supervisor;
-#[allow(dead_code)] // `hw_mut` is for the STM32 start-up
-#[path = "../../tick.rs"]
-mod tick;
 mod time_driver;
 mod uart;
 mod vectors;
+
+// The app's critical section (BASEPRI, never masking the tick) and fail-safe handlers (panic,
+// HardFault, default handler: bridges off first), with this board's mask and emergency stop.
+critical_section::set_impl!(
+    softfinger_app::critical_section_basepri::BasepriCriticalSection<{ hw::BASEPRI_BELOW_TICK }>
+);
+softfinger_app::install_fail_safe!(hw::emergency_stop);
 
 use defmt::{error, info, warn};
 use embassy_executor::Spawner;
@@ -61,10 +36,11 @@ use heapless::spsc::{Consumer, Producer, Queue};
 use softfinger_core::control::pipeline::{BoardTiming, Command, PipelineConfig};
 
 use cmsdk::{FreeRunning, Irq, PCLK_HZ};
-use host_link::info::{min_stream_divisor, InfoSource};
-use host_link::session::{LinkConfig, LinkSession};
-use host_link::task::LinkQueues;
-use tick::{CommandOutcome, ControlLoop};
+use softfinger_app::link::info::{min_stream_divisor, InfoSource};
+use softfinger_app::link::session::{LinkConfig, LinkSession};
+use softfinger_app::link::task::LinkQueues;
+use softfinger_app::tick::{self, CommandOutcome, ControlLoop};
+use softfinger_app::{config, logger, queues, stream, supervisor};
 
 /// Watchdog timeout in 25 MHz counts (the STM32 build's timeout).
 const WATCHDOG_COUNTS: u32 = config::WATCHDOG_TIMEOUT_US * (PCLK_HZ / 1_000_000);
@@ -90,12 +66,12 @@ async fn host_link_task(
     queues: LinkQueues,
 ) {
     let session = LinkSession::<LINK_TX_BYTES>::new(&config);
-    host_link::task::run(uart::Uart0::open(), session, commands, queues, LINK_POLL_US).await
+    softfinger_app::link::task::run(uart::Uart0::open(), session, commands, queues, LINK_POLL_US)
+        .await
 }
 
 /// The host link's queues (command outcomes, stream points) and the tick's end of the stream;
 /// `None` in a build without a stream (the fixed plane's).
-#[cfg(feature = "local-model")]
 fn link_queues(outcomes: Consumer<'static, CommandOutcome>) -> Option<(LinkQueues, hw::StreamTx)> {
     let q = cortex_m::singleton!(
         : Queue<stream::StreamPoint, { stream::QUEUE_LEN }> = Queue::new()
@@ -108,13 +84,6 @@ fn link_queues(outcomes: Consumer<'static, CommandOutcome>) -> Option<(LinkQueue
         },
         tx,
     ))
-}
-
-/// The host link's queues (command outcomes, stream points) and the tick's end of the stream;
-/// `None` in a build without a stream (the fixed plane's).
-#[cfg(not(feature = "local-model"))]
-fn link_queues(_outcomes: Consumer<'static, CommandOutcome>) -> Option<(LinkQueues, hw::StreamTx)> {
-    None
 }
 
 /// What the host link says about this board at `rate_hz`.
@@ -223,6 +192,7 @@ fn spawn_command_side(
     rate_hz: u32,
     config: &PipelineConfig<config::TickScene>,
     command_tx: Producer<'static, Command>,
+    link_command_tx: Producer<'static, Command>,
     outcome_rx: Consumer<'static, CommandOutcome>,
 ) -> (Producer<'static, Command>, hw::StreamTx) {
     if host_link {
@@ -230,7 +200,7 @@ fn spawn_command_side(
             error!("the host link needs the local-model build (as the STM32's USB build)");
             exit(false)
         };
-        match host_link_task(host_link_config(rate_hz, config), command_tx, queues) {
+        match host_link_task(host_link_config(rate_hz, config), link_command_tx, queues) {
             Ok(t) => spawner.spawn(t),
             Err(e) => error!("host link task not spawned: {}", e),
         }
@@ -289,6 +259,7 @@ async fn main(spawner: Spawner) {
         rate_hz,
         &config,
         tasks.commands,
+        tasks.link_commands,
         tasks.outcomes,
     );
     let fault = hw::Injected::from_code(fault_code);

@@ -8,7 +8,7 @@
 
 use core::ptr::{read_volatile, write_volatile};
 
-use crate::host_link::task::ByteTransport;
+use softfinger_app::link::task::ByteTransport;
 
 const BASE: usize = 0x4000_4000;
 const DATA: usize = BASE;

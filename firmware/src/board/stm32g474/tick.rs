@@ -5,18 +5,14 @@
 use embassy_stm32::{interrupt, pac};
 
 use super::Stm32Control;
-use crate::isr_cell::IsrCell;
-use crate::tick::ControlLoop;
+use softfinger_app::isr_cell::IsrCell;
+use softfinger_app::tick::ControlLoop;
 
 /// Priority byte of every device interrupt until one is raised: the lowest (15).
 const LOWEST_PRIORITY: u8 = 0xF0;
 
 /// Where the tick's state stream goes: the USB link's queue, or nowhere without a link.
-#[cfg(feature = "usb")]
-pub type StreamTx = heapless::spsc::Producer<'static, crate::stream::StreamPoint>;
-/// Where the tick's state stream goes: the USB link's queue, or nowhere without a link.
-#[cfg(not(feature = "usb"))]
-pub type StreamTx = crate::stream::NoStream;
+pub type StreamTx = heapless::spsc::Producer<'static, softfinger_app::stream::StreamPoint>;
 
 /// The control loop, handed to the TIM6 interrupt by [`start_tick`].
 static CONTROL: IsrCell<ControlLoop<Stm32Control, StreamTx>> = IsrCell::new();

@@ -16,6 +16,7 @@ use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 
 use heapless::spsc::{Consumer, Producer};
 use softfinger_core::control::controller::ContactStage;
+use softfinger_core::control::pipeline::liveness::{ThreadWatch, THREAD_STALE_S};
 use softfinger_core::control::pipeline::{
     Command, CommandError, Mode, Pipeline, PipelineOutput, PipelineRecord, RawInput, TimingSummary,
 };
@@ -34,9 +35,29 @@ pub type TickPipeline = Pipeline<Fast, crate::config::TickScene>;
 pub static LINK_ACTIVITY: AtomicBool = AtomicBool::new(false);
 
 /// A valid frame arrived on a host link (any task; never waits).
-#[allow(dead_code)] // a build without a host link (the STM32 build without `usb`) never calls it
 pub fn note_link_activity() {
     LINK_ACTIVITY.store(true, Ordering::Relaxed);
+}
+
+/// Set by a host link's transport when the link is lost (USB bus reset, suspend, DTR dropped,
+/// writes the host does not take for the transport's stated time); taken by the tick, which then
+/// applies `Pipeline::link_lost` (a host-armed device fades to zero within 20 ms and latches
+/// `COMM_TIMEOUT` until re-armed).
+pub static LINK_LOST: AtomicBool = AtomicBool::new(false);
+
+/// The host link was lost (any task; never waits).
+pub fn note_link_lost() {
+    LINK_LOST.store(true, Ordering::Relaxed);
+}
+
+/// Bumped by a thread-mode task (the logger, every `config::LOGGER_POLL_MS`): the tick feeds the
+/// independent watchdog only while it moves (softfinger-core's `liveness::ThreadWatch`), so a
+/// hung executor or task stops the outputs (`THREAD_STALLED`) and the watchdog resets the MCU.
+pub static THREAD_HEARTBEAT: AtomicU32 = AtomicU32::new(0);
+
+/// Thread mode is alive (call from a task's loop; never waits).
+pub fn thread_heartbeat() {
+    THREAD_HEARTBEAT.fetch_add(1, Ordering::Relaxed);
 }
 
 /// An operator command and what the pipeline made of it, for the log.
@@ -79,7 +100,10 @@ pub static STATUS: TickStatus = TickStatus {
 /// The queue ends the tick holds; `K`: where the host link's state stream goes
 /// ([`crate::stream::NoStream`] without a link).
 pub struct TickQueues<K: StreamSink> {
+    /// From the operator (`Pipeline::command`).
     pub commands: Consumer<'static, Command>,
+    /// From the host link (`Pipeline::link_command`).
+    pub link_commands: Consumer<'static, Command>,
     pub outcomes: Producer<'static, CommandOutcome>,
     pub records: Producer<'static, PipelineRecord>,
     pub summaries: Producer<'static, TimingSummary>,
@@ -95,12 +119,16 @@ pub struct ControlLoop<H: ControlHw, K: StreamSink> {
     /// (`u32::MAX`: they ended after the next event).
     prev_write_done: u32,
     stream: StreamTap,
+    /// The thread mode's heartbeat as the tick sees it.
+    thread: ThreadWatch,
 }
 
 impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
     /// The loop, ready for its first tick.
     pub fn new(hw: H, pipeline: TickPipeline, queues: TickQueues<K>) -> Self {
+        let rate_hz = pipeline.config().timing.control_hz as f32;
         ControlLoop {
+            thread: ThreadWatch::new(THREAD_STALE_S, rate_hz),
             hw,
             pipeline,
             queues,
@@ -128,6 +156,12 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
             start_latency_counts: entry_count,
             prev_write_done_counts: self.prev_write_done,
         };
+        // Thread mode hung: this tick's outputs already go to zero torque (THREAD_STALLED), and
+        // the watchdog is no longer fed below.
+        let thread_alive = self.thread.tick(THREAD_HEARTBEAT.load(Ordering::Relaxed));
+        if !thread_alive {
+            self.pipeline.thread_stalled();
+        }
         let mut out = self.pipeline.tick_outputs(&raw);
         // The compares right after the pipeline's outputs, before anything else (its telemetry
         // included): written within the tick's first PWM period, they act from its second.
@@ -140,7 +174,9 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
         } else {
             done
         };
-        self.hw.pet_watchdog();
+        if thread_alive {
+            self.hw.pet_watchdog();
+        }
         self.pipeline.tick_telemetry(&mut out, &raw);
 
         STATUS.mode.store(out.mode.code(), Ordering::Relaxed);
@@ -192,9 +228,20 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
             LINK_ACTIVITY.store(false, Ordering::Relaxed);
             self.pipeline.note_link_activity();
         }
+        if LINK_LOST.load(Ordering::Relaxed) {
+            LINK_LOST.store(false, Ordering::Relaxed);
+            self.pipeline.link_lost();
+        }
         while let Some(command) = self.queues.commands.dequeue() {
             let result = self.pipeline.command(command);
             // Outcomes are for the log only; a full queue loses the report, not the command.
+            let _ = self
+                .queues
+                .outcomes
+                .enqueue(CommandOutcome { command, result });
+        }
+        while let Some(command) = self.queues.link_commands.dequeue() {
+            let result = self.pipeline.link_command(command);
             let _ = self
                 .queues
                 .outcomes

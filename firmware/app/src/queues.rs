@@ -1,4 +1,4 @@
-//! The queues between the control tick and the low-priority tasks: four statics, created once at
+//! The queues between the control tick and the low-priority tasks: five statics, created once at
 //! start-up and split into the tick's ends and the tasks' ends (the same on every board).
 
 use heapless::spsc::{Consumer, Producer, Queue};
@@ -11,6 +11,7 @@ use crate::tick::{CommandOutcome, TickQueues};
 /// The tick's ends of the queues, all but the state stream's (the board's to choose).
 pub struct TickEnds {
     commands: Consumer<'static, Command>,
+    link_commands: Consumer<'static, Command>,
     outcomes: Producer<'static, CommandOutcome>,
     records: Producer<'static, PipelineRecord>,
     summaries: Producer<'static, TimingSummary>,
@@ -21,6 +22,7 @@ impl TickEnds {
     pub fn with_stream<K: StreamSink>(self, stream: K) -> TickQueues<K> {
         TickQueues {
             commands: self.commands,
+            link_commands: self.link_commands,
             outcomes: self.outcomes,
             records: self.records,
             summaries: self.summaries,
@@ -31,8 +33,10 @@ impl TickEnds {
 
 /// The tasks' ends of the queues.
 pub struct TaskEnds {
-    /// Commands to the tick (the operator, the host link).
+    /// Commands to the tick from the operator (the button, the emulated board's plant).
     pub commands: Producer<'static, Command>,
+    /// Commands to the tick from the host link (`Pipeline::link_command`'s rules apply).
+    pub link_commands: Producer<'static, Command>,
     /// The tick's outcome of each command (the supervisor).
     pub outcomes: Consumer<'static, CommandOutcome>,
     /// Decimated telemetry records (the logger).
@@ -45,23 +49,28 @@ pub struct TaskEnds {
 pub fn take() -> Option<(TickEnds, TaskEnds)> {
     let commands =
         cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())?;
+    let link_commands =
+        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())?;
     let outcomes =
         cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new())?;
     let records = cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new())?;
     let summaries =
         cortex_m::singleton!(: Queue<TimingSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new())?;
     let (command_tx, command_rx) = commands.split();
+    let (link_command_tx, link_command_rx) = link_commands.split();
     let (outcome_tx, outcome_rx) = outcomes.split();
     let (record_tx, record_rx) = records.split();
     let (summary_tx, summary_rx) = summaries.split();
     let tick = TickEnds {
         commands: command_rx,
+        link_commands: link_command_rx,
         outcomes: outcome_tx,
         records: record_tx,
         summaries: summary_tx,
     };
     let tasks = TaskEnds {
         commands: command_tx,
+        link_commands: link_command_tx,
         outcomes: outcome_rx,
         records: record_rx,
         summaries: summary_rx,

@@ -3,10 +3,9 @@
 //! physical units, derived for the control rate by the pipeline).
 
 use softfinger_core::contact::params::ContactParams;
-#[cfg(not(feature = "local-model"))]
-use softfinger_core::contact::surface::Plane;
-#[cfg(feature = "local-model")]
+use softfinger_core::contact::RollingOnly;
 use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
+use softfinger_core::control::operator::ButtonTiming;
 use softfinger_core::control::pipeline::{BoardTiming, PipelineConfig};
 use softfinger_core::device::delta::DeltaGeometry;
 use softfinger_core::device::{DeviceDefinition, OMEGA_LIKE};
@@ -64,36 +63,23 @@ const _: () = assert!(
 
 /// The communication watchdog's timeout at power-up, ms: off. The button-only bench mode has no
 /// application to feed it; an application turns it on with `SetWatchdog`.
-#[cfg_attr(not(feature = "local-model"), allow(dead_code))] // the plane has no watchdog
 pub const BENCH_WATCHDOG_MS: u16 = 0;
 
-/// The scene the tick renders: the application's local model (feature `local-model`, which a
-/// host link brings), initially the default scene's plane; without it, that plane, fixed.
-#[cfg(feature = "local-model")]
-pub type TickScene = LocalModelScene;
-/// The scene the tick renders: the application's local model (feature `local-model`, which a
-/// host link brings), initially the default scene's plane; without it, that plane, fixed.
-#[cfg(not(feature = "local-model"))]
-pub type TickScene = Plane;
+/// The scene the tick renders: the application's local model, initially the default scene's
+/// plane (what a device nobody talks to renders).
+pub type TickScene = LocalModelScene<RollingOnly>;
 
 /// The local model until an application sends one: the default scene's plane (top at
 /// [`INITIAL_PLANE_TOP_M`], the default contact material, never stale), the watchdog off
 /// ([`BENCH_WATCHDOG_MS`]). Model poses are in the base frame (object origin zero), as the
 /// host-link protocol sends them.
-#[cfg(feature = "local-model")]
 fn scene(contact: &ContactParams) -> (TickScene, Vec3) {
     let initial = LocalModelSpec::plane(0, ModelPose::at(INITIAL_PLANE_TOP_M), contact);
     let scene = LocalModelScene {
         watchdog_timeout_s: f32::from(BENCH_WATCHDOG_MS) * 1e-3,
-        ..LocalModelScene::new(initial)
+        ..LocalModelScene::with_parts(initial)
     };
     (scene, Vec3::ZERO)
-}
-
-/// The fixed plane, its top at [`INITIAL_PLANE_TOP_M`] (the object frame's origin).
-#[cfg(not(feature = "local-model"))]
-fn scene(_contact: &ContactParams) -> (TickScene, Vec3) {
-    (Plane::default(), INITIAL_PLANE_TOP_M)
 }
 
 /// The pipeline's configuration: the device on this board's timing, the default contact
@@ -133,11 +119,10 @@ pub const SUPERVISOR_POLL_MS: u64 = 10;
 /// for 5 ms (50 ticks at 10 kHz).
 pub const WATCHDOG_TIMEOUT_US: u32 = 5_000;
 
-/// User-button debounce, ms.
-pub const BUTTON_DEBOUNCE_MS: u64 = 30;
+/// The operator button's timing (softfinger-core's default, the one host-sim's fault campaign
+/// uses): 20 ms debounce, 1 s long press, 3 s very long press.
+pub const BUTTON_TIMING: ButtonTiming = ButtonTiming::DEFAULT;
 
-/// A press held at least this long is a long press (home), ms.
-pub const LONG_PRESS_MS: u64 = 1_000;
-
-/// A press held at least this long is a very long press (next stiffness preset), ms.
-pub const VERY_LONG_PRESS_MS: u64 = 3_000;
+/// How often the button task samples the button while a press is in progress, ms (it waits for
+/// the button's edge otherwise). The debounce is then 4 samples.
+pub const BUTTON_SAMPLE_MS: u64 = 5;

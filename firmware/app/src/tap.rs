@@ -16,13 +16,3 @@ impl<T: Copy> Tap<T> for Producer<'static, T> {
         let _ = self.enqueue(*item);
     }
 }
-
-/// No host link: nothing to forward.
-#[cfg(not(feature = "usb"))]
-#[derive(Clone, Copy, Debug)]
-pub struct NoTap;
-
-#[cfg(not(feature = "usb"))]
-impl<T> Tap<T> for NoTap {
-    fn forward(&mut self, _item: &T) {}
-}

@@ -29,6 +29,9 @@ pub async fn task(
 ) {
     let mut ticker = Ticker::every(Duration::from_millis(config::LOGGER_POLL_MS));
     loop {
+        // Proof of life for the watchdog (`tick::THREAD_HEARTBEAT`): this loop runs only while
+        // the cooperative executor does, so a task that hangs stops it.
+        crate::tick::thread_heartbeat();
         while let Some(r) = records.dequeue() {
             if r.dropped_before > 0 {
                 warn!(
