@@ -18,7 +18,7 @@ use super::style::{
     split_for_legend, svg_string, variant_color, Entry as LegendEntry, Key, ERROR_FLOOR_MM, FONT,
     FRONT_COLOR,
 };
-use crate::validate::ours::{Backend, Variant};
+use crate::experiments::validate::ours::{Backend, Variant};
 
 /// One entry of the mcu-bench JSON.
 #[derive(Clone, Debug, Deserialize, PartialEq)]

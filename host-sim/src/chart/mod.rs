@@ -1,6 +1,6 @@
 //! Charts: the one chart style of every SVG host-sim writes ([`style`], with the line charts of
-//! [`lines`], [`bars`] and [`heatmap`] built on it), the charts of `host-sim run` ([`run_charts`])
-//! and its `index.html` ([`index_page`]), and the `chart` command: speed against accuracy, as SVG
+//! [`lines`], [`bars`] and [`heatmap`] built on it), the `index.html` every command with charts
+//! writes ([`index_page`]), and the `chart` command: speed against accuracy, as SVG
 //! charts.
 //!
 //! - `speed-accuracy.svg`: time per step (ns, log) against the largest contact-path error (mm, log), one
@@ -21,24 +21,22 @@ pub mod heatmap;
 pub mod index_page;
 pub mod lines;
 pub mod mcu;
-pub mod model_ablation;
 pub mod pareto;
 pub mod points;
-pub mod run_charts;
 pub mod speed_accuracy;
 pub mod style;
 pub mod surfaces;
 pub mod trajectories;
 
 use crate::error::{ChartError, FileError};
-use crate::validate::ValidateError;
+use crate::experiments::validate::ValidateError;
 use std::fmt::Write;
 use std::path::PathBuf;
 
-use crate::reference::scene::paper_scene;
-use crate::validate::ours::{self, Backend, Variant};
-use crate::validate::timing::Timing;
-use crate::validate::{closed_form, reference_for};
+use crate::experiments::validate::ours::{self, Backend, Variant};
+use crate::experiments::validate::timing::Timing;
+use crate::experiments::validate::{closed_form, reference_for};
+use crate::sim::reference::scene::paper_scene;
 use points::{Point, Series};
 use softfinger_core::contact::decompose::Method;
 
@@ -126,7 +124,7 @@ pub fn run(args: &Args) -> Result<ChartReport, ChartCommandError> {
     style::write_svg(&path, &trajectories::svg(&fig3()?)?)?;
     files.push(path);
 
-    let (_, surface_errors) = crate::validate::surfaces::run_with_series()?;
+    let (_, surface_errors) = crate::experiments::validate::surfaces::run_with_series()?;
     let path = args.out.join("surfaces-validation.svg");
     style::write_svg(&path, &surfaces::svg(&surface_errors)?)?;
     files.push(path);

@@ -3,13 +3,13 @@
 //! quartiles over the timing rounds) and its largest contact-path error, all timed in one interleaved
 //! measurement.
 
-use crate::reference::scene::{paper_scene_at_rate, Scene};
-use crate::reference::ReferencePaths;
-use crate::validate::classical::{self, Rk45Call, SceneRef, ATOL_PER_RTOL};
-use crate::validate::ours::{self, Variant};
-use crate::validate::timing::{self, Case, Timing};
-use crate::validate::ValidateError;
-use crate::validate::{closed_form, reference_for, run_ours};
+use crate::experiments::validate::classical::{self, Rk45Call, SceneRef, ATOL_PER_RTOL};
+use crate::experiments::validate::ours::{self, Variant};
+use crate::experiments::validate::timing::{self, Case, Timing};
+use crate::experiments::validate::ValidateError;
+use crate::experiments::validate::{closed_form, reference_for, run_ours};
+use crate::sim::reference::scene::{paper_scene_at_rate, Scene};
+use crate::sim::reference::ReferencePaths;
 
 /// Sampling rates of the sweep (Hz): the paper's 100 Hz and haptic-loop rates.
 pub const RATES_HZ: [f64; 5] = [100.0, 1_000.0, 4_000.0, 10_000.0, 20_000.0];

@@ -13,8 +13,8 @@ use super::style::{
     backend_shape, draw_axes, draw_line, draw_side_legend, drawing_err, log_range, svg_string,
     variant_color, Entry, Key, Shape, ERROR_FLOOR_MM, FONT, FRONT_COLOR, RK45_COLORS,
 };
-use crate::validate::classical::Rk45Call;
-use crate::validate::ours::Variant;
+use crate::experiments::validate::classical::Rk45Call;
+use crate::experiments::validate::ours::Variant;
 
 /// Errors above this (mm) are off the chart's scale (the paper-verbatim decomposition's 1e2–1e5 mm
 /// on a 10 mm fingertip): drawn at it as hollow markers and named in the panel.
@@ -346,7 +346,7 @@ fn draw_rk45<'a, 'b: 'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::validate::ours::Backend;
+    use crate::experiments::validate::ours::Backend;
     use softfinger_core::contact::decompose::Method;
 
     fn pt(error_mm: f64, q: (f64, f64)) -> Point {

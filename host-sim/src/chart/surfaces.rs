@@ -9,7 +9,9 @@ use super::style::{
     draw_axes, draw_line, draw_side_legend, drawing_err, log_range, on_white, split_for_legend,
     svg_string, Entry, Key, ERROR_FLOOR_MM, FONT, SURFACE_COLORS,
 };
-use crate::validate::surfaces::{SurfaceErrors, DURATION_S, FINGER_R, OBJECT_R, RATE_HZ};
+use crate::experiments::validate::surfaces::{
+    SurfaceErrors, DURATION_S, FINGER_R, OBJECT_R, RATE_HZ,
+};
 
 /// At most this many points per line (the run has 10 001 samples; every k-th is drawn, and the
 /// largest error of each stride, so no peak is lost).

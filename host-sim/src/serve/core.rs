@@ -9,7 +9,7 @@
 //! output guard and fault latch are the pipeline's, the firmware's own. It renders with the
 //! contact model the scene names (`model` in its file; [`softfinger_core::contact::parts`]).
 
-use crate::plant::Plant;
+use crate::sim::plant::Plant;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::contact::{Full, Parts};
@@ -87,14 +87,14 @@ impl<P: Parts> PipelineCore<P> {
     /// parameters, its surface as the initial local model), blending model switches over
     /// `blend_s`, with the watchdog at `watchdog_s` (0: off). Unhomed.
     pub fn new(
-        scene: &crate::scene::Scene,
+        scene: &crate::sim::scene::Scene,
         blend_s: f32,
         watchdog_s: f32,
     ) -> Result<Self, super::ServeError> {
         let (contact, model) = scene_model(scene)?;
         let config = PipelineConfig {
             device: softfinger_core::device::OMEGA_LIKE,
-            timing: crate::closed_loop::board_timing(scene.rate_hz)?,
+            timing: crate::sim::closed_loop::board_timing(scene.rate_hz)?,
             contact,
             surface: LocalModelScene {
                 blend_s,
@@ -133,7 +133,7 @@ impl<P: Parts> DeviceCore for PipelineCore<P> {
     }
 
     fn tick(&mut self, plant: &mut Plant) -> CoreOutput {
-        let (_, out, _) = crate::closed_loop::step(&mut self.pipe, plant, |_| {});
+        let (_, out, _) = crate::sim::closed_loop::step(&mut self.pipe, plant, |_| {});
         let c = self.pipe.controller();
         CoreOutput {
             probe_m: out.control.probe_m,
@@ -181,13 +181,13 @@ impl<P: Parts> DeviceCore for PipelineCore<P> {
 /// The initial model and contact parameters of a scene (plane top; sphere, bowl or cylinder centre
 /// in the base frame, as the closed-loop runs place them).
 pub fn scene_model(
-    scene: &crate::scene::Scene,
-) -> Result<(ContactParams, LocalModelSpec), crate::closed_loop::ClosedLoopError> {
-    let contact = crate::closed_loop::contact_params(scene)?;
-    let top = crate::closed_loop::surface_top_z_m() as f32;
+    scene: &crate::sim::scene::Scene,
+) -> Result<(ContactParams, LocalModelSpec), crate::sim::closed_loop::ClosedLoopError> {
+    let contact = crate::sim::closed_loop::contact_params(scene)?;
+    let top = crate::sim::closed_loop::surface_top_z_m() as f32;
     let (kind, z) = match scene.surface {
-        crate::scene::SurfaceSpec::Plane => (ModelKind::Plane, top),
-        crate::scene::SurfaceSpec::Sphere { radius_m } => (
+        crate::sim::scene::SurfaceSpec::Plane => (ModelKind::Plane, top),
+        crate::sim::scene::SurfaceSpec::Sphere { radius_m } => (
             ModelKind::Sphere {
                 radius_m: radius_m as f32,
             },
@@ -195,14 +195,14 @@ pub fn scene_model(
         ),
         // The bowl's centre is its radius above its bottom (the first contact), as in
         // `closed_loop::bowl_config`; the local model checks that it holds the fingertip.
-        crate::scene::SurfaceSpec::Bowl { radius_m } => (
+        crate::sim::scene::SurfaceSpec::Bowl { radius_m } => (
             ModelKind::Bowl {
                 radius_m: radius_m as f32,
             },
             top + radius_m as f32,
         ),
         // The cylinder's axis (object x, along base x) is its radius below its top.
-        crate::scene::SurfaceSpec::Cylinder { radius_m } => (
+        crate::sim::scene::SurfaceSpec::Cylinder { radius_m } => (
             ModelKind::Cylinder {
                 radius_m: radius_m as f32,
             },

@@ -1,5 +1,5 @@
 use super::*;
-use crate::scene::Scene;
+use crate::sim::scene::Scene;
 use softfinger_core::control::local_model::ModelPose;
 use softfinger_core::control::pipeline::passivity::PassivityConfig;
 use softfinger_protocol::{AckResult, ErrorCode};
@@ -8,7 +8,7 @@ use softfinger_protocol::{AckResult, ErrorCode};
 fn powered(watchdog_s: f32) -> (PipelineCore, Plant) {
     let scene = Scene::default_scene();
     let (contact, _) = scene_model(&scene).unwrap();
-    let plant = crate::closed_loop::plant(&scene, &contact).unwrap();
+    let plant = crate::sim::closed_loop::plant(&scene, &contact).unwrap();
     let core = PipelineCore::new(&scene, 0.002, watchdog_s).unwrap();
     (core, plant)
 }
@@ -49,7 +49,7 @@ fn no_force_before_homing_and_arming_then_the_real_homing() {
     plant.grasp_hand();
     let scene = Scene::default_scene();
     let (contact, _) = scene_model(&scene).unwrap();
-    let script = crate::closed_loop::touch_script(&scene, &contact);
+    let script = crate::sim::closed_loop::touch_script(&scene, &contact);
     let device = softfinger_core::device::OMEGA_LIKE.params;
     let mut next = crate::serve::hand::following(&plant, &script, device).unwrap();
     next.continue_counters_from(&plant);
@@ -70,7 +70,7 @@ fn no_force_before_homing_and_arming_then_the_real_homing() {
 
 fn armed(watchdog_s: f32) -> (PipelineCore, Plant) {
     let (mut core, mut plant) = powered(watchdog_s);
-    crate::closed_loop::prepare(core.pipeline_mut(), &mut plant).unwrap();
+    crate::sim::closed_loop::prepare(core.pipeline_mut(), &mut plant).unwrap();
     (core, plant)
 }
 
@@ -80,7 +80,7 @@ fn armed(watchdog_s: f32) -> (PipelineCore, Plant) {
 fn a_fault_cuts_the_force_at_once_and_latches() {
     let (mut core, mut plant) = armed(0.0);
     ticks(&mut core, &mut plant, 100);
-    let (_, out, _) = crate::closed_loop::step(core.pipeline_mut(), &mut plant, |r| {
+    let (_, out, _) = crate::sim::closed_loop::step(core.pipeline_mut(), &mut plant, |r| {
         r.counts[0] = r.counts[0].wrapping_add(5_000);
     });
     assert_eq!(out.mode, softfinger_core::control::pipeline::Mode::Faulted);
@@ -178,7 +178,7 @@ fn models_are_refused_with_typed_codes() {
 /// the first contact at the same height for all of them.
 #[test]
 fn every_scene_surface_is_the_initial_local_model() {
-    let top = crate::closed_loop::surface_top_z_m() as f32;
+    let top = crate::sim::closed_loop::surface_top_z_m() as f32;
     for (name, kind, centre_z) in [
         ("finger-on-plane", "plane", top),
         ("finger-on-sphere", "sphere", top - 0.05),
@@ -210,9 +210,9 @@ fn moving_plane_largest_step_n(damps: bool) -> f32 {
     }
     let scene = Scene::default_scene();
     let (contact, model) = scene_model(&scene).unwrap();
-    let top = crate::closed_loop::surface_top_z_m();
+    let top = crate::sim::closed_loop::surface_top_z_m();
     let radius = f64::from(contact.fingertip_radius_m);
-    let target = crate::plant::hand::Waypoint {
+    let target = crate::sim::plant::hand::Waypoint {
         position_m: [0.0, 0.0, top + radius - 0.001],
         wrist_rad: [0.0; 3],
     };
@@ -270,7 +270,7 @@ fn the_device_renders_with_the_model_its_scene_names() {
         let mut scene = Scene::load("finger-on-plane").unwrap();
         scene.model = Some(model.to_string());
         let (contact, _) = scene_model(&scene).unwrap();
-        let mut plant = crate::closed_loop::plant(&scene, &contact).unwrap();
+        let mut plant = crate::sim::closed_loop::plant(&scene, &contact).unwrap();
         let mut core = crate::serve::scene_core(&scene, 0.002, 0.0, true, &mut plant).unwrap();
         let (mut tau, mut force) = (0.0f32, 0.0f32);
         for _ in 0..(scene.duration_s * scene.rate_hz) as u32 {
@@ -295,7 +295,7 @@ fn the_device_renders_with_the_model_its_scene_names() {
     let mut scene = Scene::load("finger-on-plane").unwrap();
     scene.model = Some("fulll".to_string());
     let (contact, _) = scene_model(&scene).unwrap();
-    let mut plant = crate::closed_loop::plant(&scene, &contact).unwrap();
+    let mut plant = crate::sim::closed_loop::plant(&scene, &contact).unwrap();
     let err = crate::serve::scene_core(&scene, 0.002, 0.0, true, &mut plant)
         .err()
         .expect("unknown model refused");

@@ -6,11 +6,11 @@
 //! machine), the backlog is skipped rather than raced through, and those ticks are counted as
 //! overruns.
 
-use crate::plant::{HandScript, Plant, Waypoint};
 use crate::serve::core::{CoreOutput, DeviceCore};
 use crate::serve::hand::{self, HandMode};
 use crate::serve::link::{Event, LinkStats, Outbox};
 use crate::serve::log::EventLog;
+use crate::sim::plant::{HandScript, Plant, Waypoint};
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::pipeline::{Command, CommandError};
 use softfinger_core::device::DeviceParams;

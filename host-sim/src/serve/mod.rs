@@ -15,7 +15,7 @@ pub mod link;
 pub mod log;
 pub mod persist;
 
-use crate::scene::Scene;
+use crate::sim::scene::Scene;
 use clap::Parser;
 use std::net::{Shutdown, TcpStream};
 use std::net::{SocketAddr, TcpListener};
@@ -78,13 +78,13 @@ pub struct Server {
 pub enum ServeError {
     /// The scene could not be loaded.
     #[error(transparent)]
-    Scene(#[from] crate::scene::SceneError),
+    Scene(#[from] crate::sim::scene::SceneError),
     /// The scene's configuration, or the operator's session before serving, failed.
     #[error(transparent)]
-    Setup(#[from] crate::closed_loop::ClosedLoopError),
+    Setup(#[from] crate::sim::closed_loop::ClosedLoopError),
     /// The plant rejected the scene.
     #[error("plant: {0}")]
-    Plant(crate::plant::PlantError),
+    Plant(crate::sim::plant::PlantError),
     /// The pipeline rejected its configuration.
     #[error("pipeline: {0}")]
     Pipeline(#[from] softfinger_core::control::pipeline::PipelineError),
@@ -112,11 +112,11 @@ pub fn scene_core(
     blend_s: f32,
     watchdog_s: f32,
     auto_arm: bool,
-    plant: &mut crate::plant::Plant,
+    plant: &mut crate::sim::plant::Plant,
 ) -> Result<Box<dyn core::DeviceCore>, ServeError> {
     let parts = scene
         .model()
-        .map_err(crate::closed_loop::ClosedLoopError::from)?;
+        .map_err(crate::sim::closed_loop::ClosedLoopError::from)?;
     softfinger_core::with_parts!(parts, P => device_core::<P>(scene, blend_s, watchdog_s, auto_arm, plant))
 }
 
@@ -125,14 +125,14 @@ fn device_core<P: softfinger_core::contact::Parts>(
     blend_s: f32,
     watchdog_s: f32,
     auto_arm: bool,
-    plant: &mut crate::plant::Plant,
+    plant: &mut crate::sim::plant::Plant,
 ) -> Result<Box<dyn core::DeviceCore>, ServeError> {
     let mut core = core::PipelineCore::<P>::new(scene, blend_s, watchdog_s)?;
     if auto_arm {
         let pipe = core.pipeline_mut();
         pipe.command(softfinger_core::control::pipeline::Command::SetWatchdog { timeout_s: 0.0 })
             .map_err(ServeError::Watchdog)?;
-        crate::closed_loop::prepare(pipe, plant)?;
+        crate::sim::closed_loop::prepare(pipe, plant)?;
     }
     Ok(Box::new(core))
 }
@@ -155,8 +155,9 @@ impl Server {
         let (contact, _) = core::scene_model(&scene)?;
         let device = softfinger_core::device::OMEGA_LIKE.params;
         let watchdog_s = args.watchdog_ms * 1e-3;
-        let script = crate::closed_loop::touch_script(&scene, &contact);
-        let mut plant = crate::closed_loop::plant(&scene, &contact).map_err(ServeError::Plant)?;
+        let script = crate::sim::closed_loop::touch_script(&scene, &contact);
+        let mut plant =
+            crate::sim::closed_loop::plant(&scene, &contact).map_err(ServeError::Plant)?;
         let core = scene_core(
             &scene,
             args.blend_ms * 1e-3,
