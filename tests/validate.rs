@@ -197,13 +197,14 @@ fn chart_draws_the_mcu_chart_from_mcu_bench_json() {
             {"name": "sin", "backend": "libm", "instructions": 1240}]"#,
     )
     .unwrap();
-    let r = host_sim::chart::run(&host_sim::chart::Args {
-        out: dir.clone(),
-        mcu_json: Some(json),
-        quick: true,
-        rates_hz: Some(vec![100.0]),
-    })
-    .unwrap();
+    let r =
+        host_sim::experiments::speed_accuracy::run(&host_sim::experiments::speed_accuracy::Args {
+            out: dir.clone(),
+            mcu_json: Some(json),
+            quick: true,
+            rates_hz: Some(vec![100.0]),
+        })
+        .unwrap();
     let mcu = r.mcu.expect("MCU points");
     assert_eq!(mcu.len(), 3);
     // Each point carries its variant's error on the 100 Hz scene: exact/libm within the target.

@@ -35,7 +35,7 @@ pub enum Command {
     PilDecode(crate::pil::DecodeArgs),
     /// Speed against accuracy as SVG charts (per method x backend x sampling rate, RK45 at several
     /// tolerances, Pareto front), the paper's Fig. 3, and the MCU instruction counts against accuracy.
-    Chart(crate::chart::Args),
+    Chart(crate::experiments::speed_accuracy::Args),
     /// The virtual device: the device core against the plant in real time, speaking the
     /// softfinger protocol over TCP to several clients at once.
     Serve(crate::serve::Args),
@@ -103,7 +103,9 @@ where
         Some(Command::Validate(args)) => {
             crate::experiments::validate::main(&args).map_err(Into::into)
         }
-        Some(Command::Chart(args)) => crate::chart::main(&args).map_err(Into::into),
+        Some(Command::Chart(args)) => {
+            crate::experiments::speed_accuracy::main(&args).map_err(Into::into)
+        }
         Some(Command::Pil(args)) => crate::pil::main(&args).map_err(Into::into),
         Some(Command::PilDecode(args)) => crate::pil::decode_main(&args).map_err(Into::into),
         Some(Command::Creep(args)) => crate::experiments::creep::main(&args).map_err(Into::into),

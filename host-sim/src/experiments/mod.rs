@@ -9,5 +9,6 @@ pub mod limit_surface;
 pub mod model;
 pub mod replay;
 pub mod run;
+pub mod speed_accuracy;
 pub mod stability;
 pub mod validate;

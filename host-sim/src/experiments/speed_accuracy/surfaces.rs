@@ -5,7 +5,7 @@
 use crate::error::ChartError;
 use plotters::prelude::*;
 
-use super::style::{
+use crate::chart::style::{
     draw_axes, draw_line, draw_side_legend, drawing_err, log_range, on_white, split_for_legend,
     svg_string, Entry, Key, ERROR_FLOOR_MM, FONT, SURFACE_COLORS,
 };

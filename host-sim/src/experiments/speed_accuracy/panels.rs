@@ -9,7 +9,7 @@ use plotters::prelude::*;
 
 use super::pareto;
 use super::points::{Point, Series};
-use super::style::{
+use crate::chart::style::{
     backend_shape, draw_axes, draw_line, draw_side_legend, drawing_err, log_range, svg_string,
     variant_color, Entry, Key, Shape, ERROR_FLOOR_MM, FONT, FRONT_COLOR, RK45_COLORS,
 };
@@ -166,7 +166,11 @@ pub fn svg(points: &[Point]) -> Result<String, ChartError> {
 
 /// The rk45/restart plateau explained below the legend: per rate, the tolerances at which every
 /// sample was one RK45 step (taken from the points' step counts; re-centrings add a few).
-fn plateau_note(area: &super::style::Area, points: &[Point], y: i32) -> Result<(), ChartError> {
+fn plateau_note(
+    area: &crate::chart::style::Area,
+    points: &[Point],
+    y: i32,
+) -> Result<(), ChartError> {
     let mut lines = vec![
         "Why rk45/restart is flat: each sample restarts the integrator,".to_string(),
         "and its first step spans the whole sample and passes the error".to_string(),
@@ -204,7 +208,7 @@ fn plateau_note(area: &super::style::Area, points: &[Point], y: i32) -> Result<(
 
 /// One rate's panel: our variants, both RK45 ladders, the spreads, the front, off-scale notes.
 fn panel(
-    area: &super::style::Area,
+    area: &crate::chart::style::Area,
     points: &[Point],
     front: &[usize],
     rate: f64,

@@ -5,7 +5,7 @@ use crate::error::ChartError;
 use plotters::prelude::*;
 use plotters::style::full_palette::{BLUE_600, GREEN_700};
 
-use super::style::{
+use crate::chart::style::{
     draw_axes, draw_legend, draw_line, draw_markers, drawing_err, linear_range, svg_string, Shape,
     FONT,
 };

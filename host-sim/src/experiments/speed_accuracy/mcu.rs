@@ -13,7 +13,7 @@ use softfinger_core::contact::decompose::Method;
 use std::path::Path;
 
 use super::pareto;
-use super::style::{
+use crate::chart::style::{
     backend_shape, draw_axes, draw_line, draw_markers, draw_side_legend, drawing_err, log_range,
     split_for_legend, svg_string, variant_color, Entry as LegendEntry, Key, ERROR_FLOOR_MM, FONT,
     FRONT_COLOR,
