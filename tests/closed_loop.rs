@@ -2,7 +2,7 @@
 //! counts and bridge commands) homes, arms, stays bounded and does what the script asks: touch,
 //! roll, twist, slide, lift off.
 
-use host_sim::run::{simulate_scene, summarize, Args, RunResult, Summary};
+use host_sim::experiments::run::{simulate_scene, summarize, Args, RunResult, Summary};
 use softfinger_core::contact::state::ContactState;
 
 #[test]
@@ -23,7 +23,7 @@ fn default_scene_is_bounded_and_visits_every_state() {
     let range_s = f64::from(h.far_stop_angle_rad - h.stop_angle_rad) / v;
     let park_s = f64::from((h.park_angle_rad - h.stop_angle_rad).abs()) / v;
     let stall_s = f64::from(h.stall_s);
-    let powered = host_sim::closed_loop::POWER_UP_S;
+    let powered = host_sim::sim::closed_loop::POWER_UP_S;
     let fastest = powered + range_s + 2.0 * stall_s;
     let slowest = powered + 2.0 * range_s + park_s + 3.0 * stall_s;
     assert!(slowest < powered + f64::from(h.timeout_s));
@@ -120,7 +120,7 @@ fn sphere_scene_is_bounded() {
 }
 
 /// The contact point on the object at the end of the roll phase (the last roll tick).
-fn end_of_roll(res: &host_sim::run::RunResult) -> [f64; 3] {
+fn end_of_roll(res: &host_sim::experiments::run::RunResult) -> [f64; 3] {
     let last = res.rows.iter().rev().find(|r| r.phase == "roll").unwrap();
     last.object_point_m.map(f64::from)
 }
@@ -171,8 +171,10 @@ fn cylinder_scene_is_bounded_and_rolls_around_the_axis() {
 /// model`), which has no spin and no limit surface to check.
 #[test]
 fn slide_twist_scene_reaches_the_limit_surface_and_stays_within_it() {
-    use host_sim::limit_path::{load_path, summarize as load_summary, write_for_run};
-    let named = host_sim::scene::BUILT_IN
+    use host_sim::experiments::run::limit_path::{
+        load_path, summarize as load_summary, write_for_run,
+    };
+    let named = host_sim::sim::scene::BUILT_IN
         .iter()
         .find(|(name, _)| *name == "finger-slide-twist")
         .unwrap()
@@ -183,7 +185,7 @@ fn slide_twist_scene_reaches_the_limit_surface_and_stays_within_it() {
     std::fs::write(&file, text).unwrap();
     let (res, _) = run_bounded(file.to_str().unwrap());
     std::fs::remove_file(&file).unwrap();
-    let params = host_sim::closed_loop::contact_params(&res.scene).unwrap();
+    let params = host_sim::sim::closed_loop::contact_params(&res.scene).unwrap();
     let l = load_summary(&load_path(&res.rows, &params));
     let h = params.state_params().tol.hysteresis as f64;
     let kinetic = (params.mu_k / params.mu_s) as f64;

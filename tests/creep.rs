@@ -1,9 +1,9 @@
 //! No creep at rest in closed loop: the core's controller against the plant, a hand pressing 1 mm
 //! with the wrist tilted and twisted, then holding still. Self-contained (it builds its own hand
-//! script and runs `host_sim::closed_loop::simulate` through `host_sim::creep`), so it ports to any
+//! script and runs `host_sim::sim::closed_loop::simulate` through `host_sim::experiments::creep`), so it ports to any
 //! loop that exposes the contact model's anchor.
 
-use host_sim::creep::closed_loop_hold;
+use host_sim::experiments::creep::closed_loop_hold;
 use softfinger_core::contact::decompose::Method;
 use softfinger_core::{Fast, Libm};
 
@@ -55,13 +55,13 @@ fn a_held_finger_does_not_creep_in_closed_loop() {
 /// - both window means stay below one count's force, and their change below 3x the measured
 ///   change for that backend (named next to each bound below).
 ///
-/// With the hand's reference drifting along x (a test hook in `host_sim::creep::hold_scene`, the
+/// With the hand's reference drifting along x (a test hook in `host_sim::experiments::creep::hold_scene`, the
 /// probe walking relative to the anchor as creep would make it) the change is 3.2e-3 N at issue
 /// 12's 0.65 µm/s and 4.7e-4 N at 0.05 µm/s (libm, measured over 20 s): both caught.
 #[test]
 fn a_held_finger_renders_no_mean_tangential_force_growth() {
-    use host_sim::backend::Backend;
-    use host_sim::hold_quantisation::{measure, HoldSetup};
+    use host_sim::experiments::creep::hold_quantisation::{measure, HoldSetup};
+    use host_sim::sim::backend::Backend;
     use softfinger_core::Micromath;
     const ONE_COUNT_N: f64 = 0.01274;
     let setup = |drift| HoldSetup {

@@ -4,8 +4,8 @@
 //! fault that clears and comes back through the drivers' wake time, thresholds mid-contact,
 //! invalid parameter changes of every field kind).
 
-use host_sim::faults::{campaign_report, closed_loop::scene_config};
-use host_sim::plant::TouchScript;
+use host_sim::experiments::faults::{campaign_report, closed_loop::scene_config};
+use host_sim::sim::plant::TouchScript;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::contact::surface::Plane;

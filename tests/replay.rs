@@ -35,7 +35,10 @@ fn write_quats(path: &Path, qs: &[(f64, UnitQuaternion<f64>)]) {
 fn read_rows(path: &Path) -> Vec<Vec<String>> {
     let text = fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next().unwrap(), host_sim::replay::OUTPUT_HEADER);
+    assert_eq!(
+        lines.next().unwrap(),
+        host_sim::experiments::replay::OUTPUT_HEADER
+    );
     lines
         .map(|l| l.split(',').map(str::to_string).collect())
         .collect()
@@ -188,7 +191,7 @@ fn bad_inputs_are_rejected_with_the_line_and_leave_nothing() {
             1,
             "case {name}: only the input remains, found {leftovers:?}"
         );
-        let err = host_sim::replay::read_samples(&input)
+        let err = host_sim::experiments::replay::read_samples(&input)
             .unwrap_err()
             .to_string();
         assert!(
@@ -207,7 +210,9 @@ fn bad_inputs_are_rejected_with_the_line_and_leave_nothing() {
 }
 
 fn column(rows: &[Vec<String>], name: &str) -> Vec<f64> {
-    let header: Vec<&str> = host_sim::replay::OUTPUT_HEADER.split(',').collect();
+    let header: Vec<&str> = host_sim::experiments::replay::OUTPUT_HEADER
+        .split(',')
+        .collect();
     let i = header.iter().position(|h| *h == name).unwrap();
     rows.iter().map(|r| r[i].parse().unwrap()).collect()
 }
@@ -221,8 +226,8 @@ fn column(rows: &[Vec<String>], name: &str) -> Vec<f64> {
 /// target.
 #[test]
 fn every_surface_follows_the_rolling_reference() {
-    use host_sim::reference::{reference_paths_on, Ground, ReferenceMethod};
-    use host_sim::validate::surfaces::samples;
+    use host_sim::experiments::validate::surfaces::samples;
+    use host_sim::sim::reference::{reference_paths_on, Ground, ReferenceMethod};
     let dir = tmpdir("surfaces");
     let s = samples();
     let qs: Vec<(f64, UnitQuaternion<f64>)> = s

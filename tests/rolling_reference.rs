@@ -11,9 +11,9 @@
 //! Bounds: about 3x the worst error measured by this test (run with `-- --nocapture` to print it),
 //! per backend and branch; the measurement is named on each constant.
 
-use host_sim::backend::Backend;
-use host_sim::reference::motions::{cube_axes, motion};
-use host_sim::reference::{reference_paths_on, Ground, ReferenceMethod};
+use host_sim::sim::backend::Backend;
+use host_sim::sim::reference::motions::{cube_axes, motion};
+use host_sim::sim::reference::{reference_paths_on, Ground, ReferenceMethod};
 use nalgebra::UnitQuaternion;
 use softfinger_core::contact::decompose::Method;
 use softfinger_core::contact::rolling::Rolling;
@@ -138,7 +138,7 @@ fn worst_for_step(step: f64) -> [[f64; 3]; 2] {
                 };
                 // Every case integrates (no closed-form fallback): the reference's starting step
                 // once fell below the round-off limit on a round-off residue of the contact angle
-                // (see `host_sim::reference::rk45`, `initial_step`).
+                // (see `host_sim::sim::reference::rk45`, `initial_step`).
                 let reference = reference_paths_on(ground, method, &qs, 0.01, RHO)
                     .unwrap_or_else(|e| panic!("{axis:?} wander {wander} {ground:?}: {e:?}"));
                 let (o, f) = (&reference.plane, &reference.sphere);

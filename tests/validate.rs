@@ -2,10 +2,10 @@
 //! reproduction, the JSON layout scripts rely on, and the SVG files. Accuracy only: speed is measured by
 //! `cargo bench -p host-sim --bench reference` and printed by the commands, never asserted here.
 
-use host_sim::reference::scene::{paper_scene, paper_scene_at_rate, Scene};
-use host_sim::reference::ReferencePaths;
-use host_sim::validate::ours::{Backend, Variant};
-use host_sim::validate::{closed_form, reference_for, run_ours, TARGET_MM};
+use host_sim::experiments::validate::ours::{Backend, Variant};
+use host_sim::experiments::validate::{closed_form, reference_for, run_ours, TARGET_MM};
+use host_sim::sim::reference::scene::{paper_scene, paper_scene_at_rate, Scene};
+use host_sim::sim::reference::ReferencePaths;
 use softfinger_core::contact::decompose::Method;
 use std::fs;
 use std::path::PathBuf;
@@ -97,7 +97,7 @@ fn reference_agrees_with_the_closed_form() {
 
 #[test]
 fn json_output_has_our_rows_and_the_rk45_rows() {
-    let text = host_sim::validate::render(&host_sim::validate::Args {
+    let text = host_sim::experiments::validate::render(&host_sim::experiments::validate::Args {
         json: true,
         quick: true,
     })
@@ -107,7 +107,7 @@ fn json_output_has_our_rows_and_the_rk45_rows() {
     let names: Vec<&str> = rows.iter().map(|r| r["method"].as_str().unwrap()).collect();
     // Every method x backend of ours.
     for m in ["exact", "rpy", "paper-verbatim"] {
-        for b in host_sim::backend::Backend::ALL {
+        for b in host_sim::sim::backend::Backend::ALL {
             assert!(
                 names.contains(&format!("{m}/{b}").as_str()),
                 "{m}/{b} in {names:?}"
@@ -197,13 +197,14 @@ fn chart_draws_the_mcu_chart_from_mcu_bench_json() {
             {"name": "sin", "backend": "libm", "instructions": 1240}]"#,
     )
     .unwrap();
-    let r = host_sim::chart::run(&host_sim::chart::Args {
-        out: dir.clone(),
-        mcu_json: Some(json),
-        quick: true,
-        rates_hz: Some(vec![100.0]),
-    })
-    .unwrap();
+    let r =
+        host_sim::experiments::speed_accuracy::run(&host_sim::experiments::speed_accuracy::Args {
+            out: dir.clone(),
+            mcu_json: Some(json),
+            quick: true,
+            rates_hz: Some(vec![100.0]),
+        })
+        .unwrap();
     let mcu = r.mcu.expect("MCU points");
     assert_eq!(mcu.len(), 3);
     // Each point carries its variant's error on the 100 Hz scene: exact/libm within the target.

@@ -2,8 +2,8 @@
 //! the firmware's output timing, bracketed; the 0.6·2b/T target; the core's passivity stage keeping
 //! a 3× wall bounded. Runs in seconds (5 s of simulated contact per run, exact plant steps).
 
-use host_sim::stability::haptic::{self, Device, Loop};
-use host_sim::stability::haptic_timing::{firmware_delay_ticks, firmware_loop};
+use host_sim::experiments::stability::haptic::{self, Device, Loop};
+use host_sim::experiments::stability::haptic_timing::{firmware_delay_ticks, firmware_loop};
 use softfinger_core::control::pipeline::output_timing::{
     OutputTiming, CCM_CYCLES_PER_INSTRUCTION, PIPELINE_TICK_INSTRUCTIONS,
 };

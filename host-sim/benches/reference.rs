@@ -15,11 +15,13 @@ use softfinger_core::{Fast, Libm, Math, Quat};
 use std::hint::black_box;
 use std::time::Duration;
 
-use host_sim::reference::scene::{paper_scene, Scene};
-use host_sim::validate::classical::{self, Rk45Call, Rk45Run, SceneRef, ODE45_DEFAULTS};
-use host_sim::validate::ours::{self, Backend, Variant};
-use host_sim::validate::timing::{self, Timing};
-use host_sim::validate::{closed_form, reference_for, run_ours};
+use host_sim::experiments::validate::classical::{
+    self, Rk45Call, Rk45Run, SceneRef, ODE45_DEFAULTS,
+};
+use host_sim::experiments::validate::ours::{self, Backend, Variant};
+use host_sim::experiments::validate::timing::{self, Timing};
+use host_sim::experiments::validate::{closed_form, reference_for, run_ours};
+use host_sim::sim::reference::scene::{paper_scene, Scene};
 
 /// One pass: every step and both contact points after it, as the RK45 cases compute both paths.
 fn pass<M: Math>(start: Rolling<Plane>, samples: &[Quat]) -> Rolling<Plane> {

@@ -7,7 +7,7 @@
 //! `... -- 10000 0.247 16 50 56 60 100`. The wall is 3 × the largest passive one at that rate and
 //! delay on the device's own encoder, as in `host-sim stability`.
 
-use host_sim::stability::{encoder_cell, haptic_device as hd};
+use host_sim::experiments::stability::{encoder_cell, haptic_device as hd};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

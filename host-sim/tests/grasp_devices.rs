@@ -2,9 +2,9 @@
 //! plant running the control pipeline on the object as its local model, the object stepped by the
 //! application at 1 kHz. Whole runs, no lift (the lift is the README's figure), 1 s.
 
-use host_sim::grasp::devices::{run, LinkConfig, ObjectDesign};
-use host_sim::grasp::simulate::GraspConfig;
-use host_sim::grasp::verdict::judge;
+use host_sim::experiments::grasp::devices::{run, LinkConfig, ObjectDesign};
+use host_sim::experiments::grasp::simulate::GraspConfig;
+use host_sim::experiments::grasp::verdict::judge;
 
 fn config(torque_nm: f64, torsion: bool) -> GraspConfig {
     GraspConfig {

@@ -9,8 +9,8 @@
 //!   limit surface), turned above;
 //! - torsion off: any torque turns the object.
 
-use host_sim::grasp::simulate::{run, GraspConfig, Shape};
-use host_sim::grasp::verdict::{judge, Verdict};
+use host_sim::experiments::grasp::simulate::{run, GraspConfig, Shape};
+use host_sim::experiments::grasp::verdict::{judge, Verdict};
 use softfinger_core::contact::ContactParams;
 
 const BELOW: f64 = 0.97;

@@ -91,13 +91,13 @@ fn index_html_shows_the_summary_and_every_chart_in_a_browser() {
     let dir = std::env::temp_dir().join(format!("softfinger-index-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     // A short run of the scene with the most charts (it adds the limit-surface path).
-    let args = host_sim::run::Args {
+    let args = host_sim::experiments::run::Args {
         scene: "finger-slide-twist".into(),
         duration_s: Some(0.5),
         out: dir.clone(),
         ..Default::default()
     };
-    host_sim::run::main(&args).unwrap();
+    host_sim::experiments::run::main(&args).unwrap();
     let index = dir.join("index.html");
     let html = std::fs::read_to_string(&index).unwrap();
     let svgs = svgs_in(&dir);

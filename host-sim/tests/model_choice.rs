@@ -3,9 +3,9 @@
 //! Lean: five closed-loop runs in all (the every-scene check of the named models is CI's
 //! `host-sim model --scene NAME --check`, release, in `.ci/run`).
 
-use host_sim::model::ablation::{difference, runs};
-use host_sim::model::{instructions, yardstick};
-use host_sim::scene::Scene;
+use host_sim::experiments::model::ablation::{difference, runs};
+use host_sim::experiments::model::{instructions, yardstick};
+use host_sim::sim::scene::Scene;
 use softfinger_core::contact::ModelChoice;
 
 /// finger-on-plane: `rolling` (the scene's named model) against the full model: the same states

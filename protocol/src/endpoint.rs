@@ -7,7 +7,10 @@
 //! Answered here: [`HostMsg::Hello`], [`Request::GetCounters`], [`Request::SetStream`] and every
 //! rejected frame ([`DeviceMsg::FrameError`]). Everything else is returned by
 //! [`DeviceEndpoint::receive`] for the control side (to be queued to the tick, e.g. in a
-//! `heapless::spsc::Queue`), which answers with [`DeviceEndpoint::reply`].
+//! `heapless::spsc::Queue`), which answers with [`DeviceEndpoint::reply`] or
+//! [`DeviceEndpoint::send`]. A device with several links at once (the virtual device's TCP
+//! clients) holds one endpoint per link made with [`DeviceEndpoint::one_of_several`]: it hands
+//! `GetCounters` on, and the device answers with the counters over all its links.
 
 use crate::frame::{encode_frame, FrameDecoder, FrameErrorCounts};
 use crate::info::LinkCounters;
@@ -24,6 +27,8 @@ pub struct DeviceEndpoint {
     tx_frames: u32,
     tx_dropped: u32,
     stream_dropped: u32,
+    /// `GetCounters` answered here with this link's counters (false: handed on).
+    counters_here: bool,
 }
 
 impl DeviceEndpoint {
@@ -36,7 +41,18 @@ impl DeviceEndpoint {
             tx_frames: 0,
             tx_dropped: 0,
             stream_dropped: 0,
+            counters_here: true,
         }
+    }
+
+    /// One of several links of a device (`min_divisor` as in [`DeviceEndpoint::new`]):
+    /// `GetCounters` is returned by [`DeviceEndpoint::receive`] like a control request, for the
+    /// device to answer with the counters over every link ([`LinkCounters::plus`] of each link's
+    /// [`DeviceEndpoint::counters`]).
+    pub const fn one_of_several(min_divisor: u16) -> Self {
+        let mut e = DeviceEndpoint::new(min_divisor);
+        e.counters_here = false;
+        e
     }
 
     /// The counters of this link.
@@ -105,7 +121,7 @@ impl DeviceEndpoint {
             HostMsg::Request { seq, req } => (seq, req),
         };
         match req {
-            Request::GetCounters => {
+            Request::GetCounters if self.counters_here => {
                 let counters = self.counters();
                 self.send(&DeviceMsg::Counters { seq, counters }, send);
                 None

@@ -73,4 +73,21 @@ impl LinkCounters {
             connections: self.connections,
         }
     }
+
+    /// The counts of two sets of links together (each count's wrapping sum, `connections`
+    /// added): a device with several links answers with the sum over them.
+    pub fn plus(&self, other: &LinkCounters) -> LinkCounters {
+        LinkCounters {
+            rx_frames: self.rx_frames.wrapping_add(other.rx_frames),
+            rx_errors: self.rx_errors.wrapping_add(other.rx_errors),
+            rx_cobs: self.rx_cobs.wrapping_add(other.rx_cobs),
+            rx_crc: self.rx_crc.wrapping_add(other.rx_crc),
+            rx_version: self.rx_version.wrapping_add(other.rx_version),
+            rx_decode: self.rx_decode.wrapping_add(other.rx_decode),
+            rx_oversized: self.rx_oversized.wrapping_add(other.rx_oversized),
+            tx_frames: self.tx_frames.wrapping_add(other.tx_frames),
+            tx_dropped: self.tx_dropped.wrapping_add(other.tx_dropped),
+            connections: self.connections.saturating_add(other.connections),
+        }
+    }
 }

@@ -44,6 +44,7 @@ pub mod frame;
 pub mod info;
 pub mod messages;
 pub mod model;
+pub mod rendered;
 pub mod state;
 pub mod status;
 pub mod update;
@@ -53,6 +54,7 @@ pub use frame::{encode_frame, FrameDecoder, FrameError, FrameErrorCounts, FrameE
 pub use info::{DeviceInfo, LinkCounters};
 pub use messages::{AckResult, DeviceMsg, ErrorCode, HostMsg, Request};
 pub use model::{ContactParamsWire, HandTarget, LocalModel, SurfaceKind, SurfaceShape};
+pub use rendered::RenderedTick;
 pub use state::{ContactState, Mode, StateSample, TickStatsWire};
 pub use status::{DeviceStatus, FieldRange};
 

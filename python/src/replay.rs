@@ -1,5 +1,5 @@
 //! `softfinger.replay`: recorded fingertip orientations through the core's rolling model, the
-//! computation of `host-sim replay` (conventions in its module doc, `host-sim/src/replay.rs`)
+//! computation of `host-sim replay` (conventions in its module doc, `host-sim/src/experiments/replay.rs`)
 //! on arrays instead of CSV files, with the core alone (libm backend, f32). The tests compare
 //! the two on the same input value for value.
 

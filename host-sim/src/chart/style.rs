@@ -18,7 +18,7 @@ use std::io::Write;
 use std::path::Path;
 
 use crate::atomic_file::AtomicFile;
-use crate::validate::ours::Backend;
+use crate::sim::backend::Backend;
 
 /// The font family of every label (the SVG leaves the glyphs to the viewer).
 pub const FONT: &str = "sans-serif";

@@ -3,10 +3,10 @@
 
 use super::link_client::LinkError;
 use super::qemu::EmulatorError;
-use crate::closed_loop::ClosedLoopError;
 use crate::error::{ChartError, FileError, JsonError};
-use crate::plant::PlantError;
-use crate::scene::SceneError;
+use crate::sim::closed_loop::ClosedLoopError;
+use crate::sim::plant::PlantError;
+use crate::sim::scene::SceneError;
 use softfinger_core::control::pipeline::PipelineError;
 use std::path::PathBuf;
 

@@ -10,14 +10,16 @@
 //! operator is ignored) and the link's timing depends on the host, so this run is not compared
 //! with the in-process pipeline and its instruction counts are not budgeted.
 
+pub use super::link_report::LinkReport;
+
 use super::link_client::{frame, Client, LinkError, ANSWER_TIMEOUT};
 use super::qemu;
 use super::session;
 use super::PilError;
 use softfinger_protocol::frame::encode_frame_with_version;
 use softfinger_protocol::{
-    AckResult, DeviceMsg, ErrorCode, FrameErrorKind, HostMsg, LinkCounters, LocalModel, Mode,
-    Request, StateSample, SurfaceKind, SurfaceShape, MAX_FRAME_LEN, PROTOCOL_VERSION,
+    AckResult, DeviceMsg, ErrorCode, FrameErrorKind, HostMsg, LocalModel, Mode, Request,
+    StateSample, SurfaceKind, SurfaceShape, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -29,30 +31,6 @@ pub const UART_SOCKET: &str = "uart0.sock";
 /// Longest wait for homing to finish (about 5.1 s of board time in the default scene: both stops
 /// and the range check), wall clock.
 const HOMING_TIMEOUT: Duration = Duration::from_secs(120);
-
-/// What the check saw.
-#[derive(Clone, Debug, Default, serde::Serialize)]
-pub struct LinkReport {
-    /// Each check, in order: (what, passed, detail).
-    pub checks: Vec<(String, bool, String)>,
-    /// State frames decoded.
-    pub states: u32,
-    /// Frames from the device this side could not decode.
-    pub rx_errors_here: u32,
-    /// The device's counters at the end.
-    pub counters: Option<LinkCounters>,
-}
-
-impl LinkReport {
-    pub(super) fn check(&mut self, what: &str, ok: bool, detail: String) {
-        self.checks.push((what.to_string(), ok, detail));
-    }
-
-    /// Every check passed (and there were some).
-    pub fn passed(&self) -> bool {
-        !self.checks.is_empty() && self.checks.iter().all(|(_, ok, _)| *ok)
-    }
-}
 
 /// A ping request with sequence number `seq`.
 fn ping(seq: u16) -> HostMsg {
@@ -372,7 +350,7 @@ pub fn run(
     elf: &Path,
     dir: &Path,
     limit: Duration,
-    plant: crate::plant::Plant,
+    plant: crate::sim::plant::Plant,
     s: &session::Settings,
 ) -> Result<(session::Trace, LinkReport), PilError> {
     let sock = dir.join(UART_SOCKET);

@@ -13,8 +13,8 @@
 //!    exactly zero from the fade's length (20 ms) after the first flagged sample; turning the
 //!    watchdog off and re-arming clears it.
 
-use super::link_check::LinkReport;
 use super::link_client::{Client, LinkError};
+use super::link_report::LinkReport;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::local_model::RendererConfig;
 use softfinger_core::Flags;

@@ -10,6 +10,7 @@ pub mod faults;
 pub mod link_check;
 mod link_client;
 mod link_model;
+mod link_report;
 pub mod operator;
 pub mod qemu;
 pub mod reference;
@@ -20,9 +21,9 @@ mod verdict;
 pub mod views;
 pub mod wire;
 
-use crate::closed_loop;
 use crate::error::{FileError, JsonError};
-use crate::scene::{Scene, SurfaceSpec};
+use crate::sim::closed_loop;
+use crate::sim::scene::{Scene, SurfaceSpec};
 pub use error::PilError;
 use faults::Fault;
 pub use link_client::LinkError;
@@ -223,7 +224,7 @@ fn work_dir() -> Result<PathBuf, FileError> {
 /// Run the board against the plant; returns the trace and the raw defmt log.
 fn run_board(
     args: &Args,
-    plant: &crate::plant::Plant,
+    plant: &crate::sim::plant::Plant,
     s: &session::Settings,
 ) -> Result<(session::Trace, Vec<u8>), PilError> {
     if !args.elf.is_file() {

@@ -8,8 +8,8 @@
 //! `Pipeline::command` between the ticks, on the board through the link's reply to tick k's
 //! sample, which the board queues for the end of tick k.
 
-use crate::closed_loop::{POWER_UP_S, SETTLE_S};
-use crate::plant::Plant;
+use crate::sim::closed_loop::{POWER_UP_S, SETTLE_S};
+use crate::sim::plant::Plant;
 use softfinger_core::control::pipeline::{Command, Mode};
 
 /// Longest homing the session waits for, s (as `closed_loop::prepare`).

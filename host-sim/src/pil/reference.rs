@@ -10,7 +10,7 @@
 use super::operator::Operator;
 use super::session::Settings;
 use super::PilError;
-use crate::plant::Plant;
+use crate::sim::plant::Plant;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::contact::RollingOnly;

@@ -22,7 +22,7 @@ use super::operator::{command_code, Operator};
 use super::qemu::Emulator;
 use super::wire::{self, Message};
 use super::PilError;
-use crate::plant::Plant;
+use crate::sim::plant::Plant;
 use softfinger_core::control::pipeline::output_timing::{OutputTiming, CCM_CYCLES_PER_INSTRUCTION};
 use softfinger_core::control::pipeline::{BoardTiming, BridgeCommands, Mode, RawInput};
 use std::collections::BTreeMap;

@@ -214,8 +214,8 @@ fn output_report_measures_the_delay_and_fails_a_late_load() {
 /// material), so the PIL's default scene keeps its meaning with the firmware's local model.
 #[test]
 fn the_firmware_configs_initial_model_is_the_scenes_plane() {
-    use crate::closed_loop;
-    use crate::scene::Scene;
+    use crate::sim::closed_loop;
+    use crate::sim::scene::Scene;
     use softfinger_core::control::local_model::ModelKind;
     let scene = Scene::load("finger-on-plane").unwrap();
     let contact = closed_loop::contact_params(&scene).unwrap();

@@ -65,7 +65,8 @@ pub fn replay_csv(
     let mut file = AtomicFile::create(path).map_err(FileError::on(path, "cannot create"))?;
     let mut w = csv::Writer::from_writer(file.writer());
     let err = |e: csv::Error| FileError::on(path, "write failed")(e);
-    w.write_record(crate::replay::INPUT_HEADER).map_err(err)?;
+    w.write_record(crate::experiments::replay::INPUT_HEADER)
+        .map_err(err)?;
     let device = OMEGA_LIKE.params;
     for r in rows {
         let angles: [f32; 3] = std::array::from_fn(|i| {

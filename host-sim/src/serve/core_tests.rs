@@ -1,24 +1,22 @@
 use super::*;
-use crate::scene::Scene;
+use crate::sim::scene::Scene;
 use softfinger_core::control::local_model::ModelPose;
 use softfinger_core::control::pipeline::passivity::PassivityConfig;
+use softfinger_core::control::pipeline::PipelineOutput;
 use softfinger_protocol::{AckResult, ErrorCode};
 
 /// A core on the default scene and its plant, powered up for 10 ms.
 fn powered(watchdog_s: f32) -> (PipelineCore, Plant) {
     let scene = Scene::default_scene();
     let (contact, _) = scene_model(&scene).unwrap();
-    let plant = crate::closed_loop::plant(&scene, &contact).unwrap();
+    let plant = crate::sim::closed_loop::plant(&scene, &contact).unwrap();
     let core = PipelineCore::new(&scene, 0.002, watchdog_s).unwrap();
     (core, plant)
 }
 
-fn ticks(core: &mut PipelineCore, plant: &mut Plant, n: u32) -> CoreOutput {
-    let mut out = CoreOutput::default();
-    for _ in 0..n {
-        out = core.tick(plant);
-    }
-    out
+/// The output of the last of `n` (at least one) ticks.
+fn ticks(core: &mut PipelineCore, plant: &mut Plant, n: u32) -> PipelineOutput {
+    (0..n).map(|_| core.tick(plant)).last().expect("n > 0")
 }
 
 /// Unhomed: no force, arming refused. `Home` runs the pipeline's homing against the plant (the
@@ -29,7 +27,7 @@ fn no_force_before_homing_and_arming_then_the_real_homing() {
     let (mut core, mut plant) = powered(0.0);
     let out = ticks(&mut core, &mut plant, 100);
     assert_eq!(
-        (out.mode, out.force_n, out.enable),
+        (out.mode, out.control.force_n, out.bridges.pwm_enable),
         (Mode::Unhomed, Vec3::ZERO, false)
     );
     assert_eq!(
@@ -49,7 +47,7 @@ fn no_force_before_homing_and_arming_then_the_real_homing() {
     plant.grasp_hand();
     let scene = Scene::default_scene();
     let (contact, _) = scene_model(&scene).unwrap();
-    let script = crate::closed_loop::touch_script(&scene, &contact);
+    let script = crate::sim::closed_loop::touch_script(&scene, &contact);
     let device = softfinger_core::device::OMEGA_LIKE.params;
     let mut next = crate::serve::hand::following(&plant, &script, device).unwrap();
     next.continue_counters_from(&plant);
@@ -60,7 +58,7 @@ fn no_force_before_homing_and_arming_then_the_real_homing() {
     for _ in 0..end {
         let out = core.tick(&mut plant);
         assert_eq!(out.mode, Mode::Armed, "{:?}", out.flags);
-        most = most.max(out.force_n.norm::<Fast>());
+        most = most.max(out.control.force_n.norm::<Fast>());
         if most > 1.0 {
             break;
         }
@@ -70,7 +68,7 @@ fn no_force_before_homing_and_arming_then_the_real_homing() {
 
 fn armed(watchdog_s: f32) -> (PipelineCore, Plant) {
     let (mut core, mut plant) = powered(watchdog_s);
-    crate::closed_loop::prepare(core.pipeline_mut(), &mut plant).unwrap();
+    crate::sim::closed_loop::prepare(core.pipeline_mut(), &mut plant).unwrap();
     (core, plant)
 }
 
@@ -80,7 +78,7 @@ fn armed(watchdog_s: f32) -> (PipelineCore, Plant) {
 fn a_fault_cuts_the_force_at_once_and_latches() {
     let (mut core, mut plant) = armed(0.0);
     ticks(&mut core, &mut plant, 100);
-    let (_, out, _) = crate::closed_loop::step(core.pipeline_mut(), &mut plant, |r| {
+    let (_, out, _) = crate::sim::closed_loop::step(core.pipeline_mut(), &mut plant, |r| {
         r.counts[0] = r.counts[0].wrapping_add(5_000);
     });
     assert_eq!(out.mode, softfinger_core::control::pipeline::Mode::Faulted);
@@ -95,13 +93,13 @@ fn a_fault_cuts_the_force_at_once_and_latches() {
     );
     // The counter reads true again (a jump back, while latched), then the operator clears.
     let out = ticks(&mut core, &mut plant, 10);
-    assert_eq!((out.mode, out.enable), (Mode::Faulted, false));
+    assert_eq!((out.mode, out.bridges.pwm_enable), (Mode::Faulted, false));
     assert_eq!(
         AckResult::from(core.request(Command::ClearFaults)),
         AckResult::Ok
     );
     let out = ticks(&mut core, &mut plant, 10);
-    assert_eq!((out.mode, out.enable), (Mode::Unhomed, false));
+    assert_eq!((out.mode, out.bridges.pwm_enable), (Mode::Unhomed, false));
 }
 
 /// Watchdog 10 ms: fed every 5 ms nothing happens; silent, COMM_TIMEOUT at 100 ticks (not 99)
@@ -127,7 +125,7 @@ fn the_watchdog_fades_and_latches_until_rearmed() {
     assert!(out.flags.contains(Flags::COMM_TIMEOUT));
     assert_eq!(out.mode, Mode::Armed);
     let out = ticks(&mut core, &mut plant, 200);
-    assert_eq!(out.force_n, Vec3::ZERO);
+    assert_eq!(out.control.force_n, Vec3::ZERO);
     core.message_received();
     assert!(core.tick(&mut plant).flags.contains(Flags::COMM_TIMEOUT));
     core.message_received();
@@ -178,7 +176,7 @@ fn models_are_refused_with_typed_codes() {
 /// the first contact at the same height for all of them.
 #[test]
 fn every_scene_surface_is_the_initial_local_model() {
-    let top = crate::closed_loop::surface_top_z_m() as f32;
+    let top = crate::sim::closed_loop::surface_top_z_m() as f32;
     for (name, kind, centre_z) in [
         ("finger-on-plane", "plane", top),
         ("finger-on-sphere", "sphere", top - 0.05),
@@ -210,9 +208,9 @@ fn moving_plane_largest_step_n(damps: bool) -> f32 {
     }
     let scene = Scene::default_scene();
     let (contact, model) = scene_model(&scene).unwrap();
-    let top = crate::closed_loop::surface_top_z_m();
+    let top = crate::sim::closed_loop::surface_top_z_m();
     let radius = f64::from(contact.fingertip_radius_m);
-    let target = crate::plant::hand::Waypoint {
+    let target = crate::sim::plant::hand::Waypoint {
         position_m: [0.0, 0.0, top + radius - 0.001],
         wrist_rad: [0.0; 3],
     };
@@ -221,7 +219,7 @@ fn moving_plane_largest_step_n(damps: bool) -> f32 {
     held.continue_counters_from(&plant);
     plant = held;
     let _ = ticks(&mut core, &mut plant, 5_000);
-    let mut prev = core.tick(&mut plant).force_n;
+    let mut prev = core.tick(&mut plant).control.force_n;
     let mut largest = 0.0f32;
     for k in 1..=4_000u32 {
         if k % 10 == 0 {
@@ -237,7 +235,7 @@ fn moving_plane_largest_step_n(damps: bool) -> f32 {
                 AckResult::Ok
             );
         }
-        let f = core.tick(&mut plant).force_n;
+        let f = core.tick(&mut plant).control.force_n;
         largest = largest.max((f - prev).norm::<Fast>());
         prev = f;
     }
@@ -270,16 +268,20 @@ fn the_device_renders_with_the_model_its_scene_names() {
         let mut scene = Scene::load("finger-on-plane").unwrap();
         scene.model = Some(model.to_string());
         let (contact, _) = scene_model(&scene).unwrap();
-        let mut plant = crate::closed_loop::plant(&scene, &contact).unwrap();
-        let mut core = crate::serve::scene_core(&scene, 0.002, 0.0, true, &mut plant).unwrap();
-        let (mut tau, mut force) = (0.0f32, 0.0f32);
-        for _ in 0..(scene.duration_s * scene.rate_hz) as u32 {
-            let out = core.tick(&mut plant);
-            assert_eq!(out.mode, Mode::Armed, "{model}: {:?}", out.flags);
-            tau = tau.max(out.spin_torque_nm.abs());
-            force = force.max(out.force_n.norm::<Fast>());
-        }
-        (tau, force)
+        let mut plant = crate::sim::closed_loop::plant(&scene, &contact).unwrap();
+        let parts = crate::serve::scene_parts(&scene).unwrap();
+        softfinger_core::with_parts!(parts, P => {
+            let mut core =
+                crate::serve::device_core::<P>(&scene, 0.002, 0.0, true, &mut plant).unwrap();
+            let (mut tau, mut force) = (0.0f32, 0.0f32);
+            for _ in 0..(scene.duration_s * scene.rate_hz) as u32 {
+                let out = core.tick(&mut plant);
+                assert_eq!(out.mode, Mode::Armed, "{model}: {:?}", out.flags);
+                tau = tau.max(out.control.tau_n_nm.abs());
+                force = force.max(out.control.force_n.norm::<Fast>());
+            }
+            (tau, force)
+        })
     };
     let (full_tau, full_force) = most("full");
     assert!(
@@ -294,10 +296,6 @@ fn the_device_renders_with_the_model_its_scene_names() {
     // A model the core does not know is refused with its name.
     let mut scene = Scene::load("finger-on-plane").unwrap();
     scene.model = Some("fulll".to_string());
-    let (contact, _) = scene_model(&scene).unwrap();
-    let mut plant = crate::closed_loop::plant(&scene, &contact).unwrap();
-    let err = crate::serve::scene_core(&scene, 0.002, 0.0, true, &mut plant)
-        .err()
-        .expect("unknown model refused");
+    let err = crate::serve::scene_parts(&scene).expect_err("unknown model refused");
     assert!(err.to_string().contains("fulll"), "{err}");
 }

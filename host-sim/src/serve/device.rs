@@ -1,23 +1,31 @@
 //! The virtual device's loop: the device core against the plant in real time, the clients'
 //! requests applied at tick boundaries, the state stream to each client at its own divisor.
 //!
+//! Each client's link is the protocol's device side, a `DeviceEndpoint` per connection as on the
+//! firmware: it decodes the client's bytes, counts frames and errors, answers hello, frame errors
+//! and the stream divisor, and streams the samples ([`StateSample::rendered`] from what the
+//! pipeline rendered) at the divisor; the requests it hands on are answered here, the link
+//! counters over every connection since the device started among them.
+//!
 //! Real time: the loop runs the ticks that are due by the wall clock (`elapsed · rate`), in
 //! batches when the OS wakes it late. If it falls more than [`MAX_BACKLOG_S`] behind (a stalled
 //! machine), the backlog is skipped rather than raced through, and those ticks are counted as
 //! overruns.
 
-use crate::plant::{HandScript, Plant, Waypoint};
-use crate::serve::core::{CoreOutput, DeviceCore};
+use crate::serve::core::PipelineCore;
 use crate::serve::hand::{self, HandMode};
-use crate::serve::link::{Event, LinkStats, Outbox};
+use crate::serve::link::{Event, Outbox};
 use crate::serve::log::EventLog;
+use crate::sim::plant::{HandScript, Plant, Waypoint};
 use softfinger_core::contact::params::ContactParams;
+use softfinger_core::contact::Parts;
 use softfinger_core::control::pipeline::{Command, CommandError};
 use softfinger_core::device::DeviceParams;
 use softfinger_core::Flags;
 use softfinger_protocol::{
-    AckResult, ContactParamsWire, DeviceInfo, DeviceMsg, DeviceStatus, ErrorCode, FieldRange,
-    HostMsg, LocalModel, Mode, Request, StateSample, SurfaceKind, TickStatsWire, PROTOCOL_VERSION,
+    AckResult, ContactParamsWire, DeviceEndpoint, DeviceInfo, DeviceMsg, DeviceStatus, ErrorCode,
+    FieldRange, LinkCounters, LocalModel, Mode, RenderedTick, Request, StateSample, SurfaceKind,
+    TickStatsWire, PROTOCOL_VERSION,
 };
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -31,12 +39,19 @@ pub const MAX_BACKLOG_S: f64 = 0.05;
 /// every 0.1-0.2 ms, so batches of a few ticks are normal, not overruns).
 pub const LATE_S: f64 = 0.001;
 
-/// One connected client.
+/// One connected client: the protocol's device side of its link, and its outgoing queue.
 #[derive(Debug)]
 struct Client {
+    endpoint: DeviceEndpoint,
     out: Outbox,
-    divisor: u16,
-    dropped: u32,
+}
+
+impl Client {
+    /// Encode `msg` through the endpoint (which counts it sent or dropped) into the queue.
+    fn send(&mut self, msg: &DeviceMsg) -> bool {
+        let out = &self.out;
+        self.endpoint.send(msg, &mut |f: &[u8]| out.push(f, false))
+    }
 }
 
 /// Tick timing over a window.
@@ -61,9 +76,9 @@ impl TickTiming {
     }
 }
 
-/// The device: core, plant, hand and clients.
-pub struct DeviceLoop {
-    core: Box<dyn DeviceCore>,
+/// The device: core (rendering with the contact model of parts `P`), plant, hand and clients.
+pub struct DeviceLoop<P: Parts> {
+    core: PipelineCore<P>,
     device: DeviceParams,
     plant: Plant,
     scene_script: HandScript,
@@ -74,11 +89,12 @@ pub struct DeviceLoop {
     /// once, or when homing ends.
     hand_target: Option<Waypoint>,
     clients: BTreeMap<u32, Client>,
-    stats: Arc<LinkStats>,
+    /// The link counters of the connections that have closed.
+    closed: LinkCounters,
     info: DeviceInfo,
     tick: u64,
     timing: TickTiming,
-    last: CoreOutput,
+    last: RenderedTick,
     /// The largest force limit a client may set, N: the one the device started with.
     force_limit_n: f32,
     log: EventLog,
@@ -88,7 +104,7 @@ pub struct DeviceLoop {
     persist: super::persist::Persist,
 }
 
-impl std::fmt::Debug for DeviceLoop {
+impl<P: Parts> std::fmt::Debug for DeviceLoop<P> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("DeviceLoop")
             .field("tick", &self.tick)
@@ -96,15 +112,14 @@ impl std::fmt::Debug for DeviceLoop {
     }
 }
 
-impl DeviceLoop {
+impl<P: Parts> DeviceLoop<P> {
     /// A device running `core` against `plant`, whose hand plays `scene_script`.
     pub fn new(
-        core: Box<dyn DeviceCore>,
+        core: PipelineCore<P>,
         device: DeviceParams,
         plant: Plant,
         scene_script: HandScript,
-        stats: Arc<LinkStats>,
-    ) -> DeviceLoop {
+    ) -> DeviceLoop<P> {
         let rate = core.rate_hz();
         let mut info = DeviceInfo {
             protocol_version: PROTOCOL_VERSION,
@@ -131,11 +146,11 @@ impl DeviceLoop {
             homing: false,
             hand_target: None,
             clients: BTreeMap::new(),
-            stats,
+            closed: LinkCounters::default(),
             info,
             tick: 0,
             timing: TickTiming::default(),
-            last: CoreOutput::default(),
+            last: RenderedTick::default(),
             force_limit_n,
             log: EventLog::new(rate, None),
             noted: Flags::NONE,
@@ -144,14 +159,14 @@ impl DeviceLoop {
     }
 
     /// The same device with `persist` as its flash.
-    pub fn with_persist(mut self, persist: super::persist::Persist) -> DeviceLoop {
+    pub fn with_persist(mut self, persist: super::persist::Persist) -> DeviceLoop<P> {
         self.persist = persist;
         self
     }
 
     /// Log each connection, mode change, model or parameter change and fault into `out` (one
     /// line each, with the device time); `None`: silent.
-    pub fn with_log(mut self, out: Option<crate::serve::log::LogSink>) -> DeviceLoop {
+    pub fn with_log(mut self, out: Option<crate::serve::log::LogSink>) -> DeviceLoop<P> {
         self.log = EventLog::new(self.core.rate_hz(), out);
         self
     }
@@ -194,23 +209,19 @@ impl DeviceLoop {
                         self.tick,
                         format_args!("connection {id} opened ({} open)", self.clients.len() + 1),
                     );
-                    self.clients.insert(
-                        id,
-                        Client {
-                            out,
-                            divisor: 0,
-                            dropped: 0,
-                        },
-                    );
+                    let endpoint = DeviceEndpoint::one_of_several(self.info.min_stream_divisor);
+                    self.clients.insert(id, Client { endpoint, out });
                 }
                 Ok(Event::Disconnected { id }) => {
-                    self.clients.remove(&id);
+                    if let Some(c) = self.clients.remove(&id) {
+                        self.closed = self.closed.plus(&c.endpoint.counters());
+                    }
                     self.log.line(
                         self.tick,
                         format_args!("connection {id} closed ({} open)", self.clients.len()),
                     );
                 }
-                Ok(Event::Message { id, msg }) => self.handle(id, msg),
+                Ok(Event::Bytes { id, bytes }) => self.receive(id, &bytes),
                 Err(TryRecvError::Empty) => return true,
                 Err(TryRecvError::Disconnected) => return false,
             }
@@ -220,8 +231,9 @@ impl DeviceLoop {
     fn one_tick(&mut self, overruns: u32) {
         let rate = self.core.rate_hz();
         let t0 = Instant::now();
-        let out = self.core.tick(&mut self.plant);
+        let tick_out = self.core.tick(&mut self.plant);
         let ns = t0.elapsed().as_nanos().min(u32::MAX as u128) as u32;
+        let out = self.core.rendered(&tick_out);
         self.timing.record(ns, (rate / 10.0) as u32);
         self.timing.last.overruns = overruns;
         let before = self.last.mode;
@@ -256,50 +268,55 @@ impl DeviceLoop {
 
     /// Send a sample to every client whose divisor divides this tick.
     fn stream(&mut self) {
-        let tick = self.tick;
-        let o = &self.last;
-        let mut sample = StateSample {
-            tick,
-            probe_m: o.probe_m.to_array(),
-            probe_vel_m_s: o.probe_vel_m_s.to_array(),
-            force_n: o.force_n.to_array(),
-            spin_torque_nm: o.spin_torque_nm,
-            contact: o.contact,
-            contact_point_m: o.contact_point_m.to_array(),
-            flags: o.flags.0,
-            mode: o.mode,
-            model_seq: o.model_seq,
-            tick_stats: self.timing.last,
-            dropped: 0,
-        };
+        let sample = StateSample::rendered(self.tick, &self.last, self.timing.last);
         for c in self.clients.values_mut() {
-            if c.divisor != 0 && tick.is_multiple_of(c.divisor as u64) {
-                sample.dropped = c.dropped;
-                if !c.out.send(&DeviceMsg::State(sample)) {
-                    c.dropped = c.dropped.saturating_add(1);
-                }
-            }
+            let out = &c.out;
+            c.endpoint
+                .offer_state(&sample, &mut |f: &[u8]| out.push(f, true));
         }
     }
 
     fn reply(&mut self, id: u32, msg: DeviceMsg) {
-        if let Some(c) = self.clients.get(&id) {
-            c.out.send(&msg);
+        if let Some(c) = self.clients.get_mut(&id) {
+            c.send(&msg);
         }
     }
 
-    /// One client message, at a tick boundary.
-    fn handle(&mut self, id: u32, msg: HostMsg) {
-        self.core.message_received();
-        let (seq, req) = match msg {
-            HostMsg::Hello {
-                min_version,
-                max_version,
-            } => {
-                return self.reply(id, DeviceMsg::hello_reply(min_version, max_version));
+    /// The link counters over every connection since the device started, `connections` the
+    /// ones open now.
+    fn counters(&self) -> LinkCounters {
+        let all = self
+            .clients
+            .values()
+            .fold(self.closed, |sum, c| sum.plus(&c.endpoint.counters()));
+        LinkCounters {
+            connections: self.clients.len().min(u16::MAX as usize) as u16,
+            ..all
+        }
+    }
+
+    /// Bytes from client `id`, through its endpoint: every valid frame feeds the communication
+    /// watchdog; the requests the endpoint hands on are handled at once, in order.
+    fn receive(&mut self, id: u32, bytes: &[u8]) {
+        for &b in bytes {
+            let Some(c) = self.clients.get_mut(&id) else {
+                return;
+            };
+            // A frame ends at a zero byte: only then can the decoder count a valid one.
+            let frames = (b == 0).then(|| c.endpoint.counters().rx_frames);
+            let out = &c.out;
+            let request = c.endpoint.receive(b, &mut |f: &[u8]| out.push(f, false));
+            if frames.is_some_and(|n| n != c.endpoint.counters().rx_frames) {
+                self.core.message_received();
             }
-            HostMsg::Request { seq, req } => (seq, req),
-        };
+            if let Some((seq, req)) = request {
+                self.handle(id, seq, req);
+            }
+        }
+    }
+
+    /// One client request the endpoint handed on, at a tick boundary.
+    fn handle(&mut self, id: u32, seq: u16, req: Request) {
         let armed = matches!(self.last.mode, Mode::Armed | Mode::Homing);
         if let Some(reply) = self.persist.handle(seq, &req, armed) {
             return self.reply(id, reply);
@@ -311,7 +328,7 @@ impl DeviceLoop {
                 return self.reply(id, DeviceMsg::Info { seq, info });
             }
             Request::GetCounters => {
-                let counters = self.stats.snapshot();
+                let counters = self.counters();
                 return self.reply(id, DeviceMsg::Counters { seq, counters });
             }
             Request::GetStatus => {
@@ -329,7 +346,6 @@ impl DeviceLoop {
                 return self.reply(id, DeviceMsg::ContactParams { seq, params });
             }
             Request::Ping => AckResult::Ok,
-            Request::SetStream { divisor } => self.set_stream(id, *divisor),
             Request::DriveHand(t) => {
                 let target = Waypoint {
                     position_m: t.position_m.map(f64::from),
@@ -405,16 +421,6 @@ impl DeviceLoop {
             _ => {}
         }
         Ok(())
-    }
-
-    fn set_stream(&mut self, id: u32, divisor: u16) -> AckResult {
-        if divisor != 0 && divisor < self.info.min_stream_divisor {
-            return AckResult::Err(ErrorCode::StreamTooFast);
-        }
-        if let Some(c) = self.clients.get_mut(&id) {
-            c.divisor = divisor;
-        }
-        AckResult::Ok
     }
 
     /// The hand holds the handle where a client asked, or plays the scene's script; while

@@ -3,7 +3,7 @@
 //! the handle never jumps: the plant is rebuilt at rest at the current effector position and
 //! wrist angles, and the script moves from there (minimum jerk) to where it should be.
 
-use crate::plant::{HandScript, Phase, Plant, PlantError, PlantParams, Waypoint};
+use crate::sim::plant::{HandScript, Phase, Plant, PlantError, PlantParams, Waypoint};
 use softfinger_core::device::DeviceParams;
 
 /// Reference speed of the move to a new script's start, m/s.

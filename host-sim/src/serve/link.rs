@@ -1,18 +1,15 @@
-//! One TCP connection of the virtual device: a reader thread that decodes frames and hands
-//! messages to the device loop, and a writer thread that sends what the device queued.
+//! One TCP connection of the virtual device: a reader thread that hands the bytes it receives to
+//! the device loop, and a writer thread that sends what the device queued.
 //!
-//! A bad frame is counted (per kind, over all connections) and answered with
-//! [`DeviceMsg::FrameError`]; the connection goes on. The outgoing queue is bounded: a client
-//! that stops reading loses state samples (counted), never stalls the device loop. State samples
-//! may fill only [`OUT_QUEUE_STATES`] of it, so replies always find room.
+//! The device loop decodes them with the connection's `softfinger_protocol::DeviceEndpoint`: a bad
+//! frame is counted there (per kind) and answered with `DeviceMsg::FrameError`; the connection
+//! goes on. The outgoing queue is bounded: a client that stops reading loses state samples
+//! (counted by the endpoint), never stalls the device loop. State samples may fill only
+//! [`OUT_QUEUE_STATES`] of it, so replies always find room.
 
-use softfinger_protocol::{
-    encode_frame, DeviceMsg, FrameDecoder, FrameErrorKind, HostMsg, LinkCounters, MAX_FRAME_LEN,
-    PROTOCOL_VERSION,
-};
 use std::io::{Read, Write};
 use std::net::{Shutdown, TcpStream};
-use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering::Relaxed};
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 use std::sync::mpsc::{sync_channel, Receiver, Sender, SyncSender, TrySendError};
 use std::sync::Arc;
 use std::thread;
@@ -23,64 +20,13 @@ pub const OUT_QUEUE_STATES: usize = 512;
 /// Room kept for replies and frame-error answers on top of the samples.
 pub const OUT_QUEUE_REPLIES: usize = 512;
 
-/// Link counters over all connections, shared by the threads.
-#[derive(Debug, Default)]
-pub struct LinkStats {
-    rx_frames: AtomicU32,
-    rx_cobs: AtomicU32,
-    rx_crc: AtomicU32,
-    rx_version: AtomicU32,
-    rx_decode: AtomicU32,
-    rx_oversized: AtomicU32,
-    tx_frames: AtomicU32,
-    tx_dropped: AtomicU32,
-    connections: AtomicU32,
-}
-
-impl LinkStats {
-    /// The counters now.
-    pub fn snapshot(&self) -> LinkCounters {
-        let g = |a: &AtomicU32| a.load(Relaxed);
-        let (cobs, crc, version, decode, oversized) = (
-            g(&self.rx_cobs),
-            g(&self.rx_crc),
-            g(&self.rx_version),
-            g(&self.rx_decode),
-            g(&self.rx_oversized),
-        );
-        LinkCounters {
-            rx_frames: g(&self.rx_frames),
-            rx_errors: cobs + crc + version + decode + oversized,
-            rx_cobs: cobs,
-            rx_crc: crc,
-            rx_version: version,
-            rx_decode: decode,
-            rx_oversized: oversized,
-            tx_frames: g(&self.tx_frames),
-            tx_dropped: g(&self.tx_dropped),
-            connections: g(&self.connections).min(u16::MAX as u32) as u16,
-        }
-    }
-
-    fn count_error(&self, kind: FrameErrorKind) {
-        let c = match kind {
-            FrameErrorKind::Cobs => &self.rx_cobs,
-            FrameErrorKind::Crc => &self.rx_crc,
-            FrameErrorKind::Version => &self.rx_version,
-            FrameErrorKind::Decode => &self.rx_decode,
-            FrameErrorKind::Oversized => &self.rx_oversized,
-        };
-        c.fetch_add(1, Relaxed);
-    }
-}
-
 /// What the connections tell the device loop.
 #[derive(Debug)]
 pub enum Event {
     /// A client connected; send to it through `out`.
     Connected { id: u32, out: Outbox },
-    /// A client sent a valid message.
-    Message { id: u32, msg: HostMsg },
+    /// A client sent these bytes (any number of frames, or parts of them).
+    Bytes { id: u32, bytes: Vec<u8> },
     /// A client went away.
     Disconnected { id: u32 },
 }
@@ -91,24 +37,18 @@ pub struct Outbox {
     tx: SyncSender<Outgoing>,
     /// State samples queued and not yet written.
     queued_states: Arc<AtomicUsize>,
-    stats: Arc<LinkStats>,
 }
 
 impl Outbox {
-    /// Queue `msg`; false (and counted as dropped) when the queue is full or the client gone.
-    pub fn send(&self, msg: &DeviceMsg) -> bool {
-        let is_state = matches!(msg, DeviceMsg::State(_));
+    /// Queue one encoded frame (`is_state`: a state sample, which may fill only
+    /// [`OUT_QUEUE_STATES`] of the queue); false when the queue is full or the client gone. The
+    /// endpoint that encoded it counts it sent or dropped.
+    pub fn push(&self, frame: &[u8], is_state: bool) -> bool {
         if is_state && self.queued_states.load(Relaxed) >= OUT_QUEUE_STATES {
-            self.stats.tx_dropped.fetch_add(1, Relaxed);
             return false;
         }
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        let Ok(n) = encode_frame(msg, &mut buf) else {
-            self.stats.tx_dropped.fetch_add(1, Relaxed);
-            return false;
-        };
         let item = Outgoing {
-            frame: buf[..n].to_vec(),
+            frame: frame.to_vec(),
             is_state,
         };
         // Counted before it is queued: the writer may take it (and count it out) at once.
@@ -116,15 +56,11 @@ impl Outbox {
             self.queued_states.fetch_add(1, Relaxed);
         }
         match self.tx.try_send(item) {
-            Ok(()) => {
-                self.stats.tx_frames.fetch_add(1, Relaxed);
-                true
-            }
+            Ok(()) => true,
             Err(TrySendError::Full(_)) | Err(TrySendError::Disconnected(_)) => {
                 if is_state {
                     self.queued_states.fetch_sub(1, Relaxed);
                 }
-                self.stats.tx_dropped.fetch_add(1, Relaxed);
                 false
             }
         }
@@ -139,7 +75,7 @@ struct Outgoing {
 }
 
 /// Serve one accepted connection: spawns its writer, then reads until the client goes away.
-pub fn serve_connection(stream: TcpStream, id: u32, events: Sender<Event>, stats: Arc<LinkStats>) {
+pub fn serve_connection(stream: TcpStream, id: u32, events: Sender<Event>) {
     let _ = stream.set_nodelay(true);
     let Ok(write_half) = stream.try_clone() else {
         return;
@@ -149,24 +85,14 @@ pub fn serve_connection(stream: TcpStream, id: u32, events: Sender<Event>, stats
     let out = Outbox {
         tx,
         queued_states: queued_states.clone(),
-        stats: stats.clone(),
     };
-    stats.connections.fetch_add(1, Relaxed);
     let writer = thread::spawn(move || write_loop(write_half, rx, &queued_states));
-    if events
-        .send(Event::Connected {
-            id,
-            out: out.clone(),
-        })
-        .is_ok()
-    {
-        read_loop(&stream, id, &events, &stats, &out);
+    if events.send(Event::Connected { id, out }).is_ok() {
+        read_loop(&stream, id, &events);
     }
     let _ = events.send(Event::Disconnected { id });
-    drop(out);
     let _ = stream.shutdown(Shutdown::Both);
     let _ = writer.join();
-    stats.connections.fetch_sub(1, Relaxed);
 }
 
 fn write_loop(mut stream: TcpStream, rx: Receiver<Outgoing>, queued_states: &AtomicUsize) {
@@ -181,37 +107,16 @@ fn write_loop(mut stream: TcpStream, rx: Receiver<Outgoing>, queued_states: &Ato
     let _ = stream.shutdown(Shutdown::Both);
 }
 
-fn read_loop(
-    mut stream: &TcpStream,
-    id: u32,
-    events: &Sender<Event>,
-    stats: &LinkStats,
-    out: &Outbox,
-) {
-    let mut decoder = FrameDecoder::new();
+fn read_loop(mut stream: &TcpStream, id: u32, events: &Sender<Event>) {
     let mut buf = [0u8; 4096];
     loop {
         let n = match stream.read(&mut buf) {
             Ok(0) | Err(_) => return,
             Ok(n) => n,
         };
-        for &b in &buf[..n] {
-            match decoder.push::<HostMsg>(b) {
-                None => {}
-                Some(Ok(msg)) => {
-                    stats.rx_frames.fetch_add(1, Relaxed);
-                    if events.send(Event::Message { id, msg }).is_err() {
-                        return;
-                    }
-                }
-                Some(Err(e)) => {
-                    stats.count_error(e.kind);
-                    out.send(&DeviceMsg::FrameError {
-                        kind: e.kind,
-                        device_version: PROTOCOL_VERSION,
-                    });
-                }
-            }
+        let bytes = buf[..n].to_vec();
+        if events.send(Event::Bytes { id, bytes }).is_err() {
+            return;
         }
     }
 }

@@ -3,10 +3,13 @@
 //! written and tested without hardware.
 //!
 //! Threads: one device loop ([`device::DeviceLoop`]), one acceptor, and a reader and a writer per
-//! connection ([`link`]). Connections talk to the device loop through one event channel; the
-//! device answers through each connection's bounded queue. A client that sends garbage gets its
-//! bad frames counted and answered; a client that stops reading loses state samples (counted);
-//! neither affects the other clients or the tick.
+//! connection ([`link`]). Connections hand their bytes to the device loop through one event
+//! channel; the device loop holds the protocol's device side of each connection
+//! (`softfinger_protocol::DeviceEndpoint`, as the firmware's link does: it decodes the frames,
+//! counts them and their errors, answers hello and the stream divisor) and answers through each
+//! connection's bounded queue. A client that sends garbage gets its bad frames counted and
+//! answered; a client that stops reading loses state samples (counted); neither affects the other
+//! clients or the tick.
 
 pub mod core;
 pub mod device;
@@ -15,8 +18,9 @@ pub mod link;
 pub mod log;
 pub mod persist;
 
-use crate::scene::Scene;
+use crate::sim::scene::Scene;
 use clap::Parser;
+use softfinger_core::contact::{ModelChoice, Parts};
 use std::net::{Shutdown, TcpStream};
 use std::net::{SocketAddr, TcpListener};
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
@@ -78,13 +82,13 @@ pub struct Server {
 pub enum ServeError {
     /// The scene could not be loaded.
     #[error(transparent)]
-    Scene(#[from] crate::scene::SceneError),
+    Scene(#[from] crate::sim::scene::SceneError),
     /// The scene's configuration, or the operator's session before serving, failed.
     #[error(transparent)]
-    Setup(#[from] crate::closed_loop::ClosedLoopError),
+    Setup(#[from] crate::sim::closed_loop::ClosedLoopError),
     /// The plant rejected the scene.
     #[error("plant: {0}")]
-    Plant(crate::plant::PlantError),
+    Plant(crate::sim::plant::PlantError),
     /// The pipeline rejected its configuration.
     #[error("pipeline: {0}")]
     Pipeline(#[from] softfinger_core::control::pipeline::PipelineError),
@@ -102,39 +106,33 @@ pub enum ServeError {
     Duration(f64),
 }
 
-/// The device's core for `scene`, rendering with the contact model the scene names (`model`;
-/// [`softfinger_core::contact::parts`]), blending model switches over `blend_s`, the watchdog at
-/// `watchdog_s`. With `auto_arm` the operator's session in simulated time first: home against
-/// the plant, the hand takes the handle, arm (bench mode: no client feeds the watchdog, so it is
-/// off).
-pub fn scene_core(
-    scene: &Scene,
-    blend_s: f32,
-    watchdog_s: f32,
-    auto_arm: bool,
-    plant: &mut crate::plant::Plant,
-) -> Result<Box<dyn core::DeviceCore>, ServeError> {
-    let parts = scene
+/// The contact model `scene` names ([`softfinger_core::contact::parts`]; the full model when it
+/// names none): the device's type parameter, picked once at start.
+pub fn scene_parts(scene: &Scene) -> Result<ModelChoice, ServeError> {
+    Ok(scene
         .model()
-        .map_err(crate::closed_loop::ClosedLoopError::from)?;
-    softfinger_core::with_parts!(parts, P => device_core::<P>(scene, blend_s, watchdog_s, auto_arm, plant))
+        .map_err(crate::sim::closed_loop::ClosedLoopError::from)?)
 }
 
-fn device_core<P: softfinger_core::contact::Parts>(
+/// The device's core for `scene`, rendering with the contact model of parts `P`, blending model
+/// switches over `blend_s`, the watchdog at `watchdog_s`. With `auto_arm` the operator's session
+/// in simulated time first: home against the plant, the hand takes the handle, arm (bench mode:
+/// no client feeds the watchdog, so it is off).
+pub fn device_core<P: Parts>(
     scene: &Scene,
     blend_s: f32,
     watchdog_s: f32,
     auto_arm: bool,
-    plant: &mut crate::plant::Plant,
-) -> Result<Box<dyn core::DeviceCore>, ServeError> {
+    plant: &mut crate::sim::plant::Plant,
+) -> Result<core::PipelineCore<P>, ServeError> {
     let mut core = core::PipelineCore::<P>::new(scene, blend_s, watchdog_s)?;
     if auto_arm {
         let pipe = core.pipeline_mut();
         pipe.command(softfinger_core::control::pipeline::Command::SetWatchdog { timeout_s: 0.0 })
             .map_err(ServeError::Watchdog)?;
-        crate::closed_loop::prepare(pipe, plant)?;
+        crate::sim::closed_loop::prepare(pipe, plant)?;
     }
-    Ok(Box::new(core))
+    Ok(core)
 }
 
 impl Server {
@@ -153,12 +151,25 @@ impl Server {
     pub fn start_logging(args: &Args, log: Option<log::LogSink>) -> Result<Server, ServeError> {
         let scene = Scene::load(&args.scene)?;
         let (contact, _) = core::scene_model(&scene)?;
+        let script = crate::sim::closed_loop::touch_script(&scene, &contact);
+        let plant = crate::sim::closed_loop::plant(&scene, &contact).map_err(ServeError::Plant)?;
+        let parts = scene_parts(&scene)?;
+        softfinger_core::with_parts!(parts, P => Server::start_with::<P>(args, log, &scene, plant, script))
+    }
+
+    /// [`Server::start_logging`] with the scene loaded, its plant and hand script made, rendering
+    /// with the contact model of parts `P`.
+    fn start_with<P: Parts>(
+        args: &Args,
+        log: Option<log::LogSink>,
+        scene: &Scene,
+        mut plant: crate::sim::plant::Plant,
+        script: crate::sim::plant::HandScript,
+    ) -> Result<Server, ServeError> {
         let device = softfinger_core::device::OMEGA_LIKE.params;
         let watchdog_s = args.watchdog_ms * 1e-3;
-        let script = crate::closed_loop::touch_script(&scene, &contact);
-        let mut plant = crate::closed_loop::plant(&scene, &contact).map_err(ServeError::Plant)?;
-        let core = scene_core(
-            &scene,
+        let core = device_core::<P>(
+            scene,
             args.blend_ms * 1e-3,
             watchdog_s,
             args.auto_arm,
@@ -173,13 +184,12 @@ impl Server {
             .set_nonblocking(true)
             .map_err(|e| ServeError::Listen(args.listen.clone(), e))?;
         let stop = Arc::new(AtomicBool::new(false));
-        let stats = Arc::new(link::LinkStats::default());
         let (events_tx, events_rx) = channel();
         let persist = match &args.flash {
             Some(path) => persist::Persist::open(path).map_err(ServeError::Flash)?,
             None => persist::Persist::in_ram(),
         };
-        let dev = device::DeviceLoop::new(core, device, plant, script, stats.clone())
+        let dev = device::DeviceLoop::new(core, device, plant, script)
             .with_log(log)
             .with_persist(persist);
         let stop_dev = stop.clone();
@@ -197,8 +207,8 @@ impl Server {
                             list.push(c);
                         }
                         let id = next_id.fetch_add(1, Ordering::Relaxed);
-                        let (ev, st) = (events_tx.clone(), stats.clone());
-                        thread::spawn(move || link::serve_connection(stream, id, ev, st));
+                        let ev = events_tx.clone();
+                        thread::spawn(move || link::serve_connection(stream, id, ev));
                     }
                     Err(_) => thread::sleep(Duration::from_millis(5)),
                 }

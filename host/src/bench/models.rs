@@ -149,7 +149,7 @@ pub fn run(
     let mut d = Device::connect(target)?;
     d.set_timeout(Duration::from_secs(3));
     let watchdog_before = d.info()?.watchdog_ms;
-    let top = host_sim::closed_loop::surface_top_z_m();
+    let top = host_sim::sim::closed_loop::surface_top_z_m();
     let c = softfinger_core::device::delta::DeltaGeometry::OMEGA_LIKE_WORKSPACE_CENTRE_M;
     let _ = d.disarm();
     d.clear_faults()?;

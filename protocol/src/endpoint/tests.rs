@@ -166,3 +166,45 @@ fn the_stream_follows_the_divisor_and_counts_drops() {
     assert_eq!(got, vec![(0, 0), (10, 0), (30, 1), (40, 1)]);
     assert_eq!(ep.counters().tx_dropped, 1);
 }
+
+/// One link of several hands `GetCounters` on (the device answers with the sum over its links)
+/// and answers hello and the stream divisor itself, as a lone link does.
+#[test]
+fn one_of_several_links_hands_the_counters_on() {
+    let mut ep = DeviceEndpoint::one_of_several(1);
+    let mut bytes = frame(&HostMsg::Hello {
+        min_version: 1,
+        max_version: 1,
+    });
+    bytes.extend(frame(&HostMsg::Request {
+        seq: 1,
+        req: Request::GetCounters,
+    }));
+    bytes.extend(frame(&HostMsg::Request {
+        seq: 2,
+        req: Request::SetStream { divisor: 1 },
+    }));
+    let (reqs, sent) = feed(&mut ep, &bytes);
+    assert_eq!(reqs, vec![(1, Request::GetCounters)]);
+    assert_eq!(ep.divisor(), 1);
+    assert_eq!(
+        sent,
+        vec![
+            DeviceMsg::HelloReply {
+                version: Some(1),
+                device_version: 1
+            },
+            DeviceMsg::Ack {
+                seq: 2,
+                result: AckResult::Ok
+            },
+        ]
+    );
+    let c = ep.counters();
+    assert_eq!((c.rx_frames, c.tx_frames, c.connections), (3, 2, 1));
+    let both = c.plus(&c);
+    assert_eq!(
+        (both.rx_frames, both.tx_frames, both.connections),
+        (6, 4, 2)
+    );
+}
