@@ -235,8 +235,8 @@ fn the_firmware_configs_initial_model_is_the_scenes_plane() {
 /// fails here until the firmware's `TickScene` follows it.
 #[test]
 fn the_firmware_runs_the_model_the_default_scene_names() {
-    use crate::closed_loop;
-    use crate::scene::Scene;
+    use crate::sim::closed_loop;
+    use crate::sim::scene::Scene;
     use softfinger_core::contact::Parts;
     use softfinger_core::control::local_model::LocalModelScene;
     fn parts_name<P: Parts>(_: &LocalModelScene<P>) -> &'static str {
