@@ -25,6 +25,7 @@ pub mod flags;
 pub mod grasp;
 pub mod math;
 pub mod prelude;
+pub mod validate;
 
 pub use flags::Flags;
 pub use math::{Fast, Libm, Math, Micromath, Quat, Rot3, Vec3};

@@ -14,7 +14,8 @@
 
 use crate::contact::decompose::Angles;
 use crate::contact::limit_surface::{patch_radius, project};
-use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::params::ContactParams;
+use crate::validate::ParamError;
 use crate::contact::parts::{Full, Parts};
 use crate::contact::rolling::{RollStep, Rolling};
 use crate::contact::spin::{fast_test_applies, torsion_limit, SpinSpring};
@@ -116,7 +117,7 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
         dt_s: f32,
     ) -> Result<Self, ParamError> {
         params.validate()?;
-        crate::contact::params::positive("dt_s", dt_s)?;
+        crate::validate::positive("dt_s", dt_s)?;
         if !(MIN_DT_S..=MAX_DT_S).contains(&dt_s) {
             return Err(ParamError::OutOfRange("dt_s"));
         }

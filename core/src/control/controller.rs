@@ -16,7 +16,7 @@
 //! defined once, in [`crate::control::output_guard`] and [`Limits`].
 
 use crate::contact::params::ContactParams;
-pub use crate::contact::params::ParamError;
+pub use crate::validate::ParamError;
 use crate::contact::state::ContactState;
 use crate::contact::surface::Plane;
 use crate::contact::{ContactInput, ContactOutput};

@@ -3,7 +3,7 @@
 //! procedure, driver wake time and arming ramp. The firmware and host-sim name one of these
 //! explicitly; nothing picks a device by default.
 
-use crate::contact::params::{positive, ParamError};
+use crate::validate::{ParamError, positive};
 use crate::control::controller::Limits;
 use crate::control::pipeline::homing::HomingSpec;
 use crate::device::DeviceParams;

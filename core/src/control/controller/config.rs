@@ -2,7 +2,8 @@
 //! fault thresholds (in physical units; [`Limits::per_tick`] converts them for a control rate).
 
 use super::Scene;
-use crate::contact::params::{positive, ContactParams, ParamError};
+use crate::contact::params::ContactParams;
+use crate::validate::{ParamError, positive};
 use crate::contact::surface::Plane;
 use crate::device::DeviceParams;
 use crate::math::vec3::Vec3;

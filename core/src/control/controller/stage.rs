@@ -12,7 +12,8 @@
 //! the configuration's `object_origin_m`) and returns its force, torque and contact point in that
 //! frame.
 
-use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::params::ContactParams;
+use crate::validate::ParamError;
 use crate::contact::parts::Parts;
 use crate::contact::state::ContactState;
 use crate::contact::surface::Surface;

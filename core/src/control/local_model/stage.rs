@@ -13,7 +13,8 @@
 //! Frames: the model poses are in the pipeline's object frame (the base frame translated by the
 //! configuration's `object_origin_m`; zero makes it the base frame).
 
-use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::params::ContactParams;
+use crate::validate::ParamError;
 use crate::contact::state::ContactState;
 use crate::contact::{ContactInput, ContactOutput, Full, Parts};
 use crate::control::controller::{ContactStage, Scene};
@@ -91,7 +92,7 @@ impl<P: Parts> Scene for LocalModelScene<P> {
                 ModelError::Params(p) => p,
                 _ => ParamError::OutOfRange("local model"),
             })?;
-        crate::contact::params::positive("watchdog_fade_s", self.watchdog_fade_s)?;
+        crate::validate::positive("watchdog_fade_s", self.watchdog_fade_s)?;
         let mut stage = LocalModelStage {
             renderer,
             watchdog: CommWatchdog::new(rate_hz, self.watchdog_fade_s),

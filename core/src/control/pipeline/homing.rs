@@ -14,7 +14,7 @@
 //! pose of the handle (resting in its calibration pose, hands off) when `Home` is given. Why
 //! this procedure, and why the park: docs/design.md#homing.
 
-use crate::contact::params::{positive, ParamError};
+use crate::validate::{ParamError, positive};
 use crate::device::DeviceParams;
 
 /// The homing procedure of a device, in physical units.

@@ -11,7 +11,8 @@
 //! No force is ever rendered outside `Armed`; the bridges are driven only in `Homing` (the homing
 //! procedure's bounded torque) and `Armed`.
 
-use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::params::ContactParams;
+use crate::validate::ParamError;
 use crate::control::local_model::{LocalModelSpec, ModelError};
 
 /// Operating mode.

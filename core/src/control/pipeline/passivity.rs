@@ -27,7 +27,7 @@
 //! positive W drains by E_q per [`LEAK_S`] and the damper acts only when W > E_q; a quantum of 0
 //! gives the textbook stage. Why: docs/design.md#passivity-under-encoder-quantisation.
 
-use crate::contact::params::{non_negative, positive, ParamError};
+use crate::validate::{ParamError, non_negative, positive};
 use crate::math::vec3::Vec3;
 
 /// Time over which the energy of one count of dither drains from a positive W, s: a held probe (2 N, 12.8 µm counts) drains 2.6e-4 W, five times the
