@@ -3,9 +3,9 @@
 
 use crate::contact::decompose::Method;
 use crate::contact::state::{StateParams, Tolerances};
-use crate::validate::{at_most, non_negative, positive};
 /// The shared parameter error, kept at its old path.
 pub use crate::validate::ParamError;
+use crate::validate::{at_most, non_negative, positive};
 
 /// Everything the contact model needs. SI units.
 #[derive(Clone, Copy, Debug, PartialEq)]

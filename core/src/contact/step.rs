@@ -15,7 +15,6 @@
 use crate::contact::decompose::Angles;
 use crate::contact::limit_surface::{patch_radius, project};
 use crate::contact::params::ContactParams;
-use crate::validate::ParamError;
 use crate::contact::parts::{Full, Parts};
 use crate::contact::rolling::{RollStep, Rolling};
 use crate::contact::spin::{fast_test_applies, torsion_limit, SpinSpring};
@@ -25,6 +24,7 @@ use crate::flags::Flags;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
+use crate::validate::ParamError;
 use core::marker::PhantomData;
 
 /// Shortest accepted step, s (1 MHz): 1/dt and the finite differences stay finite.

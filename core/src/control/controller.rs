@@ -16,55 +16,25 @@
 //! defined once, in [`crate::control::output_guard`] and [`Limits`].
 
 use crate::contact::params::ContactParams;
-pub use crate::validate::ParamError;
-use crate::contact::state::ContactState;
 use crate::contact::surface::Plane;
 use crate::contact::{ContactInput, ContactOutput};
+use crate::control::controller::passivity::{Passivity, PassivityConfig};
 use crate::control::output_guard::{GuardConfig, Guarded, OutputGuard};
-use crate::control::pipeline::passivity::{Passivity, PassivityConfig};
 use crate::device::delta::DeltaPose;
 use crate::device::DeviceParams;
 use crate::flags::Flags;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
+pub use crate::validate::ParamError;
 
 mod config;
+pub mod passivity;
 pub mod stage;
+mod tick;
 pub use config::{ControllerConfig, Limits, TickLimits};
 pub use stage::{ContactStage, Scene, WithParts};
-
-/// What the firmware (or the host plant) hands the controller each tick.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct TickInput {
-    /// Extended 32-bit encoder positions, counts: `[motor0, motor1, motor2, wrist0, wrist1, wrist2]`.
-    pub counts: [i32; 6],
-    /// The motor drivers' fault input is asserted.
-    pub driver_fault: bool,
-    /// The previous tick did not finish before this one started.
-    pub overrun: bool,
-}
-
-/// What the controller hands back.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct TickOutput {
-    /// Signed PWM duties in [-1, 1] per motor: sign is the direction pin, magnitude the duty.
-    pub duties: [f32; 3],
-    /// Drive the shared driver-enable pin. False in any fault: outputs at zero torque.
-    pub enable: bool,
-    /// Flags raised this tick, including the latched fault flags.
-    pub flags: Flags,
-    /// Probe (fingertip centre) position in the device base frame, m.
-    pub probe_m: Vec3,
-    /// Force rendered on the user, base frame, N.
-    pub force_n: Vec3,
-    /// Spin torque about the contact normal, N·m (not displayed by a 3-DoF device; reported).
-    pub tau_n_nm: f32,
-    /// Contact state after this tick.
-    pub state: ContactState,
-}
+pub use tick::{TickInput, TickOutput};
 
 /// The controller with its state. `M`: math backend; `S`: the scene (a fixed surface or the
 /// local model), whose [`ContactStage`] the control law calls.

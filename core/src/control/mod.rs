@@ -2,6 +2,7 @@
 //!
 //! | module | what it holds |
 //! | --- | --- |
+//! | [`command`] | the operator commands and why one is refused |
 //! | [`controller`] | the controller tick: velocities, contact force, joint torques, duties |
 //! | [`output_guard`] | the last check on every output: limits, faults, zero torque |
 //! | [`pipeline`] | the one control pipeline the firmware and the simulator run |
@@ -9,6 +10,7 @@
 //! | [`operator`] | the operator's button: what a press means in each mode |
 //! | [`telemetry`] | the per-tick records the firmware logs and the host reads |
 
+pub mod command;
 pub mod controller;
 pub mod local_model;
 pub mod operator;

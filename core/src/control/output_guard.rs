@@ -22,8 +22,9 @@
 //!
 //! [`Controller::compute`]: crate::control::controller::Controller::compute
 
-use crate::control::controller::{Limits, ParamError, TickLimits, TickOutput};
+use crate::control::controller::{Limits, TickLimits, TickOutput};
 use crate::flags::{all_finite, Flags};
+use crate::validate::ParamError;
 
 /// Faults that latch (outputs held at zero torque until cleared). The one latching set: the
 /// controller, the pipeline, the firmware's LED and log all use this.

@@ -3,10 +3,10 @@
 //! procedure, driver wake time and arming ramp. The firmware and host-sim name one of these
 //! explicitly; nothing picks a device by default.
 
-use crate::validate::{ParamError, positive};
 use crate::control::controller::Limits;
 use crate::control::pipeline::homing::HomingSpec;
 use crate::device::DeviceParams;
+use crate::validate::{positive, ParamError};
 
 /// One device, complete.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,7 +1,7 @@
 use super::*;
 use crate::scene::Scene;
 use softfinger_core::control::local_model::ModelPose;
-use softfinger_core::control::pipeline::passivity::PassivityConfig;
+use softfinger_core::control::controller::passivity::PassivityConfig;
 use softfinger_protocol::{AckResult, ErrorCode};
 
 /// A core on the default scene and its plant, powered up for 10 ms.

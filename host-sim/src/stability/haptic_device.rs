@@ -29,7 +29,7 @@ use crate::closed_loop;
 use crate::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::controller::{Controller, ControllerConfig, TickInput};
-use softfinger_core::control::pipeline::passivity::PassivityConfig;
+use softfinger_core::control::controller::passivity::PassivityConfig;
 use softfinger_core::device::DeviceParams;
 use softfinger_core::math::vec3::Vec3;
 use softfinger_core::math::Fast;

@@ -3,10 +3,10 @@
 
 use super::Scene;
 use crate::contact::params::ContactParams;
-use crate::validate::{ParamError, positive};
 use crate::contact::surface::Plane;
 use crate::device::DeviceParams;
 use crate::math::vec3::Vec3;
+use crate::validate::{positive, ParamError};
 
 /// Limits and fault thresholds, in physical units so that changing the control rate changes no
 /// behaviour; [`Limits::per_tick`] converts them for a rate.

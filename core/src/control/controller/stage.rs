@@ -13,16 +13,16 @@
 //! frame.
 
 use crate::contact::params::ContactParams;
-use crate::validate::ParamError;
 use crate::contact::parts::Parts;
 use crate::contact::state::ContactState;
 use crate::contact::surface::Surface;
 use crate::contact::{ContactInput, ContactModel, ContactOutput};
+use crate::control::command::CommandError;
 use crate::control::local_model::LocalModelSpec;
-use crate::control::pipeline::CommandError;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
+use crate::validate::ParamError;
 
 /// A contact stage: one step per control tick, plus the commands it understands. The commands
 /// about the local model and the link answer [`CommandError::Unsupported`] on a fixed scene.
@@ -70,7 +70,7 @@ pub trait ContactStage: Copy + core::fmt::Debug {
 
 /// What a controller is built with: a scene that makes its contact stage.
 pub trait Scene: Copy + core::fmt::Debug {
-    /// Whether the passivity stage ([`crate::control::pipeline::passivity`]) adds its damper on this
+    /// Whether the passivity stage ([`crate::control::controller::passivity`]) adds its damper on this
     /// scene by default (false: it observes only). Its energy balance is taken in the base
     /// frame, where a fixed surface is passive; a scene whose objects move is an active
     /// environment there, and the damper would answer the model's own motion with force steps.

@@ -23,7 +23,6 @@
 //! the moving surface): a 1 kHz stream gives no surface velocity to difference.
 
 use crate::contact::params::ContactParams;
-use crate::validate::ParamError;
 use crate::contact::state::ContactState;
 use crate::contact::{ContactInput, ContactModel, ContactOutput, Full, Parts};
 use crate::control::local_model::pose::{ModelPose, ProbeSample};
@@ -34,6 +33,7 @@ use crate::flags::Flags;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
+use crate::validate::ParamError;
 
 /// Timing of the renderer.
 #[derive(Clone, Copy, Debug, PartialEq)]

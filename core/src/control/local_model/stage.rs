@@ -14,17 +14,17 @@
 //! configuration's `object_origin_m`; zero makes it the base frame).
 
 use crate::contact::params::ContactParams;
-use crate::validate::ParamError;
 use crate::contact::state::ContactState;
 use crate::contact::{ContactInput, ContactOutput, Full, Parts};
+use crate::control::command::CommandError;
 use crate::control::controller::{ContactStage, Scene};
 use crate::control::local_model::pose::ProbeSample;
 use crate::control::local_model::renderer::{LocalModelRenderer, RendererConfig};
 use crate::control::local_model::spec::{LocalModelSpec, ModelError, MAX_AGE_S};
 use crate::control::local_model::watchdog::CommWatchdog;
-use crate::control::pipeline::CommandError;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
+use crate::validate::ParamError;
 use core::marker::PhantomData;
 
 /// The local-model scene: the initial model, the timing of blends, fades and the watchdog, and

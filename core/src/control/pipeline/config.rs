@@ -1,11 +1,11 @@
 //! What a [`super::Pipeline`] is built from: a named device, the board timing, and the scene.
 
 use crate::contact::params::ContactParams;
-use crate::validate::ParamError;
 use crate::contact::surface::Plane;
 use crate::control::controller::{ControllerConfig, Scene};
 use crate::device::DeviceDefinition;
 use crate::math::vec3::Vec3;
+use crate::validate::ParamError;
 
 use super::board::{BoardTiming, TimingError};
 

@@ -14,8 +14,8 @@
 //! pose of the handle (resting in its calibration pose, hands off) when `Home` is given. Why
 //! this procedure, and why the park: docs/design.md#homing.
 
-use crate::validate::{ParamError, positive};
 use crate::device::DeviceParams;
+use crate::validate::{positive, ParamError};
 
 /// The homing procedure of a device, in physical units.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -5,10 +5,10 @@
 
 use super::*;
 use crate::contact::params::ContactParams;
+use crate::control::controller::passivity;
 use crate::control::local_model::{
     LocalModelScene, LocalModelSpec, ModelError, ModelKind, ModelPose,
 };
-use crate::control::pipeline::passivity;
 
 const HOLD: [f64; 3] = [0.5, 0.55, 0.45];
 

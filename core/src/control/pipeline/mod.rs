@@ -35,22 +35,23 @@ pub mod link;
 pub mod liveness;
 pub mod mode;
 pub mod output_timing;
-pub mod passivity;
 pub mod ramp;
 pub mod record;
 pub mod timing;
 
+pub use crate::control::command::{Command, CommandError};
 pub use board::{BoardTiming, TimingError};
 pub use bridge::{BridgeCommands, BridgeMapper};
 pub use config::{PipelineConfig, PipelineError};
 pub use homing::HomingSpec;
 pub use link::{HOST_WATCHDOG_S, LINK_FADE_S};
-pub use mode::{Command, CommandError, Mode};
+pub use mode::Mode;
 pub use record::PipelineRecord;
 pub use timing::TimingSummary;
 
 use crate::contact::state::ContactState;
 use crate::contact::surface::Plane;
+use crate::control::controller::passivity;
 use crate::control::controller::{guarded_output, ContactStage, Controller, Scene, TickOutput};
 use crate::control::output_guard::{GuardConfig, OutputGuard};
 use crate::control::telemetry::{Decimator, DropCounter};
