@@ -24,6 +24,7 @@ pub mod device;
 pub mod flags;
 pub mod grasp;
 pub mod math;
+pub mod omega_like;
 pub mod prelude;
 pub mod validate;
 

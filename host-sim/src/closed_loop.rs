@@ -16,7 +16,7 @@ use softfinger_core::control::pipeline::{
     BoardTiming, Command, CommandError, Mode, Pipeline, PipelineConfig, PipelineError,
     PipelineOutput, RawInput, TimingError,
 };
-use softfinger_core::device::OMEGA_LIKE;
+use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::{Math, Vec3};
 use softfinger_scene::model::ModelError;
 use std::time::{Duration, Instant};

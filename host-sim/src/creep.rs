@@ -30,7 +30,8 @@ use softfinger_core::contact::surface::{Plane, Surface};
 use softfinger_core::contact::{ContactInput, ContactModel};
 use softfinger_core::control::pipeline::{BoardTiming, Pipeline, PipelineConfig};
 use softfinger_core::device::delta::DeltaGeometry;
-use softfinger_core::device::{DeviceParams, OMEGA_LIKE};
+use softfinger_core::device::DeviceParams;
+use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::{Libm, Math, Quat, Vec3};
 
 #[derive(Debug, clap::Args)]

@@ -40,7 +40,7 @@ use softfinger_core::contact::surface::{Cylinder, Sphere};
 use softfinger_core::contact::ContactParams;
 use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelKind};
 use softfinger_core::control::pipeline::{Command, Mode, Pipeline, PipelineConfig};
-use softfinger_core::device::OMEGA_LIKE;
+use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::grasp::{
     BodyState, DeviceContact, DeviceMount, Fingertip, FingertipContact, Grasp, GraspFlags,
     RigidBody, Wrench,

@@ -51,7 +51,7 @@ pub fn firmware_config(
     );
     let initial = LocalModelSpec::plane(0, ModelPose::at(top), &contact);
     PipelineConfig {
-        device: softfinger_core::device::OMEGA_LIKE,
+        device: softfinger_core::omega_like::OMEGA_LIKE,
         timing,
         contact,
         surface: LocalModelScene::new(initial),

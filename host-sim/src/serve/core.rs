@@ -93,7 +93,7 @@ impl<P: Parts> PipelineCore<P> {
     ) -> Result<Self, super::ServeError> {
         let (contact, model) = scene_model(scene)?;
         let config = PipelineConfig {
-            device: softfinger_core::device::OMEGA_LIKE,
+            device: softfinger_core::omega_like::OMEGA_LIKE,
             timing: crate::closed_loop::board_timing(scene.rate_hz)?,
             contact,
             surface: LocalModelScene {

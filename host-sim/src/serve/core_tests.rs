@@ -50,7 +50,7 @@ fn no_force_before_homing_and_arming_then_the_real_homing() {
     let scene = Scene::default_scene();
     let (contact, _) = scene_model(&scene).unwrap();
     let script = crate::closed_loop::touch_script(&scene, &contact);
-    let device = softfinger_core::device::OMEGA_LIKE.params;
+    let device = softfinger_core::omega_like::OMEGA_LIKE.params;
     let mut next = crate::serve::hand::following(&plant, &script, device).unwrap();
     next.continue_counters_from(&plant);
     plant = next;
@@ -216,7 +216,7 @@ fn moving_plane_largest_step_n(damps: bool) -> f32 {
         position_m: [0.0, 0.0, top + radius - 0.001],
         wrist_rad: [0.0; 3],
     };
-    let device = softfinger_core::device::OMEGA_LIKE.params;
+    let device = softfinger_core::omega_like::OMEGA_LIKE.params;
     let mut held = crate::serve::hand::holding(&plant, target, device).unwrap();
     held.continue_counters_from(&plant);
     plant = held;

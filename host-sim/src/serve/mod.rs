@@ -153,7 +153,7 @@ impl Server {
     pub fn start_logging(args: &Args, log: Option<log::LogSink>) -> Result<Server, ServeError> {
         let scene = Scene::load(&args.scene)?;
         let (contact, _) = core::scene_model(&scene)?;
-        let device = softfinger_core::device::OMEGA_LIKE.params;
+        let device = softfinger_core::omega_like::OMEGA_LIKE.params;
         let watchdog_s = args.watchdog_ms * 1e-3;
         let script = crate::closed_loop::touch_script(&scene, &contact);
         let mut plant = crate::closed_loop::plant(&scene, &contact).map_err(ServeError::Plant)?;

@@ -3,7 +3,7 @@
 use crate::contact::params::ContactParams;
 use crate::contact::surface::Plane;
 use crate::control::controller::{ControllerConfig, Scene};
-use crate::device::DeviceDefinition;
+use crate::control::device_definition::DeviceDefinition;
 use crate::math::vec3::Vec3;
 use crate::validate::ParamError;
 
@@ -13,7 +13,7 @@ use super::board::{BoardTiming, TimingError};
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PipelineConfig<S: Scene = Plane> {
-    /// The device (named explicitly, e.g. [`crate::device::OMEGA_LIKE`]).
+    /// The device (named explicitly, e.g. [`crate::omega_like::OMEGA_LIKE`]).
     pub device: DeviceDefinition,
     /// Timer clock, PWM and control rates (the control rate is the controller's).
     pub timing: BoardTiming,

@@ -340,7 +340,7 @@ pub fn round_i32(x: f32) -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::device::OMEGA_LIKE;
+    use crate::omega_like::OMEGA_LIKE;
 
     const RATE: f32 = 10_000.0;
 

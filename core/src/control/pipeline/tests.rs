@@ -5,7 +5,7 @@
 extern crate std;
 
 use super::*;
-use crate::device::OMEGA_LIKE;
+use crate::omega_like::OMEGA_LIKE;
 use crate::math::vec3::Vec3;
 use crate::Libm;
 use proptest::prelude::*;

@@ -1,5 +1,6 @@
 //! The Omega.6-like device: the one device instance this project ships. Its geometry, motors,
-//! limits and homing live here, in one place; generic types carry no device's numbers.
+//! limits and homing live here, in one place; generic types carry no device's numbers. The top
+//! layer of the crate: an instance names values of every layer below it.
 
 use crate::contact::params::ContactParams;
 use crate::contact::surface::Plane;
@@ -8,7 +9,8 @@ use crate::control::pipeline::homing::HomingSpec;
 use crate::control::pipeline::BoardTiming;
 use crate::device::delta::DeltaGeometry;
 use crate::device::hardware::MotorParams;
-use crate::device::{DeviceDefinition, DeviceParams};
+use crate::control::device_definition::DeviceDefinition;
+use crate::device::hardware::DeviceParams;
 use crate::math::Vec3;
 
 /// The Omega.6-like device (see [`DeviceParams::OMEGA_LIKE`] and [`Limits::OMEGA_LIKE`]).
@@ -92,7 +94,7 @@ impl DeviceParams {
 }
 
 impl Limits {
-    /// The Omega-like device's limits (named by [`crate::device::OMEGA_LIKE`]).
+    /// The Omega-like device's limits (named by [`OMEGA_LIKE`]).
     ///
     /// Duty ≤ 0.9; glitch 2 M counts/s; overrun streak 1 ms; stuck: 20 % duty for 0.2 s without a
     /// count. Derivation: docs/design.md#limits-and-fault-thresholds.
