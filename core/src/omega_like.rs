@@ -5,12 +5,12 @@
 use crate::contact::params::ContactParams;
 use crate::contact::surface::Plane;
 use crate::control::controller::{ControllerConfig, Limits};
+use crate::control::device_definition::DeviceDefinition;
 use crate::control::pipeline::homing::HomingSpec;
 use crate::control::pipeline::BoardTiming;
 use crate::device::delta::DeltaGeometry;
-use crate::device::hardware::MotorParams;
-use crate::control::device_definition::DeviceDefinition;
 use crate::device::hardware::DeviceParams;
+use crate::device::hardware::MotorParams;
 use crate::math::Vec3;
 
 /// The Omega.6-like device (see [`DeviceParams::OMEGA_LIKE`] and [`Limits::OMEGA_LIKE`]).
@@ -114,7 +114,7 @@ impl Limits {
 
 impl ControllerConfig<Plane> {
     /// The Omega-like device ([`DeviceParams::OMEGA_LIKE`], [`Limits::OMEGA_LIKE`]) with the
-    /// default scene: a plane 10 mm below the centre of the device's workspace, so the 10 mm
+    /// default environment: a plane 10 mm below the centre of the device's workspace, so the 10 mm
     /// fingertip touches it with its centre at the workspace centre, at 10 kHz.
     pub fn default_plane() -> Self {
         ControllerConfig {

@@ -10,7 +10,7 @@
 //! proxy). Normally the surface pushes back with a unilateral spring-damper on the penetration.
 //! Why a proxy rather than velocity-based Coulomb friction: docs/design.md#friction-proxy.
 //!
-//! All vectors are in the object frame (`O`): for the plane scene z is the normal.
+//! All vectors are in the object frame (`O`): for the plane z is the normal.
 
 use crate::contact::decompose::Angles;
 use crate::contact::limit_surface::{patch_radius, project};

@@ -24,9 +24,9 @@ pub enum Command {
     /// New contact parameters (validated; invalid ones are rejected and the old ones stay).
     SetContactParams(ContactParams),
     /// A new local model, switched to at a tick boundary without a force step (local-model
-    /// scene only; see [`crate::control::local_model::renderer`]). Any mode: it changes no mode.
+    /// environment only; see [`crate::control::local_model::renderer`]). Any mode: it changes no mode.
     SetLocalModel(LocalModelSpec),
-    /// The communication watchdog's timeout, s, in [0, 60]; 0 turns it off (local-model scene
+    /// The communication watchdog's timeout, s, in [0, 60]; 0 turns it off (local-model environment
     /// only). Setting it counts as link activity.
     SetWatchdog {
         /// Timeout, s.
@@ -69,7 +69,7 @@ pub enum CommandError {
     InvalidParams(ParamError),
     /// A local model rejected (old sequence number, bad pose, size, age or material).
     InvalidModel(ModelError),
-    /// The scene cannot do this (a local model or watchdog command on a fixed scene).
+    /// The environment cannot do this (a local model or watchdog command on a fixed surface).
     Unsupported,
     /// `Arm` while the probe is inside the surface (in contact on the last disarmed tick):
     /// arming would push it out with the contact's force. Lift the handle off first.

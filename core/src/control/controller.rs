@@ -6,7 +6,7 @@
 //! encoder checks, the latch, the output limits). The firmware and host-sim run it inside the
 //! control pipeline ([`crate::control::pipeline`]), which calls `compute` and its own guard.
 //!
-//! Frames: the device **base frame** is the delta's (see [`crate::device::delta`]); the object (scene) frame
+//! Frames: the device **base frame** is the delta's (see [`crate::device::delta`]); the object frame
 //! is the base frame translated by `object_origin_m` (no rotation), so forces computed in the object
 //! frame apply unchanged in the base frame.
 //!
@@ -33,10 +33,10 @@ pub mod passivity;
 pub mod stage;
 mod tick;
 pub use config::{ControllerConfig, Limits, TickLimits};
-pub use stage::{ContactStage, Scene, WithParts};
+pub use stage::{ContactStage, Environment, WithParts};
 pub use tick::{TickInput, TickOutput};
 
-/// The controller with its state. `M`: math backend; `S`: the scene (a fixed surface or the
+/// The controller with its state. `M`: math backend; `S`: the environment (a fixed surface or the
 /// local model), whose [`ContactStage`] the control law calls.
 ///
 /// [`Controller::compute`] is the control law alone (no fault latch); [`Controller::tick`] runs it
@@ -44,7 +44,7 @@ pub use tick::{TickInput, TickOutput};
 /// its thresholds, for callers that use the controller without the
 /// [`Pipeline`](crate::control::pipeline::Pipeline) (which has its own guard instance and calls `compute`).
 #[derive(Clone, Copy, Debug)]
-pub struct Controller<M: Math, S: Scene = Plane> {
+pub struct Controller<M: Math, S: Environment = Plane> {
     config: ControllerConfig<S>,
     contact: S::Stage<M>,
     guard: OutputGuard,
@@ -73,7 +73,7 @@ pub struct Controller<M: Math, S: Scene = Plane> {
 /// with the guard that enforces it).
 pub use crate::control::output_guard::LATCHING;
 
-impl<M: Math, S: Scene> Controller<M, S> {
+impl<M: Math, S: Environment> Controller<M, S> {
     /// Build a controller; an invalid configuration is rejected, never clamped.
     pub fn new(config: ControllerConfig<S>) -> Result<Self, ParamError> {
         config.validate()?;

@@ -1,15 +1,16 @@
 //! A free rigid body: mass, principal inertia, pose and velocity, stepped by semi-implicit
 //! (symplectic) Euler at the control rate.
 //!
-//! Frames: the world frame `W` (gravity along −z in the grasp scenes) and the body frame `B`
-//! (origin at the centre of mass, axes along the principal axes of inertia). The orientation `q`
-//! maps body vectors to world vectors, `v_W = q·v_B·q*`.
+//! Frames (the crate's frames table, [`crate`]): the world frame `W` (gravity along −z in the
+//! grasp scenes) and the body's object frame `O` (origin at the centre of mass, axes along the
+//! principal axes of inertia). The orientation `q` maps object-frame vectors to world vectors,
+//! `v_W = q·v_O·q*`.
 //!
 //! Equations (SI units):
 //!
 //! ```text
 //! m·v̇  = F_W − c_v·v                         (linear velocity v in W, force F_W in W)
-//! I·ω̇  = τ_B − ω × (I·ω) − c_ω·ω              (ω in B, I = diag(I_x, I_y, I_z), τ_B = qᵀ·τ_W)
+//! I·ω̇  = τ_O − ω × (I·ω) − c_ω·ω              (ω in O, I = diag(I_x, I_y, I_z), τ_O = qᵀ·τ_W)
 //! ẋ    = v,   q̇ = ½·q ⊗ (0, ω)
 //! ```
 //!

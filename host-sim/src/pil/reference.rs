@@ -13,8 +13,8 @@ use super::PilError;
 use crate::plant::Plant;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
-use softfinger_core::control::controller::Scene;
-use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
+use softfinger_core::control::controller::Environment;
+use softfinger_core::control::local_model::{LocalModelEnvironment, LocalModelSpec, ModelPose};
 use softfinger_core::control::pipeline::output_timing::OutputTiming;
 use softfinger_core::control::pipeline::{
     BridgeCommands, Mode, Pipeline, PipelineConfig, RawInput,
@@ -43,7 +43,7 @@ pub struct RefRun {
 pub fn firmware_config(
     timing: softfinger_core::control::pipeline::BoardTiming,
     contact: ContactParams,
-) -> PipelineConfig<LocalModelScene> {
+) -> PipelineConfig<LocalModelEnvironment> {
     let top = Vec3::new(
         0.0,
         0.0,
@@ -54,14 +54,14 @@ pub fn firmware_config(
         device: softfinger_core::omega_like::OMEGA_LIKE,
         timing,
         contact,
-        surface: LocalModelScene::new(initial),
+        surface: LocalModelEnvironment::new(initial),
         object_origin_m: Vec3::ZERO,
         log_rate_hz: softfinger_core::control::telemetry::DEFAULT_LOG_RATE_HZ,
     }
 }
 
 /// Run until the scene's end. Mirrors the session's timing: one idle period, then tick k.
-pub fn run<S: Scene>(
+pub fn run<S: Environment>(
     plant: &Plant,
     config: PipelineConfig<S>,
     s: &Settings,

@@ -1,7 +1,7 @@
 use super::*;
 use crate::scene::Scene;
-use softfinger_core::control::local_model::ModelPose;
 use softfinger_core::control::controller::passivity::PassivityConfig;
+use softfinger_core::control::local_model::ModelPose;
 use softfinger_protocol::{AckResult, ErrorCode};
 
 /// A core on the default scene and its plant, powered up for 10 ms.
@@ -244,7 +244,7 @@ fn moving_plane_largest_step_n(damps: bool) -> f32 {
     largest
 }
 
-/// Why a local model's passivity stage observes only (`LocalModelScene::PASSIVITY_DAMPS`, the
+/// Why a local model's passivity stage observes only (`LocalModelEnvironment::PASSIVITY_DAMPS`, the
 /// firmware's and this device's default alike): the observer's base-frame balance counts the
 /// model's own motion as energy the wall puts into the hand, and its damper answers with force
 /// steps. Measured here: 0.119 N per tick observing only, 2.35 N with the damper (20x).

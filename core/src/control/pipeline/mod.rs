@@ -18,10 +18,10 @@
 //! [`Pipeline::note_link_activity`] for every message it decodes (the communication watchdog's
 //! food).
 //!
-//! The scene `S` decides the controller's contact stage ([`crate::control::controller::stage`]): a fixed
-//! surface (the firmware's plane), or [`crate::control::local_model::LocalModelScene`], the application's
+//! The environment `S` decides the controller's contact stage ([`crate::control::controller::stage`]): a fixed
+//! surface (the firmware's plane), or [`crate::control::local_model::LocalModelEnvironment`], the application's
 //! local model with the communication watchdog, which also accepts [`Command::SetLocalModel`]
-//! and [`Command::SetWatchdog`] (a fixed scene refuses them: [`CommandError::Unsupported`]).
+//! and [`Command::SetWatchdog`] (a fixed surface refuses them: [`CommandError::Unsupported`]).
 //!
 //! Frames: motor counts handed to the controller are *homed*: 0 ↔ the device's zero-count arm
 //! angle; wrist counts are relative to the calibration pose held at `Home`.
@@ -52,7 +52,9 @@ pub use timing::TimingSummary;
 use crate::contact::state::ContactState;
 use crate::contact::surface::Plane;
 use crate::control::controller::passivity;
-use crate::control::controller::{guarded_output, ContactStage, Controller, Scene, TickOutput};
+use crate::control::controller::{
+    guarded_output, ContactStage, Controller, Environment, TickOutput,
+};
 use crate::control::output_guard::{GuardConfig, OutputGuard};
 use crate::control::telemetry::{Decimator, DropCounter};
 use crate::device::encoder::EncoderBank;
@@ -104,10 +106,10 @@ pub struct PipelineOutput {
     pub summary: Option<TimingSummary>,
 }
 
-/// The pipeline. `M`: math backend; `S`: the scene (a fixed surface, or
-/// [`LocalModelScene`](crate::control::local_model::LocalModelScene) for the application's local model).
+/// The pipeline. `M`: math backend; `S`: the environment (a fixed surface, or
+/// [`LocalModelEnvironment`](crate::control::local_model::LocalModelEnvironment) for the application's local model).
 #[derive(Clone, Copy, Debug)]
-pub struct Pipeline<M: Math, S: Scene = Plane> {
+pub struct Pipeline<M: Math, S: Environment = Plane> {
     config: PipelineConfig<S>,
     controller: Controller<M, S>,
     guard: OutputGuard,
@@ -132,7 +134,7 @@ pub struct Pipeline<M: Math, S: Scene = Plane> {
     link_flags: Flags,
 }
 
-impl<M: Math, S: Scene> Pipeline<M, S> {
+impl<M: Math, S: Environment> Pipeline<M, S> {
     /// Build a pipeline at power-up (Unhomed, drivers asleep). An invalid configuration is
     /// rejected, never clamped.
     pub fn new(config: PipelineConfig<S>) -> Result<Self, PipelineError> {
@@ -231,7 +233,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
     }
 
     /// A valid message arrived on the link: feeds the communication watchdog of a local-model
-    /// scene (nothing on a fixed scene). The link task calls it for every message it decodes.
+    /// environment (nothing on a fixed surface). The link task calls it for every message it decodes.
     pub fn note_link_activity(&mut self) {
         self.controller.contact_mut().note_link_activity();
     }
@@ -247,7 +249,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
                 self.command(Command::Arm)?;
                 self.link.armed_by_host();
                 if self.controller.contact().watchdog_s() == 0.0 {
-                    // A fixed scene has no watchdog (Unsupported): the link-loss rule still holds.
+                    // A fixed surface has no watchdog (Unsupported): the link-loss rule still holds.
                     let _ = self.controller.contact_mut().set_watchdog(HOST_WATCHDOG_S);
                 }
                 Ok(())
