@@ -20,6 +20,7 @@ use crate::contact::surface::Plane;
 use crate::contact::{ContactInput, ContactOutput};
 use crate::control::controller::passivity::{Passivity, PassivityConfig};
 use crate::control::output_guard::{GuardConfig, Guarded, OutputGuard};
+use crate::device::channels::{EncoderCounts, CHANNELS};
 use crate::device::delta::DeltaPose;
 use crate::device::DeviceParams;
 use crate::flags::Flags;
@@ -212,21 +213,15 @@ impl<M: Math, S: Environment> Controller<M, S> {
     /// non-finite force or torque is passed on for the guard, which flags and latches it (and then
     /// reports zero); duties are not limited here beyond the device's ±1 (the guard limits them).
     /// Use it only through a guard ([`Self::tick`] or the pipeline).
-    pub fn compute(&mut self, counts: &[i32; 6]) -> TickOutput {
+    pub fn compute(&mut self, counts: &[i32; CHANNELS]) -> TickOutput {
         let mut flags = self.pending;
         self.pending = Flags::NONE;
 
         // Kinematics.
         let dev = &self.config.device;
-        let mut angles = [0.0f32; 3];
-        for (a, c) in angles.iter_mut().zip(counts.iter()) {
-            *a = dev.motor_counts_to_arm_angle_rad(*c);
-        }
-        let wrist = [
-            dev.wrist_counts_to_angle_rad(counts[3]),
-            dev.wrist_counts_to_angle_rad(counts[4]),
-            dev.wrist_counts_to_angle_rad(counts[5]),
-        ];
+        let named = EncoderCounts::from(*counts);
+        let angles = named.motor.map(|c| dev.motor_counts_to_arm_angle_rad(c));
+        let wrist = named.wrist.map(|c| dev.wrist_counts_to_angle_rad(c));
         let (pose, mut kflags) = dev.delta.pose::<M>(angles);
         let [lo, hi] = self.config.limits.arm_angle_range_rad;
         if angles.iter().any(|a| !(lo..=hi).contains(a)) {

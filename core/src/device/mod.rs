@@ -6,8 +6,10 @@
 //! | --- | --- |
 //! | [`hardware`] | motors, capstans, H-bridge supply, PWM timer, encoders, wrist gimbal |
 //! | [`delta`] | the delta linkage's forward kinematics and Jacobian |
+//! | [`channels`] | the six encoder channels by name ([`channels::EncoderCounts`]) |
 //! | [`encoder`] | count extension of the 16-bit timer counters |
 
+pub mod channels;
 pub mod delta;
 pub mod encoder;
 pub mod hardware;

@@ -4,6 +4,7 @@
 //! every output.
 
 use crate::contact::state::ContactState;
+use crate::device::channels::CHANNELS;
 use crate::flags::Flags;
 use crate::math::vec3::Vec3;
 
@@ -11,8 +12,10 @@ use crate::math::vec3::Vec3;
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct TickInput {
-    /// Extended 32-bit encoder positions, counts: `[motor0, motor1, motor2, wrist0, wrist1, wrist2]`.
-    pub counts: [i32; 6],
+    /// Extended 32-bit encoder positions, counts, in the channel order of
+    /// [`crate::device::channels`] (motors 0-2, then wrist joints 0-2; named by
+    /// [`EncoderCounts`](crate::device::channels::EncoderCounts)).
+    pub counts: [i32; CHANNELS],
     /// The motor drivers' fault input is asserted.
     pub driver_fault: bool,
     /// The previous tick did not finish before this one started.

@@ -57,6 +57,7 @@ use crate::control::controller::{
 };
 use crate::control::output_guard::{GuardConfig, OutputGuard};
 use crate::control::telemetry::{Decimator, DropCounter};
+use crate::device::channels::{EncoderCounts, CHANNELS, MOTOR, WRIST};
 use crate::device::encoder::EncoderBank;
 use crate::flags::Flags;
 use crate::math::Math;
@@ -71,8 +72,9 @@ use timing::{TickTiming, TimingVerdict};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RawInput {
-    /// Raw wrapping 16-bit encoder timer counts: `[motor0, motor1, motor2, wrist0, wrist1, wrist2]`.
-    pub counts: [u16; 6],
+    /// Raw wrapping 16-bit encoder timer counts, in the channel order of
+    /// [`crate::device::channels`] (motors 0-2, then wrist joints 0-2).
+    pub counts: [u16; CHANNELS],
     /// The drivers' nFAULT line is asserted (as read; the pipeline masks it while asleep/waking).
     pub driver_fault: bool,
     /// Timer counts from this tick's timer event to the interrupt's first instruction.
@@ -97,7 +99,7 @@ pub struct PipelineOutput {
     /// unless armed) with the guarded duties.
     pub control: TickOutput,
     /// Counts as handed to the controller (homed motors, calibrated wrist).
-    pub counts: [i32; 6],
+    pub counts: [i32; CHANNELS],
     /// Gain of the arming ramp applied to the force this tick (0 unless armed).
     pub ramp_gain: f32,
     /// A decimated telemetry record, when this tick is selected.
@@ -115,8 +117,8 @@ pub struct Pipeline<M: Math, S: Environment = Plane> {
     guard: OutputGuard,
     glitch_limit: u16,
     encoders: Option<EncoderBank<6>>,
-    extended: [i32; 6],
-    offsets: [i32; 6],
+    extended: [i32; CHANNELS],
+    offsets: [i32; CHANNELS],
     homed: bool,
     mode: Mode,
     homing: Homing,
@@ -164,8 +166,8 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
             guard,
             glitch_limit: gc.ticks.max_counts_per_tick,
             encoders: None,
-            extended: [0; 6],
-            offsets: [0; 6],
+            extended: [0; CHANNELS],
+            offsets: [0; CHANNELS],
             homed: false,
             mode: Mode::Unhomed,
             homing: Homing::new(config.device.homing, &config.device.params, rate),
@@ -291,7 +293,7 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
             Command::Home => match self.mode {
                 Mode::Unhomed | Mode::Disarmed => {
                     // The handle is in the wrist calibration pose now: that is the wrist zero.
-                    for i in 3..6 {
+                    for i in WRIST {
                         self.offsets[i] = self.extended[i].wrapping_neg();
                     }
                     self.homed = false;
@@ -430,7 +432,7 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
 
     /// Count extension with the glitch check; the first tick's reading is position 0.
     #[must_use]
-    fn extend_counts(&mut self, raw: [u16; 6]) -> Flags {
+    fn extend_counts(&mut self, raw: [u16; CHANNELS]) -> Flags {
         match &mut self.encoders {
             Some(bank) => {
                 let (p, f) = bank.update(raw);
@@ -439,18 +441,18 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
             }
             None => {
                 self.encoders = Some(EncoderBank::new(raw, self.glitch_limit));
-                self.extended = [0; 6];
+                self.extended = [0; CHANNELS];
                 Flags::NONE
             }
         }
     }
 
-    fn homed_counts(&self) -> [i32; 6] {
+    fn homed_counts(&self) -> [i32; CHANNELS] {
         core::array::from_fn(|i| self.extended[i].wrapping_add(self.offsets[i]))
     }
 
     /// The mode's control law: (output for the guard, whether the bridges may drive, ramp gain).
-    fn control(&mut self, counts: [i32; 6], ready: bool) -> (TickOutput, bool, f32) {
+    fn control(&mut self, counts: [i32; CHANNELS], ready: bool) -> (TickOutput, bool, f32) {
         let idle = TickOutput {
             enable: false,
             ..TickOutput::default()
@@ -462,7 +464,7 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
                 if !ready {
                     return (idle, false, 0.0);
                 }
-                let motors = [self.extended[0], self.extended[1], self.extended[2]];
+                let motors = MOTOR.map(|i| self.extended[i]);
                 match self.homing.tick(motors, &self.config.device.params) {
                     HomingStep::Drive(duties) => (
                         TickOutput {
@@ -474,7 +476,9 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
                         0.0,
                     ),
                     HomingStep::Done(offsets) => {
-                        self.offsets[..3].copy_from_slice(&offsets);
+                        for (k, i) in MOTOR.into_iter().enumerate() {
+                            self.offsets[i] = offsets[k];
+                        }
                         self.homed = true;
                         self.controller.restart();
                         // Unknown until a disarmed tick has looked: no Arm before then.
@@ -541,7 +545,7 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
     fn record(
         &mut self,
         control: &TickOutput,
-        counts: &[i32; 6],
+        counts: &[i32; CHANNELS],
         bridges: &BridgeCommands,
         flags: Flags,
         raw: &RawInput,
@@ -549,6 +553,7 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
         if !self.decimator.tick() {
             return None;
         }
+        let named = EncoderCounts::from(*counts);
         let signed = |i: usize| {
             let c = bridges.compare[i].min(i16::MAX as u16) as i16;
             if bridges.phase_forward[i] {
@@ -562,8 +567,8 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
             mode: self.mode,
             state: control.state,
             flags,
-            motor_counts: [counts[0], counts[1], counts[2]],
-            wrist_counts: [counts[3] as i16, counts[4] as i16, counts[5] as i16],
+            motor_counts: named.motor,
+            wrist_counts: named.wrist.map(|c| c as i16),
             force_mn: record::force_mn(control.force_n),
             compare: [signed(0), signed(1), signed(2)],
             latency_counts: record::sat_u16(raw.start_latency_counts),
