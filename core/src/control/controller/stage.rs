@@ -3,7 +3,7 @@
 //! control law runs either stage:
 //!
 //! - a fixed surface: [`ContactModel`] on a surface chosen at build time (the firmware's plane).
-//!   Every [`Surface`] is a [`Environment`] whose stage is that contact model; the trait's methods are
+//!   Every [`Surface`] is an [`Environment`] whose stage is that contact model; the trait's methods are
 //!   `#[inline]` forwards, so the firmware's tick runs the same instructions as before;
 //! - the application's local model: [`LocalModelStage`](crate::control::local_model::LocalModelStage),
 //!   the local-model renderer and the communication watchdog.
