@@ -52,7 +52,7 @@ impl core::fmt::Display for BodyError {
 pub struct BodyParams {
     /// Mass m, kg (> 0).
     pub mass_kg: f32,
-    /// Principal moments of inertia (I_x, I_y, I_z) about the centre of mass, body frame, kg·m²
+    /// Principal moments of inertia (I_x, I_y, I_z) about the centre of mass, object frame, kg·m²
     /// (each > 0).
     pub inertia_kg_m2: Vec3,
     /// c_v: viscous damping of the linear velocity (the air, the table's drag), N·s/m (≥ 0).
@@ -128,7 +128,7 @@ pub struct BodyState {
     pub vel_m_s: Vec3,
     /// Orientation, body → world (unit).
     pub q: Quat,
-    /// Angular velocity, body frame, rad/s.
+    /// Angular velocity, object frame, rad/s.
     pub omega_body: Vec3,
 }
 

@@ -33,13 +33,14 @@ pub struct HomingSpec {
     pub stall_window_counts: u32,
     /// Travel required on the reference leg before a stall is accepted, rad.
     pub min_travel_rad: f32,
-    /// Arm angle at the far stop (the one homing visits first), rad, device frame.
+    /// Arm angle at the far stop (the one homing visits first), rad (the arm-angle convention of
+    /// `crate::device::delta`).
     pub far_stop_angle_rad: f32,
     /// Largest difference between the measured stop-to-stop travel and the mechanism's range, rad.
     pub range_tolerance_rad: f32,
     /// Give up (HOMING_FAILED) after this long, s.
     pub timeout_s: f32,
-    /// Arm angle at the stop under the homing torque, rad (device frame, see `crate::device::delta`).
+    /// Arm angle at the stop under the homing torque, rad (the arm-angle convention of `crate::device::delta`).
     pub stop_angle_rad: f32,
     /// Arm angle the arms are driven to after the stops are found, rad.
     pub park_angle_rad: f32,
