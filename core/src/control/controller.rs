@@ -29,10 +29,10 @@ use crate::math::vec3::Vec3;
 use crate::math::Math;
 pub use crate::validate::ParamError;
 
-mod config;
+pub mod config;
 pub mod passivity;
 pub mod stage;
-mod tick;
+pub mod tick;
 pub use config::{ControllerConfig, Limits, TickLimits};
 pub use stage::{ContactStage, Environment, WithParts};
 pub use tick::{TickInput, TickOutput};

@@ -22,7 +22,8 @@
 //!
 //! [`Controller::compute`]: crate::control::controller::Controller::compute
 
-use crate::control::controller::{Limits, TickLimits, TickOutput};
+use crate::control::controller::config::{Limits, TickLimits};
+use crate::control::controller::tick::TickOutput;
 use crate::device::channels::{CHANNELS, MOTOR};
 use crate::flags::{all_finite, Flags};
 use crate::validate::ParamError;
