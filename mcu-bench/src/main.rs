@@ -19,8 +19,8 @@ use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::contact::{
     ContactInput, ContactModel, Full, Parts, PointFriction, RollingOnly, WithRolling, WithSpin,
 };
-use softfinger_core::control::controller::{Controller, ControllerConfig, TickInput};
 use softfinger_core::control::controller::passivity::{Passivity, PassivityConfig};
+use softfinger_core::control::controller::{Controller, ControllerConfig, TickInput};
 use softfinger_core::device::DeviceParams;
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Rot3, Vec3};
 use softfinger_mcu_bench::bench::Bencher;
