@@ -18,7 +18,7 @@ fn default_scene_is_bounded_and_visits_every_state() {
     // stall times (6.06 s), below the 8 s homing timeout; both after the power-up.
     // Homed counts within the stops' compliance of the truth: measured 12 counts.
     let p = res.prepared;
-    let h = softfinger_core::device::OMEGA_LIKE.homing;
+    let h = softfinger_core::omega_like::OMEGA_LIKE.homing;
     let v = f64::from(h.speed_rad_s.abs());
     let range_s = f64::from(h.far_stop_angle_rad - h.stop_angle_rad) / v;
     let park_s = f64::from((h.park_angle_rad - h.stop_angle_rad).abs()) / v;

@@ -10,7 +10,7 @@ use link::state::{StateBuilder, TickExtender};
 use link::tx::TxRing;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::pipeline::{Command, CommandError};
-use softfinger_core::device::OMEGA_LIKE;
+use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::Flags;
 use softfinger_protocol::frame::encode_frame_with_version;
 use softfinger_protocol::{

@@ -19,10 +19,10 @@ use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
 use softfinger_core::contact::{
     ContactInput, ContactModel, Full, Parts, PointFriction, RollingOnly, WithRolling, WithSpin,
 };
+use softfinger_core::control::controller::passivity::{Passivity, PassivityConfig};
 use softfinger_core::control::controller::{
-    Controller, ControllerConfig, Scene, TickInput, WithParts,
+    Controller, ControllerConfig, Environment, TickInput, WithParts,
 };
-use softfinger_core::control::pipeline::passivity::{Passivity, PassivityConfig};
 use softfinger_core::device::DeviceParams;
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Rot3, Vec3};
 use softfinger_mcu_bench::bench::Bencher;
@@ -380,7 +380,7 @@ fn control_tick_rolling(b: &mut Bencher) {
     control_tick_on::<Fast, _>(b, "control_tick_rolling", config);
 }
 
-fn control_tick_on<M: Math, S: Scene>(
+fn control_tick_on<M: Math, S: Environment>(
     b: &mut Bencher,
     name: &'static str,
     config: ControllerConfig<S>,

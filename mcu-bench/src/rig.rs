@@ -8,7 +8,7 @@ use softfinger_core::control::pipeline::{
     BoardTiming, Command, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
 };
 use softfinger_core::device::delta::DeltaGeometry;
-use softfinger_core::device::OMEGA_LIKE;
+use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::{Libm, Math, Vec3};
 
 /// Homed motor count at the Omega-like stops: −40° at 4096·12 counts per arm turn.

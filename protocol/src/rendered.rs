@@ -6,7 +6,7 @@
 //! Vectors in the device base frame; SI units (m, m/s, N, N·m).
 
 use crate::state::{ContactState, Mode, StateSample, TickStatsWire};
-use softfinger_core::control::controller::{ContactStage, Scene};
+use softfinger_core::control::controller::{ContactStage, Environment};
 use softfinger_core::control::pipeline::{Pipeline, PipelineOutput};
 use softfinger_core::{Flags, Math, Vec3};
 
@@ -37,7 +37,7 @@ impl RenderedTick {
     /// What `pipeline` rendered on the tick that returned `out` (read right after that tick:
     /// the filtered velocity, the contact point and the model sequence are the controller's
     /// state after it).
-    pub fn of<M: Math, S: Scene>(pipeline: &Pipeline<M, S>, out: &PipelineOutput) -> Self {
+    pub fn of<M: Math, S: Environment>(pipeline: &Pipeline<M, S>, out: &PipelineOutput) -> Self {
         let c = pipeline.controller();
         RenderedTick {
             mode: out.mode,

@@ -3,72 +3,9 @@
 
 use crate::contact::decompose::Method;
 use crate::contact::state::{StateParams, Tolerances};
-
-/// Why a parameter set was rejected. Each variant names the offending field.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum ParamError {
-    /// The field is NaN or ±inf.
-    NotFinite(&'static str),
-    /// The field must be > 0.
-    NotPositive(&'static str),
-    /// The field must be ≥ 0.
-    Negative(&'static str),
-    /// The field is outside its documented range.
-    OutOfRange(&'static str),
-    /// μ_k must not exceed μ_s.
-    KineticAboveStatic,
-    /// The device parameters were rejected.
-    Device(crate::device::DeviceParamError),
-}
-
-impl core::fmt::Display for ParamError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            ParamError::NotFinite(n) => write!(f, "{n} is not finite"),
-            ParamError::NotPositive(n) => write!(f, "{n} must be > 0"),
-            ParamError::Negative(n) => write!(f, "{n} must be >= 0"),
-            ParamError::OutOfRange(n) => write!(f, "{n} is out of range"),
-            ParamError::KineticAboveStatic => write!(f, "mu_k must not exceed mu_s"),
-            ParamError::Device(e) => write!(f, "device parameters: {e}"),
-        }
-    }
-}
-
-impl core::error::Error for ParamError {}
-
-/// Check `v` is finite and > 0.
-pub fn positive(name: &'static str, v: f32) -> Result<(), ParamError> {
-    if !v.is_finite() {
-        Err(ParamError::NotFinite(name))
-    } else if v <= 0.0 {
-        Err(ParamError::NotPositive(name))
-    } else {
-        Ok(())
-    }
-}
-
-/// Check `v` is finite and ≥ 0.
-pub fn non_negative(name: &'static str, v: f32) -> Result<(), ParamError> {
-    if !v.is_finite() {
-        Err(ParamError::NotFinite(name))
-    } else if v < 0.0 {
-        Err(ParamError::Negative(name))
-    } else {
-        Ok(())
-    }
-}
-
-/// Check `v` is finite and at most `max` (the upper end of its documented range).
-pub fn at_most(name: &'static str, v: f32, max: f32) -> Result<(), ParamError> {
-    if !v.is_finite() {
-        Err(ParamError::NotFinite(name))
-    } else if v > max {
-        Err(ParamError::OutOfRange(name))
-    } else {
-        Ok(())
-    }
-}
+/// The shared parameter error, kept at its old path.
+pub use crate::validate::ParamError;
+use crate::validate::{at_most, non_negative, positive};
 
 /// Everything the contact model needs. SI units.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -19,8 +19,8 @@
 //! tilt rate (rad/s) and k_τ is in N·m·s/rad. Why a slip speed also leaves rolling, the haptic rule
 //! and the threshold as a rate: docs/design.md#state-machine.
 
-use crate::contact::params::{at_most, non_negative, ParamError};
 use crate::math::vec3::Vec3;
+use crate::validate::{at_most, non_negative, ParamError};
 
 /// The contact state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

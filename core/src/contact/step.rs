@@ -10,11 +10,11 @@
 //! proxy). Normally the surface pushes back with a unilateral spring-damper on the penetration.
 //! Why a proxy rather than velocity-based Coulomb friction: docs/design.md#friction-proxy.
 //!
-//! All vectors are in the object frame (`O`): for the plane scene z is the normal.
+//! All vectors are in the object frame (`O`): for the plane z is the normal.
 
 use crate::contact::decompose::Angles;
 use crate::contact::limit_surface::{patch_radius, project};
-use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::params::ContactParams;
 use crate::contact::parts::{Full, Parts};
 use crate::contact::rolling::{RollStep, Rolling};
 use crate::contact::spin::{fast_test_applies, torsion_limit, SpinSpring};
@@ -24,6 +24,7 @@ use crate::flags::Flags;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
+use crate::validate::ParamError;
 use core::marker::PhantomData;
 
 /// Shortest accepted step, s (1 MHz): 1/dt and the finite differences stay finite.
@@ -116,7 +117,7 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
         dt_s: f32,
     ) -> Result<Self, ParamError> {
         params.validate()?;
-        crate::contact::params::positive("dt_s", dt_s)?;
+        crate::validate::positive("dt_s", dt_s)?;
         if !(MIN_DT_S..=MAX_DT_S).contains(&dt_s) {
             return Err(ParamError::OutOfRange("dt_s"));
         }

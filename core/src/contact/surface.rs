@@ -2,8 +2,9 @@
 //! for its own surface: [`Plane`], [`Sphere`], [`Bowl`] (the fingertip inside a spherical shell)
 //! and [`Cylinder`].
 //!
-//! Object frame `O`: fixed to the object. Contact frame `C`: origin at the contact point, z along the
-//! normal pointing towards the fingertip, x and y tangent.
+//! Frames (the crate's frames table, [`crate`]): the object frame `O` is fixed to the object; the
+//! contact frame `C` has its origin at the contact point, z along the normal pointing towards the
+//! fingertip, x and y tangent.
 //!
 //! Rolling (no slip, fingertip sphere of radius r): with the fingertip's angular velocity ω constant
 //! in the object frame over a step (rotation vector w = ω·T), the fingertip centre c moves with

@@ -6,7 +6,7 @@
 //! encoder checks, the latch, the output limits). The firmware and host-sim run it inside the
 //! control pipeline ([`crate::control::pipeline`]), which calls `compute` and its own guard.
 //!
-//! Frames: the device **base frame** is the delta's (see [`crate::device::delta`]); the object (scene) frame
+//! Frames: the device **base frame** is the delta's (see [`crate::device::delta`]); the object frame
 //! is the base frame translated by `object_origin_m` (no rotation), so forces computed in the object
 //! frame apply unchanged in the base frame.
 //!
@@ -16,57 +16,28 @@
 //! defined once, in [`crate::control::output_guard`] and [`Limits`].
 
 use crate::contact::params::ContactParams;
-pub use crate::contact::params::ParamError;
-use crate::contact::state::ContactState;
 use crate::contact::surface::Plane;
 use crate::contact::{ContactInput, ContactOutput};
+use crate::control::controller::passivity::{Passivity, PassivityConfig};
 use crate::control::output_guard::{GuardConfig, Guarded, OutputGuard};
-use crate::control::pipeline::passivity::{Passivity, PassivityConfig};
+use crate::device::channels::{EncoderCounts, CHANNELS};
 use crate::device::delta::DeltaPose;
 use crate::device::DeviceParams;
 use crate::flags::Flags;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
+pub use crate::validate::ParamError;
 
-mod config;
+pub mod config;
+pub mod passivity;
 pub mod stage;
+pub mod tick;
 pub use config::{ControllerConfig, Limits, TickLimits};
-pub use stage::{ContactStage, Scene, WithParts};
+pub use stage::{ContactStage, Environment, WithParts};
+pub use tick::{TickInput, TickOutput};
 
-/// What the firmware (or the host plant) hands the controller each tick.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct TickInput {
-    /// Extended 32-bit encoder positions, counts: `[motor0, motor1, motor2, wrist0, wrist1, wrist2]`.
-    pub counts: [i32; 6],
-    /// The motor drivers' fault input is asserted.
-    pub driver_fault: bool,
-    /// The previous tick did not finish before this one started.
-    pub overrun: bool,
-}
-
-/// What the controller hands back.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct TickOutput {
-    /// Signed PWM duties in [-1, 1] per motor: sign is the direction pin, magnitude the duty.
-    pub duties: [f32; 3],
-    /// Drive the shared driver-enable pin. False in any fault: outputs at zero torque.
-    pub enable: bool,
-    /// Flags raised this tick, including the latched fault flags.
-    pub flags: Flags,
-    /// Probe (fingertip centre) position in the device base frame, m.
-    pub probe_m: Vec3,
-    /// Force rendered on the user, base frame, N.
-    pub force_n: Vec3,
-    /// Spin torque about the contact normal, N·m (not displayed by a 3-DoF device; reported).
-    pub tau_n_nm: f32,
-    /// Contact state after this tick.
-    pub state: ContactState,
-}
-
-/// The controller with its state. `M`: math backend; `S`: the scene (a fixed surface or the
+/// The controller with its state. `M`: math backend; `S`: the environment (a fixed surface or the
 /// local model), whose [`ContactStage`] the control law calls.
 ///
 /// [`Controller::compute`] is the control law alone (no fault latch); [`Controller::tick`] runs it
@@ -74,7 +45,7 @@ pub struct TickOutput {
 /// its thresholds, for callers that use the controller without the
 /// [`Pipeline`](crate::control::pipeline::Pipeline) (which has its own guard instance and calls `compute`).
 #[derive(Clone, Copy, Debug)]
-pub struct Controller<M: Math, S: Scene = Plane> {
+pub struct Controller<M: Math, S: Environment = Plane> {
     config: ControllerConfig<S>,
     contact: S::Stage<M>,
     guard: OutputGuard,
@@ -103,7 +74,7 @@ pub struct Controller<M: Math, S: Scene = Plane> {
 /// with the guard that enforces it).
 pub use crate::control::output_guard::LATCHING;
 
-impl<M: Math, S: Scene> Controller<M, S> {
+impl<M: Math, S: Environment> Controller<M, S> {
     /// Build a controller; an invalid configuration is rejected, never clamped.
     pub fn new(config: ControllerConfig<S>) -> Result<Self, ParamError> {
         config.validate()?;
@@ -242,21 +213,15 @@ impl<M: Math, S: Scene> Controller<M, S> {
     /// non-finite force or torque is passed on for the guard, which flags and latches it (and then
     /// reports zero); duties are not limited here beyond the device's ±1 (the guard limits them).
     /// Use it only through a guard ([`Self::tick`] or the pipeline).
-    pub fn compute(&mut self, counts: &[i32; 6]) -> TickOutput {
+    pub fn compute(&mut self, counts: &[i32; CHANNELS]) -> TickOutput {
         let mut flags = self.pending;
         self.pending = Flags::NONE;
 
         // Kinematics.
         let dev = &self.config.device;
-        let mut angles = [0.0f32; 3];
-        for (a, c) in angles.iter_mut().zip(counts.iter()) {
-            *a = dev.motor_counts_to_arm_angle_rad(*c);
-        }
-        let wrist = [
-            dev.wrist_counts_to_angle_rad(counts[3]),
-            dev.wrist_counts_to_angle_rad(counts[4]),
-            dev.wrist_counts_to_angle_rad(counts[5]),
-        ];
+        let named = EncoderCounts::from(*counts);
+        let angles = named.motor.map(|c| dev.motor_counts_to_arm_angle_rad(c));
+        let wrist = named.wrist.map(|c| dev.wrist_counts_to_angle_rad(c));
         let (pose, mut kflags) = dev.delta.pose::<M>(angles);
         let [lo, hi] = self.config.limits.arm_angle_range_rad;
         if angles.iter().any(|a| !(lo..=hi).contains(a)) {

@@ -12,7 +12,7 @@
 //!   consistent across the switch, and fades the force of a stale model;
 //! - [`watchdog`]: [`CommWatchdog`], no message for T fades the force to zero and latches
 //!   [`Flags::COMM_TIMEOUT`](crate::Flags::COMM_TIMEOUT) until re-armed;
-//! - [`stage`]: [`LocalModelScene`] / [`LocalModelStage`], the renderer and the watchdog as the
+//! - [`stage`]: [`LocalModelEnvironment`] / [`LocalModelStage`], the renderer and the watchdog as the
 //!   control pipeline's contact stage.
 //!
 //! Frames: the device **base frame** of [`crate::device::delta`]; each model has its own object frame
@@ -30,6 +30,9 @@ pub use pose::{ModelPose, ProbeSample};
 pub use ramp::Ramp;
 pub use renderer::{LocalModelRenderer, RenderOutput, RendererConfig};
 pub use spec::{LocalModelSpec, ModelError, ModelKind};
-pub use stage::{LocalModelScene, LocalModelStage};
+pub use stage::{LocalModelEnvironment, LocalModelStage};
+
+/// The old name of [`LocalModelEnvironment`], kept for the firmware until it names the new one.
+pub type LocalModelScene<P = crate::contact::parts::Full> = LocalModelEnvironment<P>;
 pub use surface::ModelSurface;
 pub use watchdog::CommWatchdog;

@@ -15,8 +15,9 @@
 //! released for the debounce time (a bounce does not end it). Times are counted in samples.
 
 use crate::contact::params::ContactParams;
+use crate::control::command::Command;
 use crate::control::pipeline::homing::ticks_for;
-use crate::control::pipeline::{Command, Mode};
+use crate::control::pipeline::Mode;
 
 /// Surface stiffness presets cycled by a very long press, N/m: soft, the default, stiff.
 pub const STIFFNESS_PRESETS_N_PER_M: [f32; 3] = [500.0, 2000.0, 5000.0];

@@ -22,8 +22,11 @@
 //!
 //! [`Controller::compute`]: crate::control::controller::Controller::compute
 
-use crate::control::controller::{Limits, ParamError, TickLimits, TickOutput};
+use crate::control::controller::config::{Limits, TickLimits};
+use crate::control::controller::tick::TickOutput;
+use crate::device::channels::{CHANNELS, MOTOR};
 use crate::flags::{all_finite, Flags};
+use crate::validate::ParamError;
 
 /// Faults that latch (outputs held at zero torque until cleared). The one latching set: the
 /// controller, the pipeline, the firmware's LED and log all use this.
@@ -147,7 +150,7 @@ pub struct OutputGuard {
     /// False until the first tick (no previous counts to compare with).
     started: bool,
     /// The previous tick's extended counts, for the glitch check.
-    prev_counts: [i32; 6],
+    prev_counts: [i32; CHANNELS],
     /// Consecutive overrun ticks.
     overruns: u32,
     /// Consecutive ticks of drive without a count, per motor.
@@ -162,7 +165,7 @@ impl OutputGuard {
             config,
             latched: Flags::NONE,
             started: false,
-            prev_counts: [0; 6],
+            prev_counts: [0; CHANNELS],
             overruns: 0,
             stuck: [0; 3],
         })
@@ -204,7 +207,7 @@ impl OutputGuard {
     ///   [`Flags::OVERRUN`].
     pub fn apply(
         &mut self,
-        counts: &[i32; 6],
+        counts: &[i32; CHANNELS],
         out: &TickOutput,
         events: Flags,
         overrun: bool,
@@ -234,9 +237,10 @@ impl OutputGuard {
                     flags |= Flags::ENCODER_GLITCH;
                 }
             }
-            for (i, stuck) in self.stuck.iter_mut().enumerate() {
+            for (k, stuck) in self.stuck.iter_mut().enumerate() {
+                let i = MOTOR[k];
                 let moved = counts[i] != self.prev_counts[i];
-                *stuck = if out.enable && finite_duties[i].abs() >= self.config.stuck_duty && !moved
+                *stuck = if out.enable && finite_duties[k].abs() >= self.config.stuck_duty && !moved
                 {
                     stuck.saturating_add(1)
                 } else {

@@ -8,6 +8,7 @@
 
 use crate::contact::state::ContactState;
 use crate::control::controller::{TickInput, TickOutput};
+use crate::device::channels::CHANNELS;
 use crate::flags::Flags;
 use crate::math::vec3::Vec3;
 
@@ -132,8 +133,9 @@ impl DropCounter {
 pub struct TelemetryRecord {
     /// Tick index since start-up (wraps after 2³² ticks: ~5 days at 10 kHz).
     pub tick: u32,
-    /// Extended encoder positions, counts: `[motor0, motor1, motor2, wrist0, wrist1, wrist2]`.
-    pub counts: [i32; 6],
+    /// Extended encoder positions, counts, in the channel order of [`crate::device::channels`]
+    /// (motors 0-2, then wrist joints 0-2).
+    pub counts: [i32; CHANNELS],
     /// Probe position, device base frame, m.
     pub probe_m: Vec3,
     /// Rendered force, base frame, N.

@@ -3,7 +3,7 @@
 //!
 //! # Frame and conventions
 //!
-//! - **Base frame `B`**: origin at the centre of the base (the circle through the three motor
+//! - **Base frame `B`** (the crate's frames table, [`crate`]): origin at the centre of the base (the circle through the three motor
 //!   axes); z is the mechanism's axis of symmetry and points from the effector towards the base,
 //!   so the effector works below the base at negative z. x points from the base centre towards
 //!   motor 0. Which way `B` points in the room depends on how the device is mounted; gravity is not

@@ -25,6 +25,7 @@
 //! aligned with `B`. This is the same matrix as nalgebra's `Rotation3::from_euler_angles(a₂, a₁,
 //! a₀)` (roll a₂, pitch a₁, yaw a₀).
 
+use crate::device::channels::{EncoderCounts, CHANNELS};
 use crate::device::delta::DeltaGeometry;
 use crate::flags::{all_finite, Flags};
 use crate::math::quat::Quat;
@@ -254,20 +255,13 @@ impl DeviceParams {
     /// inverse kinematics, each arm angle rounded to its nearest count. `None` where `p` is out of
     /// reach. For the tests, benches and simulators that drive the controller from a probe position.
     #[must_use]
-    pub fn counts_at<M: Math>(&self, p: Vec3, wrist: [i32; 3]) -> Option<[i32; 6]> {
+    pub fn counts_at<M: Math>(&self, p: Vec3, wrist: [i32; 3]) -> Option<[i32; CHANNELS]> {
         let (angles, flags) = self.delta.inverse::<M>(p);
         if !flags.is_empty() {
             return None;
         }
-        let c = |a: f32| self.arm_angle_to_motor_counts(a);
-        Some([
-            c(angles[0]),
-            c(angles[1]),
-            c(angles[2]),
-            wrist[0],
-            wrist[1],
-            wrist[2],
-        ])
+        let motor = angles.map(|a| self.arm_angle_to_motor_counts(a));
+        Some(EncoderCounts { motor, wrist }.into())
     }
 
     /// Wrist joint angle (rad) from an extended wrist encoder count.

@@ -1,15 +1,16 @@
 //! A free rigid body: mass, principal inertia, pose and velocity, stepped by semi-implicit
 //! (symplectic) Euler at the control rate.
 //!
-//! Frames: the world frame `W` (gravity along −z in the grasp scenes) and the body frame `B`
-//! (origin at the centre of mass, axes along the principal axes of inertia). The orientation `q`
-//! maps body vectors to world vectors, `v_W = q·v_B·q*`.
+//! Frames (the crate's frames table, [`crate`]): the world frame `W` (gravity along −z in the
+//! grasp scenes) and the body's object frame `O` (origin at the centre of mass, axes along the
+//! principal axes of inertia). The orientation `q` maps object-frame vectors to world vectors,
+//! `v_W = q·v_O·q*`.
 //!
 //! Equations (SI units):
 //!
 //! ```text
 //! m·v̇  = F_W − c_v·v                         (linear velocity v in W, force F_W in W)
-//! I·ω̇  = τ_B − ω × (I·ω) − c_ω·ω              (ω in B, I = diag(I_x, I_y, I_z), τ_B = qᵀ·τ_W)
+//! I·ω̇  = τ_O − ω × (I·ω) − c_ω·ω              (ω in O, I = diag(I_x, I_y, I_z), τ_O = qᵀ·τ_W)
 //! ẋ    = v,   q̇ = ½·q ⊗ (0, ω)
 //! ```
 //!
@@ -51,7 +52,7 @@ impl core::fmt::Display for BodyError {
 pub struct BodyParams {
     /// Mass m, kg (> 0).
     pub mass_kg: f32,
-    /// Principal moments of inertia (I_x, I_y, I_z) about the centre of mass, body frame, kg·m²
+    /// Principal moments of inertia (I_x, I_y, I_z) about the centre of mass, object frame, kg·m²
     /// (each > 0).
     pub inertia_kg_m2: Vec3,
     /// c_v: viscous damping of the linear velocity (the air, the table's drag), N·s/m (≥ 0).
@@ -127,7 +128,7 @@ pub struct BodyState {
     pub vel_m_s: Vec3,
     /// Orientation, body → world (unit).
     pub q: Quat,
-    /// Angular velocity, body frame, rad/s.
+    /// Angular velocity, object frame, rad/s.
     pub omega_body: Vec3,
 }
 

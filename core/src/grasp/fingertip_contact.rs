@@ -6,14 +6,14 @@
 //! fingertip's centre, velocity and orientation are expressed relative to the body,
 //!
 //! ```text
-//! probe     = qᵀ·(p_tip − x)                       (body frame, m)
-//! probe_vel = qᵀ·(v_tip − v − ω_W × (p_tip − x))   (body frame, m/s)
+//! probe     = qᵀ·(p_tip − x)                       (object frame, m)
+//! probe_vel = qᵀ·(v_tip − v − ω_W × (p_tip − x))   (object frame, m/s)
 //! q_rel     = q* ⊗ q_tip                           (fingertip → body)
 //! ```
 //!
 //! so the normal spring and damper, the friction proxy, the limit surface coupling twist and slide,
 //! the rolling of the contact point on both surfaces and the state machine are those of the
-//! one-fingertip rendering, unchanged. Its force `F` (body frame, on the fingertip) and spin torque
+//! one-fingertip rendering, unchanged. Its force `F` (object frame, on the fingertip) and spin torque
 //! τn (about the outward normal n; the moment on the fingertip is −τn·n, see
 //! [`crate::contact::spin`]) give, with c the contact point (world):
 //!
@@ -55,7 +55,7 @@ pub struct Fingertip {
 pub struct ContactReport {
     /// False when no fingertip was given for this contact (its model is held broken).
     pub active: bool,
-    /// The contact model's own output (body frame).
+    /// The contact model's own output (the body's object frame).
     pub output: ContactOutput,
     /// Wrench on the body, moment about its centre of mass.
     pub on_body: Wrench,
@@ -82,7 +82,7 @@ pub struct FingertipContact<M: Math, S: Surface> {
 }
 
 impl<M: Math, S: Surface> FingertipContact<M, S> {
-    /// A contact of the model with `params` on `surface` (body frame), stepped every `dt_s`.
+    /// A contact of the model with `params` on `surface` (the body's object frame), stepped every `dt_s`.
     pub fn new(
         params: ContactParams,
         surface: S,

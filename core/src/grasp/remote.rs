@@ -88,7 +88,7 @@ impl DeviceMount {
         }
     }
 
-    /// The body's pose as this device's local-model pose: the body frame in the base frame.
+    /// The body's pose as this device's local-model pose: the body's object frame in the base frame.
     pub fn model_pose(&self, body: &BodyState) -> ModelPose {
         let q_c = self.orientation.conjugate();
         ModelPose {

@@ -66,7 +66,7 @@ pub struct GraspStep {
     pub grasp_flags: GraspFlags,
 }
 
-/// A body and two fingertip contacts on its surface `S` (body frame).
+/// A body and two fingertip contacts on its surface `S` (the body's object frame).
 #[derive(Clone, Copy, Debug)]
 pub struct Grasp<M: Math, S: Surface> {
     /// The held body.
@@ -78,7 +78,7 @@ pub struct Grasp<M: Math, S: Surface> {
 
 impl<M: Math, S: Surface> Grasp<M, S> {
     /// A grasp of a body with `body` parameters starting at `state`, its surface `surface` in the
-    /// body frame, each fingertip's contact with `contacts[i]`, gravity `gravity_m_s2` (world,
+    /// object frame, each fingertip's contact with `contacts[i]`, gravity `gravity_m_s2` (world,
     /// m/s²), stepped every `dt_s` seconds.
     pub fn new(
         body: BodyParams,

@@ -41,7 +41,7 @@ impl Vec3 {
     pub const X: Vec3 = Vec3::new(1.0, 0.0, 0.0);
     /// Unit y axis.
     pub const Y: Vec3 = Vec3::new(0.0, 1.0, 0.0);
-    /// Unit z axis (the contact normal in the plane frame).
+    /// Unit z axis (the contact normal in the object frame of a plane).
     pub const Z: Vec3 = Vec3::new(0.0, 0.0, 1.0);
 
     /// The vector (x, y, z).

@@ -60,13 +60,13 @@ pub(super) const HOLD_WATCHDOG_MS: u16 = 5_000;
 
 /// After the first sample flagged COMM_TIMEOUT the force is exactly zero from this long on, s:
 /// the watchdog latched at or before that sample, and its gain reaches 0 within the fade
-/// (`LocalModelScene::new`: 20 ms, the firmware's). The passivity damper stands aside while the
+/// (`LocalModelEnvironment::new`: 20 ms, the firmware's). The passivity damper stands aside while the
 /// watchdog holds the force down (`Controller::compute`); before it did, this run measured
 /// 0.8-2.2 N for 140 ms after the timeout.
 fn zero_after_timeout_s() -> f32 {
-    use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
+    use softfinger_core::control::local_model::{LocalModelEnvironment, LocalModelSpec, ModelPose};
     let any = LocalModelSpec::plane(0, ModelPose::at(softfinger_core::Vec3::ZERO), &CONTACT);
-    LocalModelScene::new(any).watchdog_fade_s
+    LocalModelEnvironment::new(any).watchdog_fade_s
 }
 
 /// Samples looked at after each model switch.

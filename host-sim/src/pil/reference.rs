@@ -14,8 +14,8 @@ use crate::sim::plant::Plant;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::contact::RollingOnly;
-use softfinger_core::control::controller::Scene;
-use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
+use softfinger_core::control::controller::Environment;
+use softfinger_core::control::local_model::{LocalModelEnvironment, LocalModelSpec, ModelPose};
 use softfinger_core::control::pipeline::output_timing::OutputTiming;
 use softfinger_core::control::pipeline::{
     BridgeCommands, Mode, Pipeline, PipelineConfig, RawInput,
@@ -40,7 +40,7 @@ pub struct RefRun {
 /// The firmware's scene (`firmware/app/src/config.rs`, `TickScene`): the application's local
 /// model with the contact model the default scene names (`rolling`: the device displays no
 /// torque about the normal, so the firmware compiles no spin torque and no limit surface).
-pub type FirmwareScene = LocalModelScene<RollingOnly>;
+pub type FirmwareScene = LocalModelEnvironment<RollingOnly>;
 
 /// The firmware's pipeline configuration (`firmware/src/config.rs`, `pipeline_config`) on
 /// `timing`: the local-model scene whose initial model is the plane 10 mm below the workspace
@@ -57,17 +57,17 @@ pub fn firmware_config(
     );
     let initial = LocalModelSpec::plane(0, ModelPose::at(top), &contact);
     PipelineConfig {
-        device: softfinger_core::device::OMEGA_LIKE,
+        device: softfinger_core::omega_like::OMEGA_LIKE,
         timing,
         contact,
-        surface: LocalModelScene::with_parts(initial),
+        surface: LocalModelEnvironment::with_parts(initial),
         object_origin_m: Vec3::ZERO,
         log_rate_hz: softfinger_core::control::telemetry::DEFAULT_LOG_RATE_HZ,
     }
 }
 
 /// Run until the scene's end. Mirrors the session's timing: one idle period, then tick k.
-pub fn run<S: Scene>(
+pub fn run<S: Environment>(
     plant: &Plant,
     config: PipelineConfig<S>,
     s: &Settings,

@@ -238,8 +238,8 @@ fn the_firmware_runs_the_model_the_default_scene_names() {
     use crate::sim::closed_loop;
     use crate::sim::scene::Scene;
     use softfinger_core::contact::Parts;
-    use softfinger_core::control::local_model::LocalModelScene;
-    fn parts_name<P: Parts>(_: &LocalModelScene<P>) -> &'static str {
+    use softfinger_core::control::local_model::LocalModelEnvironment;
+    fn parts_name<P: Parts>(_: &LocalModelEnvironment<P>) -> &'static str {
         P::NAME
     }
     let scene = Scene::load("finger-on-plane").unwrap();

@@ -6,7 +6,8 @@ use crate::atomic_file::AtomicFile;
 use crate::chart::lines::{line_chart, Axes, Series, Style};
 use crate::chart::style::{linear_range, PALETTE};
 use crate::error::{ChartError, FileError};
-use softfinger_core::device::{DeviceParams, OMEGA_LIKE};
+use softfinger_core::device::DeviceParams;
+use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::Libm;
 use std::path::Path;
 

@@ -15,7 +15,7 @@ use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::{Full, Parts};
 use softfinger_core::control::controller::ContactStage;
 use softfinger_core::control::local_model::{
-    LocalModelScene, LocalModelSpec, ModelKind, ModelPose,
+    LocalModelEnvironment, LocalModelSpec, ModelKind, ModelPose,
 };
 use softfinger_core::control::pipeline::{
     Command, CommandError, Pipeline, PipelineConfig, PipelineOutput,
@@ -34,7 +34,7 @@ pub const DEFAULT_WATCHDOG_S: f32 = 0.2;
 /// parts `P`.
 #[derive(Debug)]
 pub struct PipelineCore<P: Parts = Full> {
-    pipe: Pipeline<Fast, LocalModelScene<P>>,
+    pipe: Pipeline<Fast, LocalModelEnvironment<P>>,
 }
 
 impl<P: Parts> PipelineCore<P> {
@@ -48,31 +48,31 @@ impl<P: Parts> PipelineCore<P> {
     ) -> Result<Self, super::ServeError> {
         let (contact, model) = scene_model(scene)?;
         let config = PipelineConfig {
-            device: softfinger_core::device::OMEGA_LIKE,
+            device: softfinger_core::omega_like::OMEGA_LIKE,
             timing: crate::sim::closed_loop::board_timing(scene.rate_hz)?,
             contact,
-            surface: LocalModelScene {
+            surface: LocalModelEnvironment {
                 blend_s,
                 watchdog_timeout_s: watchdog_s,
-                ..LocalModelScene::<P>::with_parts(model)
+                ..LocalModelEnvironment::<P>::with_parts(model)
             },
             // Model poses are in the base frame.
             object_origin_m: Vec3::ZERO,
             log_rate_hz: 0,
         };
         // The passivity stage observes only, as on the firmware: the local-model scene's
-        // default (`LocalModelScene::PASSIVITY_DAMPS`, with the measurement behind it).
+        // default (`LocalModelEnvironment::PASSIVITY_DAMPS`, with the measurement behind it).
         let pipe = Pipeline::new(config)?;
         Ok(PipelineCore { pipe })
     }
 
     /// The pipeline (read-only).
-    pub fn pipeline(&self) -> &Pipeline<Fast, LocalModelScene<P>> {
+    pub fn pipeline(&self) -> &Pipeline<Fast, LocalModelEnvironment<P>> {
         &self.pipe
     }
 
     /// The pipeline, for the operator's session at start (`--auto-arm`).
-    pub fn pipeline_mut(&mut self) -> &mut Pipeline<Fast, LocalModelScene<P>> {
+    pub fn pipeline_mut(&mut self) -> &mut Pipeline<Fast, LocalModelEnvironment<P>> {
         &mut self.pipe
     }
 

@@ -1,7 +1,7 @@
 use super::*;
 use crate::sim::scene::Scene;
+use softfinger_core::control::controller::passivity::PassivityConfig;
 use softfinger_core::control::local_model::ModelPose;
-use softfinger_core::control::pipeline::passivity::PassivityConfig;
 use softfinger_core::control::pipeline::PipelineOutput;
 use softfinger_protocol::{AckResult, ErrorCode};
 
@@ -48,7 +48,7 @@ fn no_force_before_homing_and_arming_then_the_real_homing() {
     let scene = Scene::default_scene();
     let (contact, _) = scene_model(&scene).unwrap();
     let script = crate::sim::closed_loop::touch_script(&scene, &contact);
-    let device = softfinger_core::device::OMEGA_LIKE.params;
+    let device = softfinger_core::omega_like::OMEGA_LIKE.params;
     let mut next = crate::serve::hand::following(&plant, &script, device).unwrap();
     next.continue_counters_from(&plant);
     plant = next;
@@ -214,7 +214,7 @@ fn moving_plane_largest_step_n(damps: bool) -> f32 {
         position_m: [0.0, 0.0, top + radius - 0.001],
         wrist_rad: [0.0; 3],
     };
-    let device = softfinger_core::device::OMEGA_LIKE.params;
+    let device = softfinger_core::omega_like::OMEGA_LIKE.params;
     let mut held = crate::serve::hand::holding(&plant, target, device).unwrap();
     held.continue_counters_from(&plant);
     plant = held;
@@ -242,7 +242,7 @@ fn moving_plane_largest_step_n(damps: bool) -> f32 {
     largest
 }
 
-/// Why a local model's passivity stage observes only (`LocalModelScene::PASSIVITY_DAMPS`, the
+/// Why a local model's passivity stage observes only (`LocalModelEnvironment::PASSIVITY_DAMPS`, the
 /// firmware's and this device's default alike): the observer's base-frame balance counts the
 /// model's own motion as energy the wall puts into the hand, and its damper answers with force
 /// steps. Measured here: 0.119 N per tick observing only, 2.35 N with the damper (20x).

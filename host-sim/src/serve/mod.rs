@@ -166,7 +166,7 @@ impl Server {
         mut plant: crate::sim::plant::Plant,
         script: crate::sim::plant::HandScript,
     ) -> Result<Server, ServeError> {
-        let device = softfinger_core::device::OMEGA_LIKE.params;
+        let device = softfinger_core::omega_like::OMEGA_LIKE.params;
         let watchdog_s = args.watchdog_ms * 1e-3;
         let core = device_core::<P>(
             scene,

@@ -11,12 +11,12 @@ use crate::sim::plant::{HandScript, Plant, PlantError, PlantParams, TouchScript}
 use crate::sim::scene::{Scene, SceneProblem, SurfaceSpec};
 use softfinger_core::contact::params::{ContactParams, ParamError};
 use softfinger_core::contact::surface::{Bowl, Cylinder, Plane, Sphere, Surface};
-use softfinger_core::control::controller::Scene as PipelineScene;
+use softfinger_core::control::controller::Environment;
 use softfinger_core::control::pipeline::{
     BoardTiming, Command, CommandError, Mode, Pipeline, PipelineConfig, PipelineError,
     PipelineOutput, RawInput, TimingError,
 };
-use softfinger_core::device::OMEGA_LIKE;
+use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::{Math, Vec3};
 use softfinger_scene::model::ModelError;
 use std::time::{Duration, Instant};
@@ -239,7 +239,7 @@ pub fn surface_of(scene: &Scene) -> SurfaceSpec {
 }
 
 /// One closed-loop tick: sample the counters, `inject`, run the pipeline, drive the plant.
-pub fn step<M: Math, S: PipelineScene>(
+pub fn step<M: Math, S: Environment>(
     pipe: &mut Pipeline<M, S>,
     plant: &mut Plant,
     inject: impl FnOnce(&mut RawInput),
@@ -279,7 +279,7 @@ const HOMING_WAIT_S: f64 = 10.0;
 
 /// Tick with the script held at its start for up to `n` ticks or until `done`; a fault is an
 /// error. Returns the ticks run and the last output.
-fn hold<M: Math, S: PipelineScene>(
+fn hold<M: Math, S: Environment>(
     pipe: &mut Pipeline<M, S>,
     plant: &mut Plant,
     n: u64,
@@ -303,7 +303,7 @@ fn hold<M: Math, S: PipelineScene>(
 /// The operator's session: power-up, `Home` with the handle let go (held in the wrist's
 /// calibration pose: the script's start), the hand takes the handle and brings it to the script's
 /// start, `Arm`. The script is held at its start throughout and restarts when armed.
-pub fn prepare<M: Math, S: PipelineScene>(
+pub fn prepare<M: Math, S: Environment>(
     pipe: &mut Pipeline<M, S>,
     plant: &mut Plant,
 ) -> Result<Prepared, ClosedLoopError> {
@@ -344,7 +344,7 @@ pub fn prepare<M: Math, S: PipelineScene>(
 /// Run `ticks` closed-loop ticks. `inject(k, &mut raw)` may edit each tick's raw input;
 /// `observe(k, &raw, &output, &pipeline, &plant)` sees every tick after the plant has stepped.
 /// Returns the wall time spent inside `Pipeline::tick`.
-pub fn simulate<M: Math, S: PipelineScene>(
+pub fn simulate<M: Math, S: Environment>(
     pipe: &mut Pipeline<M, S>,
     plant: &mut Plant,
     ticks: u64,

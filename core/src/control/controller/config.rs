@@ -1,11 +1,12 @@
-//! The controller's configuration: the device, the contact model, the scene and the limits and
+//! The controller's configuration: the device, the contact model, the environment and the limits and
 //! fault thresholds (in physical units; [`Limits::per_tick`] converts them for a control rate).
 
-use super::Scene;
-use crate::contact::params::{positive, ContactParams, ParamError};
+use super::Environment;
+use crate::contact::params::ContactParams;
 use crate::contact::surface::Plane;
 use crate::device::DeviceParams;
 use crate::math::vec3::Vec3;
+use crate::validate::{positive, ParamError};
 
 /// Limits and fault thresholds, in physical units so that changing the control rate changes no
 /// behaviour; [`Limits::per_tick`] converts them for a rate.
@@ -90,17 +91,17 @@ fn round_at_least_one(x: f32) -> u32 {
     }
 }
 
-/// Everything the controller needs to know about the device and the scene.
+/// Everything the controller needs to know about the device and the environment.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ControllerConfig<S: Scene = Plane> {
+pub struct ControllerConfig<S: Environment = Plane> {
     /// Control rate, Hz (1 kHz to 40 kHz).
     pub rate_hz: f32,
     /// The device: kinematics, motors, encoders.
     pub device: DeviceParams,
     /// The contact model.
     pub contact: ContactParams,
-    /// The scene: a fixed surface, or the local model (see [`super::stage`]).
+    /// The environment: a fixed surface, or the local model (see [`super::stage`]).
     pub surface: S,
     /// Origin of the object frame in the device base frame, m.
     pub object_origin_m: Vec3,
@@ -108,7 +109,7 @@ pub struct ControllerConfig<S: Scene = Plane> {
     pub limits: Limits,
 }
 
-impl<S: Scene> ControllerConfig<S> {
+impl<S: Environment> ControllerConfig<S> {
     /// Check every part.
     pub fn validate(&self) -> Result<(), ParamError> {
         positive("rate_hz", self.rate_hz)?;

@@ -2,34 +2,35 @@
 //! [`Pipeline`](crate::control::pipeline::Pipeline)) calls between the kinematics and the Jacobian. One
 //! control law runs either stage:
 //!
-//! - a fixed scene: [`ContactModel`] on a surface chosen at build time (the firmware's plane).
-//!   Every [`Surface`] is a [`Scene`] whose stage is that contact model; the trait's methods are
+//! - a fixed surface: [`ContactModel`] on a surface chosen at build time (the firmware's plane).
+//!   Every [`Surface`] is an [`Environment`] whose stage is that contact model; the trait's methods are
 //!   `#[inline]` forwards, so the firmware's tick runs the same instructions as before;
 //! - the application's local model: [`LocalModelStage`](crate::control::local_model::LocalModelStage),
 //!   the local-model renderer and the communication watchdog.
 //!
-//! Frames: the stage receives the probe in the scene's object frame (the base frame translated by
+//! Frames: the stage receives the probe in the environment's object frame (the base frame translated by
 //! the configuration's `object_origin_m`) and returns its force, torque and contact point in that
 //! frame.
 
-use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::params::ContactParams;
 use crate::contact::parts::Parts;
 use crate::contact::state::ContactState;
 use crate::contact::surface::Surface;
 use crate::contact::{ContactInput, ContactModel, ContactOutput};
+use crate::control::command::CommandError;
 use crate::control::local_model::LocalModelSpec;
-use crate::control::pipeline::CommandError;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
+use crate::validate::ParamError;
 
 /// A contact stage: one step per control tick, plus the commands it understands. The commands
-/// about the local model and the link answer [`CommandError::Unsupported`] on a fixed scene.
+/// about the local model and the link answer [`CommandError::Unsupported`] on a fixed surface.
 pub trait ContactStage: Copy + core::fmt::Debug {
     /// One control tick. Never panics, never returns a non-finite force for finite input.
     fn step(&mut self, input: &ContactInput) -> ContactOutput;
     /// Break the contact and forget the motion history (after a fault or a re-homing); the
-    /// scene (or the local model in force) stays.
+    /// surface (or the local model in force) stays.
     fn restart(&mut self);
     /// New contact parameters: validated, the contact restarts; invalid ones change nothing.
     fn set_contact_params(&mut self, p: ContactParams) -> Result<(), ParamError>;
@@ -39,7 +40,7 @@ pub trait ContactStage: Copy + core::fmt::Debug {
     fn state(&self) -> ContactState;
     /// Contact point on the object after the last step, object frame, m.
     fn contact_point_m(&self) -> Vec3;
-    /// Sequence number of the local model in force (0 on a fixed scene).
+    /// Sequence number of the local model in force (0 on a fixed surface).
     #[inline]
     fn model_seq(&self) -> u32 {
         0
@@ -67,14 +68,15 @@ pub trait ContactStage: Copy + core::fmt::Debug {
     fn rearm(&mut self) {}
 }
 
-/// What a controller is built with: a scene that makes its contact stage.
-pub trait Scene: Copy + core::fmt::Debug {
-    /// Whether the passivity stage ([`crate::control::pipeline::passivity`]) adds its damper on this
-    /// scene by default (false: it observes only). Its energy balance is taken in the base
-    /// frame, where a fixed surface is passive; a scene whose objects move is an active
+/// What a controller is built with: the virtual environment the device renders (a fixed
+/// surface, or the application's local models), which makes its contact stage.
+pub trait Environment: Copy + core::fmt::Debug {
+    /// Whether the passivity stage ([`crate::control::controller::passivity`]) adds its damper on this
+    /// environment by default (false: it observes only). Its energy balance is taken in the base
+    /// frame, where a fixed surface is passive; an environment whose objects move is an active
     /// environment there, and the damper would answer the model's own motion with force steps.
     const PASSIVITY_DAMPS: bool = true;
-    /// The stage this scene runs with math backend `M`.
+    /// The stage this environment runs with math backend `M`.
     type Stage<M: Math>: ContactStage;
     /// The stage for contact parameters `contact`, stepped every `dt_s` seconds.
     fn stage<M: Math>(
@@ -84,8 +86,8 @@ pub trait Scene: Copy + core::fmt::Debug {
     ) -> Result<Self::Stage<M>, ParamError>;
 }
 
-/// A fixed surface is a scene: the contact model on it.
-impl<S: Surface> Scene for S {
+/// A fixed surface is an environment: the contact model on it.
+impl<S: Surface> Environment for S {
     type Stage<M: Math> = ContactModel<M, S>;
     #[inline]
     fn stage<M: Math>(
@@ -116,7 +118,7 @@ impl<S: Surface, P: Parts> WithParts<S, P> {
     }
 }
 
-impl<S: Surface, P: Parts> Scene for WithParts<S, P> {
+impl<S: Surface, P: Parts> Environment for WithParts<S, P> {
     type Stage<M: Math> = ContactModel<M, S, P>;
     #[inline]
     fn stage<M: Math>(
@@ -183,7 +185,7 @@ mod tests {
         }
     }
 
-    /// A fixed scene's stage reports the contact model's state and contact point, has no local
+    /// A fixed surface's stage reports the contact model's state and contact point, has no local
     /// model (sequence 0) and no watchdog (0 s), and refuses the local-model commands.
     #[test]
     fn a_fixed_scene_forwards_to_its_contact_model() {

@@ -1,6 +1,7 @@
 //! Controller tick: rendering through the device, and every fault ending in the safe state.
 
 use super::*;
+use crate::contact::state::ContactState;
 use crate::device::DeviceParams;
 use crate::math::Libm;
 

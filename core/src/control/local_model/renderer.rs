@@ -22,7 +22,7 @@
 //! The object may move, but the damping acts on the probe's velocity (relative to the base, not to
 //! the moving surface): a 1 kHz stream gives no surface velocity to difference.
 
-use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::params::ContactParams;
 use crate::contact::state::ContactState;
 use crate::contact::{ContactInput, ContactModel, ContactOutput, Full, Parts};
 use crate::control::local_model::pose::{ModelPose, ProbeSample};
@@ -33,6 +33,7 @@ use crate::flags::Flags;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
+use crate::validate::ParamError;
 
 /// Timing of the renderer.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -57,14 +58,14 @@ impl RendererConfig {
 
     /// Check every field.
     pub fn validate(&self) -> Result<(), ParamError> {
-        crate::contact::params::positive("rate_hz", self.rate_hz)?;
+        crate::validate::positive("rate_hz", self.rate_hz)?;
         if !(1_000.0..=40_000.0).contains(&self.rate_hz) {
             return Err(ParamError::OutOfRange("rate_hz"));
         }
-        crate::contact::params::non_negative("blend_s", self.blend_s)?;
-        crate::contact::params::at_most("blend_s", self.blend_s, 1.0)?;
-        crate::contact::params::non_negative("stale_fade_s", self.stale_fade_s)?;
-        crate::contact::params::at_most("stale_fade_s", self.stale_fade_s, 1.0)
+        crate::validate::non_negative("blend_s", self.blend_s)?;
+        crate::validate::at_most("blend_s", self.blend_s, 1.0)?;
+        crate::validate::non_negative("stale_fade_s", self.stale_fade_s)?;
+        crate::validate::at_most("stale_fade_s", self.stale_fade_s, 1.0)
     }
 }
 

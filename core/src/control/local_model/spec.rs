@@ -1,9 +1,10 @@
 //! The local model an application sends, and its validation.
 
-use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::params::ContactParams;
 use crate::contact::MAX_PROBE_M;
 use crate::control::local_model::pose::ModelPose;
 use crate::math::quat::{Quat, UNIT_TOLERANCE};
+use crate::validate::ParamError;
 
 /// The kind of surface and its size, in the model's object frame.
 ///

@@ -1,4 +1,4 @@
-//! The local model as the control pipeline's contact stage: [`LocalModelScene`] is what a
+//! The local model as the control pipeline's contact stage: [`LocalModelEnvironment`] is what a
 //! [`Pipeline`](crate::control::pipeline::Pipeline) is built with, [`LocalModelStage`] what it runs — the
 //! [`LocalModelRenderer`] followed by the [`CommWatchdog`]'s gain.
 //!
@@ -13,24 +13,25 @@
 //! Frames: the model poses are in the pipeline's object frame (the base frame translated by the
 //! configuration's `object_origin_m`; zero makes it the base frame).
 
-use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::params::ContactParams;
 use crate::contact::state::ContactState;
 use crate::contact::{ContactInput, ContactOutput, Full, Parts};
-use crate::control::controller::{ContactStage, Scene};
+use crate::control::command::CommandError;
+use crate::control::controller::{ContactStage, Environment};
 use crate::control::local_model::pose::ProbeSample;
 use crate::control::local_model::renderer::{LocalModelRenderer, RendererConfig};
 use crate::control::local_model::spec::{LocalModelSpec, ModelError, MAX_AGE_S};
 use crate::control::local_model::watchdog::CommWatchdog;
-use crate::control::pipeline::CommandError;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
+use crate::validate::ParamError;
 use core::marker::PhantomData;
 
-/// The local-model scene: the initial model, the timing of blends, fades and the watchdog, and
+/// The local-model environment: the initial model, the timing of blends, fades and the watchdog, and
 /// the contact model's parts `P` ([`crate::contact::parts`]; the full model unless named).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct LocalModelScene<P: Parts = Full> {
+pub struct LocalModelEnvironment<P: Parts = Full> {
     /// The model rendered until the application sends another.
     pub initial: LocalModelSpec,
     /// Blend time of a model switch, s, in [0, 1] (see [`RendererConfig::blend_s`]).
@@ -45,18 +46,18 @@ pub struct LocalModelScene<P: Parts = Full> {
     pub parts: PhantomData<P>,
 }
 
-impl LocalModelScene {
+impl LocalModelEnvironment {
     /// `initial` with the renderer's default blend and stale fade, a 20 ms watchdog fade and the
     /// watchdog off, rendered with the full contact model.
-    pub const fn new(initial: LocalModelSpec) -> LocalModelScene {
-        LocalModelScene::with_parts(initial)
+    pub const fn new(initial: LocalModelSpec) -> LocalModelEnvironment {
+        LocalModelEnvironment::with_parts(initial)
     }
 }
 
-impl<P: Parts> LocalModelScene<P> {
-    /// [`LocalModelScene::new`] with the contact model of parts `P`.
-    pub const fn with_parts(initial: LocalModelSpec) -> LocalModelScene<P> {
-        LocalModelScene {
+impl<P: Parts> LocalModelEnvironment<P> {
+    /// [`LocalModelEnvironment::new`] with the contact model of parts `P`.
+    pub const fn with_parts(initial: LocalModelSpec) -> LocalModelEnvironment<P> {
+        LocalModelEnvironment {
             initial,
             blend_s: RendererConfig::DEFAULT.blend_s,
             stale_fade_s: RendererConfig::DEFAULT.stale_fade_s,
@@ -67,7 +68,7 @@ impl<P: Parts> LocalModelScene<P> {
     }
 }
 
-impl<P: Parts> Scene for LocalModelScene<P> {
+impl<P: Parts> Environment for LocalModelEnvironment<P> {
     /// Observe only: the application moves and switches its model, work the base-frame observer
     /// would count as energy the wall puts into the hand. Measured on host-sim's virtual device
     /// (`serve::core` test `a_moving_local_model_steps_the_force_with_the_damper_on`): a plane
@@ -91,7 +92,7 @@ impl<P: Parts> Scene for LocalModelScene<P> {
                 ModelError::Params(p) => p,
                 _ => ParamError::OutOfRange("local model"),
             })?;
-        crate::contact::params::positive("watchdog_fade_s", self.watchdog_fade_s)?;
+        crate::validate::positive("watchdog_fade_s", self.watchdog_fade_s)?;
         let mut stage = LocalModelStage {
             renderer,
             watchdog: CommWatchdog::new(rate_hz, self.watchdog_fade_s),

@@ -1,25 +1,26 @@
-//! What a [`super::Pipeline`] is built from: a named device, the board timing, and the scene.
+//! What a [`super::Pipeline`] is built from: a named device, the board timing, and the environment.
 
-use crate::contact::params::{ContactParams, ParamError};
+use crate::contact::params::ContactParams;
 use crate::contact::surface::Plane;
-use crate::control::controller::{ControllerConfig, Scene};
-use crate::device::DeviceDefinition;
+use crate::control::controller::{ControllerConfig, Environment};
+use crate::control::device_definition::DeviceDefinition;
 use crate::math::vec3::Vec3;
+use crate::validate::ParamError;
 
 use super::board::{BoardTiming, TimingError};
 
 /// Everything the pipeline needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct PipelineConfig<S: Scene = Plane> {
-    /// The device (named explicitly, e.g. [`crate::device::OMEGA_LIKE`]).
+pub struct PipelineConfig<S: Environment = Plane> {
+    /// The device (named explicitly, e.g. [`crate::omega_like::OMEGA_LIKE`]).
     pub device: DeviceDefinition,
     /// Timer clock, PWM and control rates (the control rate is the controller's).
     pub timing: BoardTiming,
     /// The contact model.
     pub contact: ContactParams,
-    /// The scene: a fixed surface, or the local model
-    /// ([`LocalModelScene`](crate::control::local_model::LocalModelScene)).
+    /// The environment: a fixed surface, or the local model
+    /// ([`LocalModelEnvironment`](crate::control::local_model::LocalModelEnvironment)).
     pub surface: S,
     /// Origin of the object frame in the device base frame, m.
     pub object_origin_m: Vec3,
@@ -48,7 +49,7 @@ impl core::fmt::Display for PipelineError {
 
 impl core::error::Error for PipelineError {}
 
-impl<S: Scene> PipelineConfig<S> {
+impl<S: Environment> PipelineConfig<S> {
     /// The controller configuration this pipeline runs.
     pub fn controller_config(&self) -> ControllerConfig<S> {
         ControllerConfig {
@@ -73,7 +74,7 @@ impl<S: Scene> PipelineConfig<S> {
 }
 
 impl PipelineConfig<Plane> {
-    /// `device` on `timing` with the plane scene at height `plane_z_m` (base frame) and the
+    /// `device` on `timing` with the plane environment at height `plane_z_m` (base frame) and the
     /// default contact parameters, logging at the default telemetry rate.
     pub fn plane(device: DeviceDefinition, timing: BoardTiming, plane_z_m: f32) -> Self {
         PipelineConfig {

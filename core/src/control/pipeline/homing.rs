@@ -14,8 +14,8 @@
 //! pose of the handle (resting in its calibration pose, hands off) when `Home` is given. Why
 //! this procedure, and why the park: docs/design.md#homing.
 
-use crate::contact::params::{positive, ParamError};
 use crate::device::DeviceParams;
+use crate::validate::{positive, ParamError};
 
 /// The homing procedure of a device, in physical units.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,13 +33,14 @@ pub struct HomingSpec {
     pub stall_window_counts: u32,
     /// Travel required on the reference leg before a stall is accepted, rad.
     pub min_travel_rad: f32,
-    /// Arm angle at the far stop (the one homing visits first), rad, device frame.
+    /// Arm angle at the far stop (the one homing visits first), rad (the arm-angle convention of
+    /// `crate::device::delta`).
     pub far_stop_angle_rad: f32,
     /// Largest difference between the measured stop-to-stop travel and the mechanism's range, rad.
     pub range_tolerance_rad: f32,
     /// Give up (HOMING_FAILED) after this long, s.
     pub timeout_s: f32,
-    /// Arm angle at the stop under the homing torque, rad (device frame, see `crate::device::delta`).
+    /// Arm angle at the stop under the homing torque, rad (the arm-angle convention of `crate::device::delta`).
     pub stop_angle_rad: f32,
     /// Arm angle the arms are driven to after the stops are found, rad.
     pub park_angle_rad: f32,
@@ -340,7 +341,7 @@ pub fn round_i32(x: f32) -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::device::OMEGA_LIKE;
+    use crate::omega_like::OMEGA_LIKE;
 
     const RATE: f32 = 10_000.0;
 

@@ -5,10 +5,10 @@
 
 use super::*;
 use crate::contact::params::ContactParams;
+use crate::control::controller::passivity;
 use crate::control::local_model::{
-    LocalModelScene, LocalModelSpec, ModelError, ModelKind, ModelPose,
+    LocalModelEnvironment, LocalModelSpec, ModelError, ModelKind, ModelPose,
 };
-use crate::control::pipeline::passivity;
 
 const HOLD: [f64; 3] = [0.5, 0.55, 0.45];
 
@@ -44,7 +44,7 @@ fn sphere(seq: u32, depth_m: f32, radius_m: f32) -> LocalModelSpec {
     }
 }
 
-fn scene_pipeline(scene: LocalModelScene) -> Pipeline<Libm, LocalModelScene> {
+fn scene_pipeline(scene: LocalModelEnvironment) -> Pipeline<Libm, LocalModelEnvironment> {
     let cfg = PipelineConfig {
         device: OMEGA_LIKE,
         timing: BoardTiming::STM32G474_10KHZ,
@@ -57,7 +57,7 @@ fn scene_pipeline(scene: LocalModelScene) -> Pipeline<Libm, LocalModelScene> {
 }
 
 /// Homed, the hand holding the handle at `HOLD`, armed and past the arming ramp (0.5 s).
-fn armed(scene: LocalModelScene) -> (Pipeline<Libm, LocalModelScene>, Arms) {
+fn armed(scene: LocalModelEnvironment) -> (Pipeline<Libm, LocalModelEnvironment>, Arms) {
     let mut p = scene_pipeline(scene);
     let mut arms = Arms::new(0.3);
     let _ = home(&mut p, &mut arms);
@@ -80,9 +80,9 @@ fn armed(scene: LocalModelScene) -> (Pipeline<Libm, LocalModelScene>, Arms) {
 /// fingertip (pose slews), every 20 ms switching to a sphere and back (cross-fades); returns
 /// the largest force change in one tick and the smallest and largest force seen.
 fn switching(blend_s: f32) -> (f32, f32, f32) {
-    let scene = LocalModelScene {
+    let scene = LocalModelEnvironment {
         blend_s,
-        ..LocalModelScene::new(plane(1, 0.001))
+        ..LocalModelEnvironment::new(plane(1, 0.001))
     };
     let (mut p, mut arms) = armed(scene);
     // The passivity stage observes only on a local model, by default (see the test's doc).
@@ -120,7 +120,7 @@ fn switching(blend_s: f32) -> (f32, f32, f32) {
 /// 0) steps by several newtons: the test can fail.
 ///
 /// The passivity stage observes only, the local-model scene's default
-/// (`LocalModelScene::PASSIVITY_DAMPS`): a surface oscillating by 3 mm at 500 Hz is an active
+/// (`LocalModelEnvironment::PASSIVITY_DAMPS`): a surface oscillating by 3 mm at 500 Hz is an active
 /// environment, the observer sees the energy it puts into the hand, and its damper then steps
 /// the force (measured 2.8 N with it on). Rendering moving local models passively needs the
 /// model's motion in the observer's energy balance; not done.
@@ -144,7 +144,7 @@ fn model_switches_at_1khz_make_no_force_step() {
 /// it, `Arm` (re-arming while armed) does and the force returns.
 #[test]
 fn the_watchdog_fades_within_its_bound_and_latches_until_rearmed() {
-    let (mut p, mut arms) = armed(LocalModelScene::new(plane(1, 0.003)));
+    let (mut p, mut arms) = armed(LocalModelEnvironment::new(plane(1, 0.003)));
     assert_eq!(p.command(Command::SetWatchdog { timeout_s: 0.010 }), Ok(()));
     for k in 0..5_000 {
         if k % 50 == 0 {
@@ -203,7 +203,7 @@ fn the_watchdog_fades_within_its_bound_and_latches_until_rearmed() {
 /// reproduce that motion, so here the test guards the contract rather than the failure.
 #[test]
 fn after_a_timeout_no_force_even_while_the_hand_moves() {
-    let (mut p, mut arms) = armed(LocalModelScene::new(plane(1, 0.003)));
+    let (mut p, mut arms) = armed(LocalModelEnvironment::new(plane(1, 0.003)));
     let damping = passivity::PassivityConfig {
         enabled: true,
         ..*p.controller().passivity().config()
@@ -238,7 +238,7 @@ fn after_a_timeout_no_force_even_while_the_hand_moves() {
 /// fades to zero over the 20 ms stale fade (200 ticks); a fresh model brings it back.
 #[test]
 fn a_stale_model_fades() {
-    let (mut p, mut arms) = armed(LocalModelScene::new(plane(1, 0.003)));
+    let (mut p, mut arms) = armed(LocalModelEnvironment::new(plane(1, 0.003)));
     let aging = LocalModelSpec {
         max_age_s: 0.005,
         ..plane(2, 0.003)
@@ -277,7 +277,7 @@ fn a_stale_model_fades() {
 /// meanwhile.
 #[test]
 fn the_local_model_renders_only_when_armed() {
-    let mut p = scene_pipeline(LocalModelScene::new(plane(1, 0.003)));
+    let mut p = scene_pipeline(LocalModelEnvironment::new(plane(1, 0.003)));
     let mut arms = Arms::new(0.3);
     assert_eq!(p.command(Command::SetLocalModel(plane(2, 0.003))), Ok(()));
     assert_eq!(p.command(Command::Arm), Err(CommandError::NotHomed));
@@ -291,10 +291,10 @@ fn the_local_model_renders_only_when_armed() {
 }
 
 /// The passivity stage's default follows the scene: the fixed plane's damps, the local model's
-/// observes only (`Scene::PASSIVITY_DAMPS`).
+/// observes only (`Environment::PASSIVITY_DAMPS`).
 #[test]
 fn passivity_damps_on_a_fixed_scene_and_observes_on_a_local_model() {
-    let local = scene_pipeline(LocalModelScene::new(plane(1, 0.001)));
+    let local = scene_pipeline(LocalModelEnvironment::new(plane(1, 0.001)));
     assert!(!local.controller().passivity().config().enabled);
     let (fixed, _) = homed();
     assert!(fixed.controller().passivity().config().enabled);
@@ -342,7 +342,7 @@ fn bowls_and_cylinders_render() {
         ..plane(3, 0.003)
     };
     for m in [bowl, cylinder] {
-        let (mut p, mut arms) = armed(LocalModelScene::new(plane(1, 0.0005)));
+        let (mut p, mut arms) = armed(LocalModelEnvironment::new(plane(1, 0.0005)));
         assert_eq!(p.command(Command::SetLocalModel(m)), Ok(()));
         let mut out = tick(&mut p, &mut arms, |_| {});
         for _ in 0..2_000 {
@@ -359,7 +359,7 @@ fn bowls_and_cylinders_render() {
 /// keeps the device armed it cannot turn it off; after Disarm it can.
 #[test]
 fn a_host_arm_turns_the_watchdog_on_and_keeps_it_on() {
-    let mut p = scene_pipeline(LocalModelScene::new(plane(1, 0.003)));
+    let mut p = scene_pipeline(LocalModelEnvironment::new(plane(1, 0.003)));
     let mut arms = Arms::new(0.3);
     let _ = home(&mut p, &mut arms);
     arms.hand = Some(HOLD.map(|t| t - 0.05));

@@ -18,10 +18,10 @@
 //! [`Pipeline::note_link_activity`] for every message it decodes (the communication watchdog's
 //! food).
 //!
-//! The scene `S` decides the controller's contact stage ([`crate::control::controller::stage`]): a fixed
-//! surface (the firmware's plane), or [`crate::control::local_model::LocalModelScene`], the application's
+//! The environment `S` decides the controller's contact stage ([`crate::control::controller::stage`]): a fixed
+//! surface (the firmware's plane), or [`crate::control::local_model::LocalModelEnvironment`], the application's
 //! local model with the communication watchdog, which also accepts [`Command::SetLocalModel`]
-//! and [`Command::SetWatchdog`] (a fixed scene refuses them: [`CommandError::Unsupported`]).
+//! and [`Command::SetWatchdog`] (a fixed surface refuses them: [`CommandError::Unsupported`]).
 //!
 //! Frames: motor counts handed to the controller are *homed*: 0 ↔ the device's zero-count arm
 //! angle; wrist counts are relative to the calibration pose held at `Home`.
@@ -35,25 +35,29 @@ pub mod link;
 pub mod liveness;
 pub mod mode;
 pub mod output_timing;
-pub mod passivity;
 pub mod ramp;
 pub mod record;
 pub mod timing;
 
+pub use crate::control::command::{Command, CommandError};
 pub use board::{BoardTiming, TimingError};
 pub use bridge::{BridgeCommands, BridgeMapper};
 pub use config::{PipelineConfig, PipelineError};
 pub use homing::HomingSpec;
 pub use link::{HOST_WATCHDOG_S, LINK_FADE_S};
-pub use mode::{Command, CommandError, Mode};
+pub use mode::Mode;
 pub use record::PipelineRecord;
 pub use timing::TimingSummary;
 
 use crate::contact::state::ContactState;
 use crate::contact::surface::Plane;
-use crate::control::controller::{guarded_output, ContactStage, Controller, Scene, TickOutput};
+use crate::control::controller::passivity;
+use crate::control::controller::{
+    guarded_output, ContactStage, Controller, Environment, TickOutput,
+};
 use crate::control::output_guard::{GuardConfig, OutputGuard};
 use crate::control::telemetry::{Decimator, DropCounter};
+use crate::device::channels::{EncoderCounts, CHANNELS, MOTOR, WRIST};
 use crate::device::encoder::EncoderBank;
 use crate::flags::Flags;
 use crate::math::Math;
@@ -68,8 +72,9 @@ use timing::{TickTiming, TimingVerdict};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RawInput {
-    /// Raw wrapping 16-bit encoder timer counts: `[motor0, motor1, motor2, wrist0, wrist1, wrist2]`.
-    pub counts: [u16; 6],
+    /// Raw wrapping 16-bit encoder timer counts, in the channel order of
+    /// [`crate::device::channels`] (motors 0-2, then wrist joints 0-2).
+    pub counts: [u16; CHANNELS],
     /// The drivers' nFAULT line is asserted (as read; the pipeline masks it while asleep/waking).
     pub driver_fault: bool,
     /// Timer counts from this tick's timer event to the interrupt's first instruction.
@@ -94,7 +99,7 @@ pub struct PipelineOutput {
     /// unless armed) with the guarded duties.
     pub control: TickOutput,
     /// Counts as handed to the controller (homed motors, calibrated wrist).
-    pub counts: [i32; 6],
+    pub counts: [i32; CHANNELS],
     /// Gain of the arming ramp applied to the force this tick (0 unless armed).
     pub ramp_gain: f32,
     /// A decimated telemetry record, when this tick is selected.
@@ -103,17 +108,17 @@ pub struct PipelineOutput {
     pub summary: Option<TimingSummary>,
 }
 
-/// The pipeline. `M`: math backend; `S`: the scene (a fixed surface, or
-/// [`LocalModelScene`](crate::control::local_model::LocalModelScene) for the application's local model).
+/// The pipeline. `M`: math backend; `S`: the environment (a fixed surface, or
+/// [`LocalModelEnvironment`](crate::control::local_model::LocalModelEnvironment) for the application's local model).
 #[derive(Clone, Copy, Debug)]
-pub struct Pipeline<M: Math, S: Scene = Plane> {
+pub struct Pipeline<M: Math, S: Environment = Plane> {
     config: PipelineConfig<S>,
     controller: Controller<M, S>,
     guard: OutputGuard,
     glitch_limit: u16,
     encoders: Option<EncoderBank<6>>,
-    extended: [i32; 6],
-    offsets: [i32; 6],
+    extended: [i32; CHANNELS],
+    offsets: [i32; CHANNELS],
     homed: bool,
     mode: Mode,
     homing: Homing,
@@ -131,7 +136,7 @@ pub struct Pipeline<M: Math, S: Scene = Plane> {
     link_flags: Flags,
 }
 
-impl<M: Math, S: Scene> Pipeline<M, S> {
+impl<M: Math, S: Environment> Pipeline<M, S> {
     /// Build a pipeline at power-up (Unhomed, drivers asleep). An invalid configuration is
     /// rejected, never clamped.
     pub fn new(config: PipelineConfig<S>) -> Result<Self, PipelineError> {
@@ -161,8 +166,8 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
             guard,
             glitch_limit: gc.ticks.max_counts_per_tick,
             encoders: None,
-            extended: [0; 6],
-            offsets: [0; 6],
+            extended: [0; CHANNELS],
+            offsets: [0; CHANNELS],
             homed: false,
             mode: Mode::Unhomed,
             homing: Homing::new(config.device.homing, &config.device.params, rate),
@@ -230,7 +235,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
     }
 
     /// A valid message arrived on the link: feeds the communication watchdog of a local-model
-    /// scene (nothing on a fixed scene). The link task calls it for every message it decodes.
+    /// environment (nothing on a fixed surface). The link task calls it for every message it decodes.
     pub fn note_link_activity(&mut self) {
         self.controller.contact_mut().note_link_activity();
     }
@@ -246,7 +251,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
                 self.command(Command::Arm)?;
                 self.link.armed_by_host();
                 if self.controller.contact().watchdog_s() == 0.0 {
-                    // A fixed scene has no watchdog (Unsupported): the link-loss rule still holds.
+                    // A fixed surface has no watchdog (Unsupported): the link-loss rule still holds.
                     let _ = self.controller.contact_mut().set_watchdog(HOST_WATCHDOG_S);
                 }
                 Ok(())
@@ -288,7 +293,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
             Command::Home => match self.mode {
                 Mode::Unhomed | Mode::Disarmed => {
                     // The handle is in the wrist calibration pose now: that is the wrist zero.
-                    for i in 3..6 {
+                    for i in WRIST {
                         self.offsets[i] = self.extended[i].wrapping_neg();
                     }
                     self.homed = false;
@@ -427,7 +432,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
 
     /// Count extension with the glitch check; the first tick's reading is position 0.
     #[must_use]
-    fn extend_counts(&mut self, raw: [u16; 6]) -> Flags {
+    fn extend_counts(&mut self, raw: [u16; CHANNELS]) -> Flags {
         match &mut self.encoders {
             Some(bank) => {
                 let (p, f) = bank.update(raw);
@@ -436,18 +441,18 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
             }
             None => {
                 self.encoders = Some(EncoderBank::new(raw, self.glitch_limit));
-                self.extended = [0; 6];
+                self.extended = [0; CHANNELS];
                 Flags::NONE
             }
         }
     }
 
-    fn homed_counts(&self) -> [i32; 6] {
+    fn homed_counts(&self) -> [i32; CHANNELS] {
         core::array::from_fn(|i| self.extended[i].wrapping_add(self.offsets[i]))
     }
 
     /// The mode's control law: (output for the guard, whether the bridges may drive, ramp gain).
-    fn control(&mut self, counts: [i32; 6], ready: bool) -> (TickOutput, bool, f32) {
+    fn control(&mut self, counts: [i32; CHANNELS], ready: bool) -> (TickOutput, bool, f32) {
         let idle = TickOutput {
             enable: false,
             ..TickOutput::default()
@@ -459,7 +464,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
                 if !ready {
                     return (idle, false, 0.0);
                 }
-                let motors = [self.extended[0], self.extended[1], self.extended[2]];
+                let motors = MOTOR.map(|i| self.extended[i]);
                 match self.homing.tick(motors, &self.config.device.params) {
                     HomingStep::Drive(duties) => (
                         TickOutput {
@@ -471,7 +476,9 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
                         0.0,
                     ),
                     HomingStep::Done(offsets) => {
-                        self.offsets[..3].copy_from_slice(&offsets);
+                        for (k, i) in MOTOR.into_iter().enumerate() {
+                            self.offsets[i] = offsets[k];
+                        }
                         self.homed = true;
                         self.controller.restart();
                         // Unknown until a disarmed tick has looked: no Arm before then.
@@ -538,7 +545,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
     fn record(
         &mut self,
         control: &TickOutput,
-        counts: &[i32; 6],
+        counts: &[i32; CHANNELS],
         bridges: &BridgeCommands,
         flags: Flags,
         raw: &RawInput,
@@ -546,6 +553,7 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
         if !self.decimator.tick() {
             return None;
         }
+        let named = EncoderCounts::from(*counts);
         let signed = |i: usize| {
             let c = bridges.compare[i].min(i16::MAX as u16) as i16;
             if bridges.phase_forward[i] {
@@ -559,8 +567,8 @@ impl<M: Math, S: Scene> Pipeline<M, S> {
             mode: self.mode,
             state: control.state,
             flags,
-            motor_counts: [counts[0], counts[1], counts[2]],
-            wrist_counts: [counts[3] as i16, counts[4] as i16, counts[5] as i16],
+            motor_counts: named.motor,
+            wrist_counts: named.wrist.map(|c| c as i16),
             force_mn: record::force_mn(control.force_n),
             compare: [signed(0), signed(1), signed(2)],
             latency_counts: record::sat_u16(raw.start_latency_counts),

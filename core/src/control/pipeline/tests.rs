@@ -5,8 +5,8 @@
 extern crate std;
 
 use super::*;
-use crate::device::OMEGA_LIKE;
 use crate::math::vec3::Vec3;
+use crate::omega_like::OMEGA_LIKE;
 use crate::Libm;
 use proptest::prelude::*;
 use std::vec::Vec;
@@ -123,7 +123,7 @@ impl Arms {
 }
 
 /// One closed-loop tick with an optional input edit.
-fn tick<S: Scene>(
+fn tick<S: Environment>(
     p: &mut Pipeline<Libm, S>,
     arms: &mut Arms,
     edit: impl FnOnce(&mut RawInput),
@@ -139,7 +139,7 @@ fn tick<S: Scene>(
 }
 
 /// Home from arms hanging at 0.3 rad; returns the ticks homing took.
-fn home<S: Scene>(p: &mut Pipeline<Libm, S>, arms: &mut Arms) -> u32 {
+fn home<S: Environment>(p: &mut Pipeline<Libm, S>, arms: &mut Arms) -> u32 {
     let _ = tick(p, arms, |_| {});
     assert_eq!(p.command(Command::Home), Ok(()));
     for k in 1..60_000 {

@@ -7,7 +7,7 @@
 //!
 //! - the instantaneous force (largest, percentiles): the spring on a probe one count or more off
 //!   the anchor, plus the damping terms on the filtered velocity spike of every count flip (and,
-//!   with the passivity stage on, its variable damper, see `softfinger_core::control::pipeline::passivity`);
+//!   with the passivity stage on, its variable damper, see `softfinger_core::control::controller::passivity`);
 //! - the mean tangential force over the first and the last `window_s` of the hold (after 1 s of
 //!   settling): the dither averages out, so the mean is the spring on the distance between the
 //!   true probe position and the anchor, at most one count's worth of force; a walk of the probe
@@ -19,7 +19,7 @@
 use super::scene::{anchor_point, hold_scene, APPROACH_S};
 use crate::sim::closed_loop::{self, SetupError};
 use softfinger_core::contact::params::ContactParams;
-use softfinger_core::control::pipeline::passivity::PassivityConfig;
+use softfinger_core::control::controller::passivity::PassivityConfig;
 use softfinger_core::{Libm, Math, Vec3};
 
 /// What to run.

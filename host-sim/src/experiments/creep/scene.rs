@@ -9,7 +9,7 @@ use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::surface::{Plane, Surface};
 use softfinger_core::control::pipeline::{BoardTiming, Pipeline, PipelineConfig};
 use softfinger_core::device::delta::DeltaGeometry;
-use softfinger_core::device::OMEGA_LIKE;
+use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::{Math, Vec3};
 
 /// The rolled contact point on the plane (object frame, m): where the held finger's anchor sits.

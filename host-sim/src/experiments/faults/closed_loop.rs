@@ -22,7 +22,7 @@ use softfinger_core::control::pipeline::{
     BoardTiming, Mode, Pipeline, PipelineConfig, PipelineOutput, RawInput,
 };
 use softfinger_core::device::DeviceParams;
-use softfinger_core::device::OMEGA_LIKE;
+use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::{Fast, Flags, Libm, Vec3};
 
 /// The pipeline the campaign runs: the MCU's fast kernels on the plane scene.

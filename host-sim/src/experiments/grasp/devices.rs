@@ -38,13 +38,13 @@ use crate::sim::closed_loop;
 use crate::sim::plant::{HandScript, Phase, Plant, PlantParams, Waypoint};
 use softfinger_core::contact::surface::{Cylinder, Sphere};
 use softfinger_core::contact::ContactParams;
-use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelKind};
+use softfinger_core::control::local_model::{LocalModelEnvironment, LocalModelSpec, ModelKind};
 use softfinger_core::control::pipeline::{Command, Mode, Pipeline, PipelineConfig};
-use softfinger_core::device::OMEGA_LIKE;
 use softfinger_core::grasp::{
     BodyState, DeviceContact, DeviceMount, Fingertip, FingertipContact, Grasp, GraspFlags,
     RigidBody, Wrench,
 };
+use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::{Fast, Flags, Quat, Vec3};
 use std::collections::VecDeque;
 
@@ -163,7 +163,7 @@ pub struct DeviceFigures {
 /// One device: its plant, its pipeline, where it stands.
 struct Device {
     plant: Plant,
-    pipe: Pipeline<Fast, LocalModelScene>,
+    pipe: Pipeline<Fast, LocalModelEnvironment>,
     mount: DeviceMount,
     /// Samples not yet delivered to the application (delay line).
     up: VecDeque<DeviceContact>,
@@ -303,9 +303,9 @@ pub fn run(
             device: OMEGA_LIKE,
             timing,
             contact: cp,
-            surface: LocalModelScene {
+            surface: LocalModelEnvironment {
                 blend_s: BLEND_S,
-                ..LocalModelScene::new(initial)
+                ..LocalModelEnvironment::new(initial)
             },
             object_origin_m: Vec3::ZERO,
             log_rate_hz: 0,

@@ -14,7 +14,7 @@ use softfinger_core::contact::surface::Surface;
 use softfinger_core::contact::{
     ContactInput, ContactModel, ContactOutput, Full, ModelChoice, Parts,
 };
-use softfinger_core::control::controller::{ContactStage, Scene as PipelineScene};
+use softfinger_core::control::controller::{ContactStage, Environment};
 use softfinger_core::control::pipeline::{Pipeline, PipelineConfig};
 use softfinger_core::{Fast, Math, Quat, Vec3};
 use std::marker::PhantomData;
@@ -56,7 +56,7 @@ impl<M: Math, S: Surface, P: Parts> ContactStage for Recorded<M, S, P> {
 #[derive(Clone, Copy, Debug)]
 pub struct RecordedScene<S: Surface, P: Parts>(pub S, PhantomData<P>);
 
-impl<S: Surface, P: Parts> PipelineScene for RecordedScene<S, P> {
+impl<S: Surface, P: Parts> Environment for RecordedScene<S, P> {
     type Stage<M: Math> = Recorded<M, S, P>;
     fn stage<M: Math>(
         &self,

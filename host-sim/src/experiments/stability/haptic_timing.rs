@@ -17,10 +17,10 @@
 //! never exceeds [`BOUNDED_ENERGY_FACTOR`] times the hit's.
 
 use super::haptic::{self, Device, Loop, Outcome};
+use softfinger_core::control::controller::passivity::PassivityConfig;
 use softfinger_core::control::pipeline::output_timing::{
     OutputTiming, CCM_CYCLES_PER_INSTRUCTION, PIPELINE_TICK_INSTRUCTIONS,
 };
-use softfinger_core::control::pipeline::passivity::PassivityConfig;
 
 /// A passivity run is bounded when its oscillation energy stays below this multiple of the hit's.
 pub const BOUNDED_ENERGY_FACTOR: f64 = 2.0;

@@ -5,7 +5,7 @@
 use crate::sim::closed_loop::{self, prepare, simulate};
 use crate::sim::scene::{Scene, SurfaceSpec};
 use softfinger_core::contact::surface::Plane;
-use softfinger_core::control::pipeline::passivity::PassivityConfig;
+use softfinger_core::control::controller::passivity::PassivityConfig;
 use softfinger_core::control::pipeline::Pipeline;
 use softfinger_core::math::Fast;
 

@@ -13,7 +13,7 @@
 //!   firmware's low-latency output ([`softfinger_core::control::pipeline::output_timing`]). The plant is
 //!   then integrated in two exact pieces per period, split where the new force takes effect.
 //! - **Passivity** (optional): the core's observer and controller
-//!   ([`softfinger_core::control::pipeline::passivity`], f32, the same code as the firmware) between the
+//!   ([`softfinger_core::control::controller::passivity`], f32, the same code as the firmware) between the
 //!   wall and the output, with the velocity (x[k] − x[k−1])/T.
 //! - **User**: a constant force F_h pushing the probe into the wall (a hand holding the probe on
 //!   the surface). The probe hits the wall at speed v₀ from outside.
@@ -42,7 +42,7 @@
 pub mod eigen;
 
 pub use eigen::{criterion_kmax, eigen_kmax, spectral_radius, transition};
-use softfinger_core::control::pipeline::passivity::{Passivity, PassivityConfig};
+use softfinger_core::control::controller::passivity::{Passivity, PassivityConfig};
 use softfinger_core::math::vec3::Vec3;
 use std::collections::VecDeque;
 

@@ -1,14 +1,16 @@
 //! The Omega.6-like device: the one device instance this project ships. Its geometry, motors,
-//! limits and homing live here, in one place; generic types carry no device's numbers.
+//! limits and homing live here, in one place; generic types carry no device's numbers. The top
+//! layer of the crate: an instance names values of every layer below it.
 
 use crate::contact::params::ContactParams;
 use crate::contact::surface::Plane;
 use crate::control::controller::{ControllerConfig, Limits};
+use crate::control::device_definition::DeviceDefinition;
 use crate::control::pipeline::homing::HomingSpec;
 use crate::control::pipeline::BoardTiming;
 use crate::device::delta::DeltaGeometry;
+use crate::device::hardware::DeviceParams;
 use crate::device::hardware::MotorParams;
-use crate::device::{DeviceDefinition, DeviceParams};
 use crate::math::Vec3;
 
 /// The Omega.6-like device (see [`DeviceParams::OMEGA_LIKE`] and [`Limits::OMEGA_LIKE`]).
@@ -92,7 +94,7 @@ impl DeviceParams {
 }
 
 impl Limits {
-    /// The Omega-like device's limits (named by [`crate::device::OMEGA_LIKE`]).
+    /// The Omega-like device's limits (named by [`OMEGA_LIKE`]).
     ///
     /// Duty ≤ 0.9; glitch 2 M counts/s; overrun streak 1 ms; stuck: 20 % duty for 0.2 s without a
     /// count. Derivation: docs/design.md#limits-and-fault-thresholds.
@@ -112,7 +114,7 @@ impl Limits {
 
 impl ControllerConfig<Plane> {
     /// The Omega-like device ([`DeviceParams::OMEGA_LIKE`], [`Limits::OMEGA_LIKE`]) with the
-    /// default scene: a plane 10 mm below the centre of the device's workspace, so the 10 mm
+    /// default environment: a plane 10 mm below the centre of the device's workspace, so the 10 mm
     /// fingertip touches it with its centre at the workspace centre, at 10 kHz.
     pub fn default_plane() -> Self {
         ControllerConfig {

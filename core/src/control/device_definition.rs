@@ -1,12 +1,14 @@
-//! Named device definitions: everything a build needs to know about one device — its hardware
+//! Device definitions: everything a build needs to know about one device — its hardware
 //! ([`DeviceParams`]), limits and fault thresholds ([`Limits`], physical units), homing
-//! procedure, driver wake time and arming ramp. The firmware and host-sim name one of these
-//! explicitly; nothing picks a device by default.
+//! procedure, driver wake time and arming ramp. Above the parts it configures (the controller's
+//! limits, the homing procedure) and below the pipeline's configuration, which holds one. The
+//! firmware and host-sim name one instance explicitly ([`crate::omega_like::OMEGA_LIKE`]);
+//! nothing picks a device by default.
 
-use crate::contact::params::{positive, ParamError};
 use crate::control::controller::Limits;
 use crate::control::pipeline::homing::HomingSpec;
-use crate::device::DeviceParams;
+use crate::device::hardware::DeviceParams;
+use crate::validate::{positive, ParamError};
 
 /// One device, complete.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -42,7 +44,7 @@ impl DeviceDefinition {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::device::OMEGA_LIKE;
+    use crate::omega_like::OMEGA_LIKE;
 
     #[test]
     fn omega_like_is_valid() {

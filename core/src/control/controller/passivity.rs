@@ -6,7 +6,7 @@
 //! Conventions: `force` is the force the device applies to the user (base frame, N), `position`
 //! the probe position (base frame, m). Energy into the user over one tick interval is the force
 //! that *acted* during it times the displacement over it. With an output delay of `d` ticks
-//! (0 ≤ d ≤ 1, see [`super::output_timing`]) the force computed at tick j acts from j + d to
+//! (0 ≤ d ≤ 1, see [`crate::control::pipeline::output_timing`]) the force computed at tick j acts from j + d to
 //! j + 1 + d, so over the interval [k−1, k] the acting force is `d·F[k−2] + (1−d)·F[k−1]`:
 //!
 //! ```text
@@ -27,8 +27,8 @@
 //! positive W drains by E_q per [`LEAK_S`] and the damper acts only when W > E_q; a quantum of 0
 //! gives the textbook stage. Why: docs/design.md#passivity-under-encoder-quantisation.
 
-use crate::contact::params::{non_negative, positive, ParamError};
 use crate::math::vec3::Vec3;
+use crate::validate::{non_negative, positive, ParamError};
 
 /// Time over which the energy of one count of dither drains from a positive W, s: a held probe (2 N, 12.8 µm counts) drains 2.6e-4 W, five times the
 /// 4.6e-5 W its count dither feeds the observer (measured over a 60 s hold, see the module doc).
@@ -42,7 +42,7 @@ pub struct PassivityConfig {
     pub enabled: bool,
     /// Largest damping the controller adds at the probe, N·s/m.
     pub max_damping_n_s_per_m: f32,
-    /// Sample-to-output delay in ticks, [0, 1] (see [`super::output_timing::OutputTiming`]).
+    /// Sample-to-output delay in ticks, [0, 1] (see [`crate::control::pipeline::output_timing::OutputTiming`]).
     pub output_delay_ticks: f32,
     /// Probe displacement of one position-sensor count, m (≥ 0; 0: an ideal sensor). The damper
     /// leaves alone the energy |F|·quantum that one count of dither can fake.
