@@ -19,9 +19,7 @@
 //! | 6 | [`omega_like`], [`grasp`] | the one named device; two fingertips on a free body | instances and applications of everything below: an instance names values of every layer |
 //! | 7 | [`prelude`] | the common imports | re-exports only |
 //!
-//! One arrow points up, on purpose: [`device`] still re-exports [`DeviceDefinition`](device::DeviceDefinition)
-//! and [`OMEGA_LIKE`](device::OMEGA_LIKE) at their old paths for the firmware, until it names
-//! [`control::device_definition`] and [`omega_like`].
+//! No arrow points up (`scripts/core-imports` checks every file's imports against this table).
 //!
 //! # Frames
 //!

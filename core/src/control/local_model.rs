@@ -32,7 +32,5 @@ pub use renderer::{LocalModelRenderer, RenderOutput, RendererConfig};
 pub use spec::{LocalModelSpec, ModelError, ModelKind};
 pub use stage::{LocalModelEnvironment, LocalModelStage};
 
-/// The old name of [`LocalModelEnvironment`], kept for the firmware until it names the new one.
-pub type LocalModelScene<P = crate::contact::parts::Full> = LocalModelEnvironment<P>;
 pub use surface::ModelSurface;
 pub use watchdog::CommWatchdog;

@@ -15,9 +15,3 @@ pub mod encoder;
 pub mod hardware;
 
 pub use hardware::{DeviceParamError, DeviceParamField, DeviceParams, MotorParams};
-// The old paths of the device definition and the named device, kept for the firmware until it
-// names the new ones: the one upward arrow of the crate (see the layer table in `lib.rs`).
-#[doc(no_inline)]
-pub use crate::control::device_definition::DeviceDefinition;
-#[doc(no_inline)]
-pub use crate::omega_like::OMEGA_LIKE;

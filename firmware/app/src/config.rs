@@ -4,11 +4,12 @@
 
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::RollingOnly;
-use softfinger_core::control::local_model::{LocalModelScene, LocalModelSpec, ModelPose};
+use softfinger_core::control::device_definition::DeviceDefinition;
+use softfinger_core::control::local_model::{LocalModelEnvironment, LocalModelSpec, ModelPose};
 use softfinger_core::control::operator::ButtonTiming;
 use softfinger_core::control::pipeline::{BoardTiming, PipelineConfig};
 use softfinger_core::device::delta::DeltaGeometry;
-use softfinger_core::device::{DeviceDefinition, OMEGA_LIKE};
+use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::Vec3;
 
 /// The device this firmware drives.
@@ -67,24 +68,24 @@ pub const BENCH_WATCHDOG_MS: u16 = 0;
 
 /// The scene the tick renders: the application's local model, initially the default scene's
 /// plane (what a device nobody talks to renders).
-pub type TickScene = LocalModelScene<RollingOnly>;
+pub type TickEnvironment = LocalModelEnvironment<RollingOnly>;
 
 /// The local model until an application sends one: the default scene's plane (top at
 /// [`INITIAL_PLANE_TOP_M`], the default contact material, never stale), the watchdog off
 /// ([`BENCH_WATCHDOG_MS`]). Model poses are in the base frame (object origin zero), as the
 /// host-link protocol sends them.
-fn scene(contact: &ContactParams) -> (TickScene, Vec3) {
+fn scene(contact: &ContactParams) -> (TickEnvironment, Vec3) {
     let initial = LocalModelSpec::plane(0, ModelPose::at(INITIAL_PLANE_TOP_M), contact);
-    let scene = LocalModelScene {
+    let scene = LocalModelEnvironment {
         watchdog_timeout_s: f32::from(BENCH_WATCHDOG_MS) * 1e-3,
-        ..LocalModelScene::with_parts(initial)
+        ..LocalModelEnvironment::with_parts(initial)
     };
     (scene, Vec3::ZERO)
 }
 
 /// The pipeline's configuration: the device on this board's timing, the default contact
 /// parameters, the scene above.
-pub fn pipeline_config() -> PipelineConfig<TickScene> {
+pub fn pipeline_config() -> PipelineConfig<TickEnvironment> {
     let contact = ContactParams::DEFAULT;
     let (surface, object_origin_m) = scene(&contact);
     PipelineConfig {

@@ -8,7 +8,7 @@
 //! lock-free SPSC queues (commands in; outcomes, telemetry and summaries out), so it never waits
 //! for a task, and a task never delays it (see `critical_section_basepri`).
 //!
-//! With a host link the pipeline renders the application's local model (`config::TickScene`); the
+//! With a host link the pipeline renders the application's local model (`config::TickEnvironment`); the
 //! link reports every valid frame it receives through [`note_link_activity`], which the tick
 //! passes on to the pipeline's communication watchdog at its next boundary.
 
@@ -27,7 +27,7 @@ use crate::stream::{StreamPoint, StreamSink, StreamTap};
 
 /// The pipeline the tick runs: the tick's fast math, the configuration's scene (the application's
 /// local model with a host link, the fixed plane without).
-pub type TickPipeline = Pipeline<Fast, crate::config::TickScene>;
+pub type TickPipeline = Pipeline<Fast, crate::config::TickEnvironment>;
 
 /// Set by a host link for every valid frame it receives; taken (cleared) by the tick, which then
 /// feeds the pipeline's communication watchdog. A flag, not a counter: the watchdog needs to know

@@ -37,10 +37,10 @@ pub struct RefRun {
     pub scene_start: Option<u64>,
 }
 
-/// The firmware's scene (`firmware/app/src/config.rs`, `TickScene`): the application's local
+/// The firmware's scene (`firmware/app/src/config.rs`, `TickEnvironment`): the application's local
 /// model with the contact model the default scene names (`rolling`: the device displays no
 /// torque about the normal, so the firmware compiles no spin torque and no limit surface).
-pub type FirmwareScene = LocalModelEnvironment<RollingOnly>;
+pub type FirmwareEnvironment = LocalModelEnvironment<RollingOnly>;
 
 /// The firmware's pipeline configuration (`firmware/src/config.rs`, `pipeline_config`) on
 /// `timing`: the local-model scene whose initial model is the plane 10 mm below the workspace
@@ -49,7 +49,7 @@ pub type FirmwareScene = LocalModelEnvironment<RollingOnly>;
 pub fn firmware_config(
     timing: softfinger_core::control::pipeline::BoardTiming,
     contact: ContactParams,
-) -> PipelineConfig<FirmwareScene> {
+) -> PipelineConfig<FirmwareEnvironment> {
     let top = Vec3::new(
         0.0,
         0.0,

@@ -232,7 +232,7 @@ fn the_firmware_configs_initial_model_is_the_scenes_plane() {
 
 /// The firmware compiles the contact model the default scene names (issue: model no more than a
 /// scene needs): the reference's parts are that model's, so a scene file naming another model
-/// fails here until the firmware's `TickScene` follows it.
+/// fails here until the firmware's `TickEnvironment` follows it.
 #[test]
 fn the_firmware_runs_the_model_the_default_scene_names() {
     use crate::sim::closed_loop;

@@ -87,7 +87,7 @@ fn link_queues(outcomes: Consumer<'static, CommandOutcome>) -> Option<(LinkQueue
 }
 
 /// What the host link says about this board at `rate_hz`.
-fn host_link_config(rate_hz: u32, pipeline: &PipelineConfig<config::TickScene>) -> LinkConfig {
+fn host_link_config(rate_hz: u32, pipeline: &PipelineConfig<config::TickEnvironment>) -> LinkConfig {
     LinkConfig {
         info: InfoSource {
             name: config::DEVICE.name,
@@ -138,7 +138,7 @@ async fn finish() -> ! {
 }
 
 /// The firmware's pipeline configuration at `rate_hz` (the STM32 build's, rate aside).
-fn pipeline_config(rate_hz: u32) -> PipelineConfig<config::TickScene> {
+fn pipeline_config(rate_hz: u32) -> PipelineConfig<config::TickEnvironment> {
     PipelineConfig {
         timing: BoardTiming {
             control_hz: rate_hz,
@@ -190,7 +190,7 @@ fn spawn_command_side(
     spawner: Spawner,
     host_link: bool,
     rate_hz: u32,
-    config: &PipelineConfig<config::TickScene>,
+    config: &PipelineConfig<config::TickEnvironment>,
     command_tx: Producer<'static, Command>,
     link_command_tx: Producer<'static, Command>,
     outcome_rx: Consumer<'static, CommandOutcome>,
