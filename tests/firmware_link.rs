@@ -11,12 +11,12 @@ use link::tx::TxRing;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::pipeline::{Command, CommandError};
 use softfinger_core::omega_like::OMEGA_LIKE;
-use softfinger_core::Flags;
+use softfinger_core::{Flags, Vec3};
 use softfinger_protocol::frame::encode_frame_with_version;
 use softfinger_protocol::{
     encode_frame, AckResult, ContactParamsWire, ContactState, DeviceMsg, ErrorCode, FrameDecoder,
-    FrameErrorKind, HostMsg, LocalModel, Mode, Request, StateSample, SurfaceKind, SurfaceShape,
-    MAX_FRAME_LEN, PROTOCOL_VERSION,
+    FrameErrorKind, HostMsg, LocalModel, Mode, RenderedTick, Request, StateSample, SurfaceKind,
+    SurfaceShape, MAX_FRAME_LEN, PROTOCOL_VERSION,
 };
 use stream::MAX_STREAM_HZ;
 use stream_point::StreamPoint;
@@ -113,15 +113,17 @@ fn sent<const TX: usize>(s: &mut LinkSession<TX>) -> Vec<DeviceMsg> {
 fn point(tick: u32) -> StreamPoint {
     StreamPoint {
         tick,
-        mode: Mode::Armed,
-        state: ContactState::Rolling,
-        flags: Flags::OUTPUT_LIMITED,
-        probe_m: [0.01, -0.02, 0.13],
-        probe_vel_m_s: [0.1, 0.0, -0.05],
-        force_n: [0.1, -2.5, 12.0],
-        spin_torque_nm: 1.5e-3,
-        contact_point_m: [0.01, -0.02, 0.12],
-        model_seq: 7,
+        rendered: RenderedTick {
+            mode: Mode::Armed,
+            contact: ContactState::Rolling,
+            flags: Flags::OUTPUT_LIMITED,
+            probe_m: Vec3::new(0.01, -0.02, 0.13),
+            probe_vel_m_s: Vec3::new(0.1, 0.0, -0.05),
+            force_n: Vec3::new(0.1, -2.5, 12.0),
+            spin_torque_nm: 1.5e-3,
+            contact_point_m: Vec3::new(0.01, -0.02, 0.12),
+            model_seq: 7,
+        },
         max_tick_counts: 3400,
         sum_tick_counts: 5 * 3000,
         ticks: 5,
@@ -544,14 +546,14 @@ fn the_stream_follows_the_divisor_and_refuses_one_below_the_minimum() {
 fn a_sample_carries_every_field_of_the_point_timing_in_ns() {
     let mut b = StateBuilder::new(TIMER_HZ);
     let st = b.sample(&point(40));
-    let p = point(40);
+    let p = point(40).rendered;
     assert_eq!(st.tick, 40);
-    assert_eq!(st.probe_m, p.probe_m);
-    assert_eq!(st.probe_vel_m_s, p.probe_vel_m_s);
-    assert_eq!(st.force_n, p.force_n);
+    assert_eq!(st.probe_m, p.probe_m.to_array());
+    assert_eq!(st.probe_vel_m_s, p.probe_vel_m_s.to_array());
+    assert_eq!(st.force_n, p.force_n.to_array());
     assert_eq!(st.spin_torque_nm, p.spin_torque_nm);
     assert_eq!(st.contact, ContactState::Rolling);
-    assert_eq!(st.contact_point_m, p.contact_point_m);
+    assert_eq!(st.contact_point_m, p.contact_point_m.to_array());
     assert_eq!(st.flags, Flags::OUTPUT_LIMITED.0);
     assert_eq!(st.mode, Mode::Armed);
     assert_eq!(st.model_seq, 7);

@@ -15,12 +15,13 @@
 use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 
 use heapless::spsc::{Consumer, Producer};
-use softfinger_core::control::controller::ContactStage;
 use softfinger_core::control::pipeline::liveness::{ThreadWatch, THREAD_STALE_S};
 use softfinger_core::control::pipeline::{
     Command, CommandError, Mode, Pipeline, PipelineOutput, PipelineRecord, RawInput, TimingSummary,
 };
 use softfinger_core::Fast;
+
+use softfinger_protocol::RenderedTick;
 
 use crate::board::ControlHw;
 use crate::stream::{StreamPoint, StreamSink, StreamTap};
@@ -201,17 +202,8 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
         if !self.stream.due() {
             return;
         }
-        let c = self.pipeline.controller();
         let mut point = StreamPoint {
-            mode: out.mode,
-            state: out.control.state,
-            flags: out.flags,
-            probe_m: out.control.probe_m.to_array(),
-            probe_vel_m_s: c.probe_velocity().to_array(),
-            force_n: out.control.force_n.to_array(),
-            spin_torque_nm: out.control.tau_n_nm,
-            contact_point_m: c.contact_point_m().to_array(),
-            model_seq: c.contact().model_seq(),
+            rendered: RenderedTick::of(&self.pipeline, out),
             ..StreamPoint::default()
         };
         self.stream.stamp(&mut point);

@@ -1,9 +1,11 @@
 //! State samples from the tick's stream points ([`StreamPoint`], one every `divisor` ticks, taken
 //! by the tick itself).
 //!
-//! A point carries what the tick rendered (probe position and filtered velocity, force, spin
-//! torque, contact state and point, flags, mode, the local model's sequence number) and the
-//! tick timing since the previous point in timer counts, which the sample reports in ns.
+//! A point carries what the tick rendered (the protocol's `RenderedTick`: probe position and
+//! filtered velocity, force, spin torque, contact state and point, flags, mode, the local model's
+//! sequence number) and the tick timing since the previous point in timer counts, which the
+//! sample reports in ns. The sample is assembled by `StateSample::rendered`, as the virtual
+//! device's are.
 
 use softfinger_protocol::{StateSample, TickStatsWire};
 
@@ -53,23 +55,14 @@ impl StateBuilder {
         } else {
             p.sum_tick_counts as f32 / p.ticks as f32
         };
-        StateSample {
-            tick: self.ticks.extend(p.tick),
-            probe_m: p.probe_m,
-            probe_vel_m_s: p.probe_vel_m_s,
-            force_n: p.force_n,
-            spin_torque_nm: p.spin_torque_nm,
-            contact: p.state,
-            contact_point_m: p.contact_point_m,
-            flags: p.flags.0,
-            mode: p.mode,
-            model_seq: p.model_seq,
-            tick_stats: TickStatsWire {
+        StateSample::rendered(
+            self.ticks.extend(p.tick),
+            &p.rendered,
+            TickStatsWire {
                 max_duration_ns: ns(p.max_tick_counts as f32),
                 mean_duration_ns: ns(mean),
                 overruns: p.overruns,
             },
-            dropped: 0,
-        }
+        )
     }
 }
