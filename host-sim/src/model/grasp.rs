@@ -36,7 +36,7 @@ pub const SCENE: &str = "grasp";
 pub const TORQUE_NM: f64 = 0.015;
 
 /// Rounds over which every choice is timed; the least time per choice is kept.
-pub const TIMING_ROUNDS: usize = 5;
+pub const TIMING_ROUNDS: usize = 15;
 
 /// The ablation's grasp: `host-sim grasp`'s defaults (0.1 kg sphere of 30 mm, 5 N per finger,
 /// μ_s 0.8, 20 mm lift, 1.5 s at 10 kHz) with the twist [`TORQUE_NM`].
@@ -208,7 +208,12 @@ pub fn runs(
     timed: bool,
 ) -> Result<(GraspChoiceRun, Vec<GraspChoiceRun>), ConfigError> {
     let mut full = run_choice(config, ModelChoice::Full)?;
-    let mut rest = choices
+    let others: Vec<ModelChoice> = choices
+        .iter()
+        .copied()
+        .filter(|&c| c != ModelChoice::Full)
+        .collect();
+    let mut rest = others
         .iter()
         .map(|&c| run_choice(config, c))
         .collect::<Result<Vec<_>, _>>()?;
@@ -221,7 +226,20 @@ pub fn runs(
             }
         }
     }
-    Ok((full, rest))
+    // A `Full` among `choices` is the full run itself.
+    let mut rest = rest.into_iter();
+    let runs = choices
+        .iter()
+        .map(|&c| {
+            if c == ModelChoice::Full {
+                Some(full.clone())
+            } else {
+                rest.next()
+            }
+        })
+        .collect::<Option<Vec<_>>>()
+        .expect("one run per choice");
+    Ok((full, runs))
 }
 
 /// The report from the full run and the choices' runs.
@@ -396,4 +414,44 @@ pub fn main(args: &super::Args) -> Result<(), ModelError> {
         print!("{}", table(&r));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn diff(max_f: f64, rms_f: f64, state_ticks: usize, ratio: f64, same: bool) -> Difference {
+        Difference {
+            max_force_diff_n: max_f,
+            rms_force_diff_n: rms_f,
+            max_torque_diff_mnm: max_f,
+            rms_torque_diff_mnm: rms_f,
+            max_path_diff_mm: max_f,
+            state_diff_ticks: state_ticks,
+            state_diff_percent: 100.0 * state_ticks as f64 / 1000.0,
+            transitions: 2,
+            same_state_sequence: same,
+            force_ratio: ratio,
+            torque_ratio: ratio,
+            path_ratio: ratio,
+        }
+    }
+
+    /// Two contacts' differences: the worse maximum and ratio, the RMS over both, the states
+    /// counted over both contacts' ticks.
+    #[test]
+    fn both_contacts_count_the_worse_one_decides() {
+        let d = combine(&diff(1.0, 3.0, 10, 0.5, true), &diff(2.0, 4.0, 0, 1.5, false));
+        assert_eq!(d.max_force_diff_n, 2.0);
+        assert_eq!(d.max_path_diff_mm, 2.0);
+        assert!((d.rms_force_diff_n - 12.5f64.sqrt()).abs() < 1e-12);
+        assert_eq!(d.state_diff_ticks, 10);
+        assert!((d.state_diff_percent - 0.5).abs() < 1e-12, "{d:?}");
+        assert_eq!((d.transitions, d.same_state_sequence), (4, false));
+        assert_eq!((d.force_ratio, d.path_ratio), (1.5, 1.5));
+        assert!(!d.within_yardstick());
+        let none = combine(&diff(0.0, 0.0, 0, 0.0, true), &diff(0.0, 0.0, 0, 0.0, true));
+        assert_eq!(none.state_diff_percent, 0.0);
+        assert!(none.within_yardstick());
+    }
 }
