@@ -34,6 +34,22 @@ pub fn worst_ratio(r: &crate::model::Row, torque_displayed: bool) -> f64 {
 
 /// Write the chart of `report` to `path` (SVG).
 pub fn write(path: &Path, report: &Report) -> Result<(), ChartError> {
+    write_for(
+        path,
+        report,
+        "instructions per contact step (emulated Cortex-M4F, fast backend)",
+        &[],
+    )
+}
+
+/// [`write`] with the x axis described by `x_desc`, and the choices named in `dropped` labelled
+/// as dropping the held object (the grasp: a failure the force and path yardstick does not show).
+pub fn write_for(
+    path: &Path,
+    report: &Report,
+    x_desc: &str,
+    dropped: &[&str],
+) -> Result<(), ChartError> {
     let device = crate::model::yardstick::DEVICE_DISPLAYS_TORQUE;
     let pts: Vec<(f64, f64, &str)> = report
         .rows
@@ -99,7 +115,7 @@ pub fn write(path: &Path, report: &Report) -> Result<(), ChartError> {
             .map_err(drawing_err)?;
         draw_axes(
             &mut chart,
-            "instructions per contact step (emulated Cortex-M4F, fast backend)",
+            x_desc,
             "worst difference / yardstick",
         )?;
         draw_line(
@@ -130,7 +146,12 @@ pub fn write(path: &Path, report: &Report) -> Result<(), ChartError> {
         }
         chart
             .draw_series(pts.iter().zip(&labels).map(|(&(_, _, name), &at)| {
-                Text::new(name.to_string(), at, (FONT, 13).into_font())
+                let label = if dropped.contains(&name) {
+                    format!("{name} (drops the object)")
+                } else {
+                    name.to_string()
+                };
+                Text::new(label, at, (FONT, 13).into_font())
             }))
             .map_err(drawing_err)?;
         Ok(())

@@ -90,16 +90,9 @@ pub fn run_choice(config: &GraspConfig, choice: ModelChoice) -> Result<GraspChoi
 }
 
 /// Both contacts' differences as one: the larger maximum and ratio, the RMS over both, the state
-/// ticks and transitions summed (the percentage of both contacts' ticks).
-pub fn combine(a: &Difference, b: &Difference) -> Difference {
+/// ticks and transitions summed (the percentage of both contacts' `ticks` each).
+pub fn combine(a: &Difference, b: &Difference, ticks: usize) -> Difference {
     let rms = |x: f64, y: f64| ((x * x + y * y) / 2.0).sqrt();
-    let ticks = if a.state_diff_percent > 0.0 {
-        a.state_diff_ticks as f64 * 100.0 / a.state_diff_percent
-    } else if b.state_diff_percent > 0.0 {
-        b.state_diff_ticks as f64 * 100.0 / b.state_diff_percent
-    } else {
-        1.0
-    };
     let state_diff_ticks = a.state_diff_ticks + b.state_diff_ticks;
     Difference {
         max_force_diff_n: a.max_force_diff_n.max(b.max_force_diff_n),
@@ -108,7 +101,7 @@ pub fn combine(a: &Difference, b: &Difference) -> Difference {
         rms_torque_diff_mnm: rms(a.rms_torque_diff_mnm, b.rms_torque_diff_mnm),
         max_path_diff_mm: a.max_path_diff_mm.max(b.max_path_diff_mm),
         state_diff_ticks,
-        state_diff_percent: 100.0 * state_diff_ticks as f64 / (2.0 * ticks),
+        state_diff_percent: 100.0 * state_diff_ticks as f64 / (2 * ticks.max(1)) as f64,
         transitions: a.transitions + b.transitions,
         same_state_sequence: a.same_state_sequence && b.same_state_sequence,
         force_ratio: a.force_ratio.max(b.force_ratio),
@@ -251,7 +244,8 @@ pub fn report(config: &GraspConfig, full: &GraspChoiceRun, runs: &[GraspChoiceRu
             let choice = r.contacts[0].choice;
             let d0 = difference(&r.contacts[0], &full.contacts[0], config.rate_hz);
             let d1 = difference(&r.contacts[1], &full.contacts[1], config.rate_hz);
-            let diff = combine(&d0, &d1);
+            let ticks = r.contacts[0].ticks.len().min(full.contacts[0].ticks.len());
+            let diff = combine(&d0, &d1, ticks);
             let holds = r.verdict.held || !full.verdict.held;
             GraspRow {
                 row: Row {
@@ -403,7 +397,18 @@ pub fn main(args: &super::Args) -> Result<(), ModelError> {
     }
     let r = ablate(true)?;
     if let Some(path) = &args.svg {
-        crate::chart::model_ablation::write(path, &r.as_report())?;
+        let dropped: Vec<&str> = r
+            .rows
+            .iter()
+            .filter(|row| r.full_held && !row.held)
+            .map(|row| row.row.model)
+            .collect();
+        crate::chart::model_ablation::write_for(
+            path,
+            &r.as_report(),
+            "instructions per grasp tick, two contacts and the body (emulated Cortex-M4F, fast backend)",
+            &dropped,
+        )?;
     }
     if args.json {
         println!(
@@ -441,7 +446,7 @@ mod tests {
     /// counted over both contacts' ticks.
     #[test]
     fn both_contacts_count_the_worse_one_decides() {
-        let d = combine(&diff(1.0, 3.0, 10, 0.5, true), &diff(2.0, 4.0, 0, 1.5, false));
+        let d = combine(&diff(1.0, 3.0, 10, 0.5, true), &diff(2.0, 4.0, 0, 1.5, false), 1000);
         assert_eq!(d.max_force_diff_n, 2.0);
         assert_eq!(d.max_path_diff_mm, 2.0);
         assert!((d.rms_force_diff_n - 12.5f64.sqrt()).abs() < 1e-12);
@@ -450,7 +455,7 @@ mod tests {
         assert_eq!((d.transitions, d.same_state_sequence), (4, false));
         assert_eq!((d.force_ratio, d.path_ratio), (1.5, 1.5));
         assert!(!d.within_yardstick());
-        let none = combine(&diff(0.0, 0.0, 0, 0.0, true), &diff(0.0, 0.0, 0, 0.0, true));
+        let none = combine(&diff(0.0, 0.0, 0, 0.0, true), &diff(0.0, 0.0, 0, 0.0, true), 0);
         assert_eq!(none.state_diff_percent, 0.0);
         assert!(none.within_yardstick());
     }
