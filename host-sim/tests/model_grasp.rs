@@ -31,9 +31,15 @@ fn the_grasp_needs_the_spin_and_nothing_more() {
     let d = &spin.row.diff;
     assert_eq!(d.state_diff_ticks, 0, "{d:?}");
     assert!(d.max_force_diff_n <= 3.0e-3, "{d:?}");
-    assert!(d.max_torque_diff_mnm <= 1.0e-3 && d.max_path_diff_mm <= 1.0e-3, "{d:?}");
+    assert!(
+        d.max_torque_diff_mnm <= 1.0e-3 && d.max_path_diff_mm <= 1.0e-3,
+        "{d:?}"
+    );
     assert!(d.force_ratio <= 0.05 && d.torque_ratio <= 0.05, "{d:?}");
-    assert!(spin.slip_diff_mm <= 1.0e-3 && spin.turn_diff_deg <= 1.0e-2, "{spin:?}");
+    assert!(
+        spin.slip_diff_mm <= 1.0e-3 && spin.turn_diff_deg <= 1.0e-2,
+        "{spin:?}"
+    );
     for m in ["point-friction", "rolling"] {
         let p = row(m);
         assert!(!p.held && !p.good_enough, "{p:?}");
@@ -81,10 +87,19 @@ fn dropping_torsion_drops_the_grasp_when_it_twists_bracketed() {
         );
     }
     let cfg = at(1.25);
-    let (full, r) = runs(&cfg, &[ModelChoice::Spin, ModelChoice::PointFriction], false).unwrap();
+    let (full, r) = runs(
+        &cfg,
+        &[ModelChoice::Spin, ModelChoice::PointFriction],
+        false,
+    )
+    .unwrap();
     let rep = report(&cfg, &full, &r);
     assert!(rep.full_held);
-    assert!(rep.rows[0].held && rep.rows[0].good_enough, "{:?}", rep.rows[0]);
+    assert!(
+        rep.rows[0].held && rep.rows[0].good_enough,
+        "{:?}",
+        rep.rows[0]
+    );
     assert!(!rep.rows[1].good_enough, "{:?}", rep.rows[1]);
     assert_eq!(rep.least_model, "spin");
 }

@@ -16,9 +16,9 @@
 
 use cortex_m_semihosting::hprintln;
 use softfinger_core::contact::params::ContactParams;
-use softfinger_core::contact::{Full, Parts, PointFriction, RollingOnly, WithRolling, WithSpin};
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::contact::surface::{Cylinder, Sphere, Surface};
+use softfinger_core::contact::{Full, Parts, PointFriction, RollingOnly, WithRolling, WithSpin};
 use softfinger_core::grasp::{BodyParams, BodyState, Fingertip, Grasp, Wrench};
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Vec3};
 use softfinger_mcu_bench::bench::Bencher;

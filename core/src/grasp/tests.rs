@@ -216,11 +216,20 @@ fn a_grasp_runs_the_contact_parts_it_names() {
     }
     let (full_tau, full_state) = twisted_with::<Full>();
     assert_eq!(full_state, g.body.state, "new is with_parts::<Full>");
-    assert!(full_tau > 1.0e-5, "the twist loads the spin spring: {full_tau}");
+    assert!(
+        full_tau > 1.0e-5,
+        "the twist loads the spin spring: {full_tau}"
+    );
     assert_eq!(twisted_with::<PointFriction>().0, 0.0);
     assert_eq!(twisted_with::<RollingOnly>().0, 0.0);
     // Inside the limits the limit surface does not act: the spin parts give the full torque.
-    for tau in [twisted_with::<WithSpin>().0, twisted_with::<WithRolling>().0] {
-        assert!((tau - full_tau).abs() <= 1.0e-3 * full_tau, "{tau} {full_tau}");
+    for tau in [
+        twisted_with::<WithSpin>().0,
+        twisted_with::<WithRolling>().0,
+    ] {
+        assert!(
+            (tau - full_tau).abs() <= 1.0e-3 * full_tau,
+            "{tau} {full_tau}"
+        );
     }
 }

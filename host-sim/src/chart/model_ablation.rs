@@ -113,11 +113,7 @@ pub fn write_for(
             .y_label_area_size(64)
             .build_cartesian_2d(x_lo..x_hi, (RATIO_FLOOR / 5.0..y_hi).log_scale())
             .map_err(drawing_err)?;
-        draw_axes(
-            &mut chart,
-            x_desc,
-            "worst difference / yardstick",
-        )?;
+        draw_axes(&mut chart, x_desc, "worst difference / yardstick")?;
         draw_line(
             &mut chart,
             &[(x_lo, 1.0), (x_hi, 1.0)],

@@ -60,7 +60,10 @@ pub struct GraspChoiceRun {
 }
 
 /// Run `config` with both contacts of `choice`; host time per grasp tick in `run.tick_ns`.
-pub fn run_choice(config: &GraspConfig, choice: ModelChoice) -> Result<GraspChoiceRun, ConfigError> {
+pub fn run_choice(
+    config: &GraspConfig,
+    choice: ModelChoice,
+) -> Result<GraspChoiceRun, ConfigError> {
     let n = (config.duration_s * config.rate_hz).round() as usize;
     let mut ticks: [Vec<Tick>; 2] = [Vec::with_capacity(n), Vec::with_capacity(n)];
     let observe = |s: &GraspStep| {
@@ -288,7 +291,8 @@ pub fn report(config: &GraspConfig, full: &GraspChoiceRun, runs: &[GraspChoiceRu
         named_model: named,
         named_within_yardstick: rows.iter().any(|r| r.row.model == named && r.good_enough),
         full_held: full.verdict.held,
-        full_transitions: transitions(&full.contacts[0].ticks) + transitions(&full.contacts[1].ticks),
+        full_transitions: transitions(&full.contacts[0].ticks)
+            + transitions(&full.contacts[1].ticks),
         config: *config,
         combined_tau_max_nm: full.run.tau_max_nm[0] + full.run.tau_max_nm[1],
         yardstick: yardstick::STATEMENT,
@@ -446,7 +450,11 @@ mod tests {
     /// counted over both contacts' ticks.
     #[test]
     fn both_contacts_count_the_worse_one_decides() {
-        let d = combine(&diff(1.0, 3.0, 10, 0.5, true), &diff(2.0, 4.0, 0, 1.5, false), 1000);
+        let d = combine(
+            &diff(1.0, 3.0, 10, 0.5, true),
+            &diff(2.0, 4.0, 0, 1.5, false),
+            1000,
+        );
         assert_eq!(d.max_force_diff_n, 2.0);
         assert_eq!(d.max_path_diff_mm, 2.0);
         assert!((d.rms_force_diff_n - 12.5f64.sqrt()).abs() < 1e-12);
@@ -455,7 +463,11 @@ mod tests {
         assert_eq!((d.transitions, d.same_state_sequence), (4, false));
         assert_eq!((d.force_ratio, d.path_ratio), (1.5, 1.5));
         assert!(!d.within_yardstick());
-        let none = combine(&diff(0.0, 0.0, 0, 0.0, true), &diff(0.0, 0.0, 0, 0.0, true), 0);
+        let none = combine(
+            &diff(0.0, 0.0, 0, 0.0, true),
+            &diff(0.0, 0.0, 0, 0.0, true),
+            0,
+        );
         assert_eq!(none.state_diff_percent, 0.0);
         assert!(none.within_yardstick());
     }
