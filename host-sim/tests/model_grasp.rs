@@ -17,7 +17,7 @@ use softfinger_core::contact::ModelChoice;
 /// yardstick. The limit surface is not needed (the weight's tangential load takes little of the
 /// torsional budget at this twist).
 #[test]
-fn the_grasp_needs_the_spin_and_nothing_more() {
+fn the_grasp_least_model_is_the_spin_and_nothing_more() {
     let c = config();
     assert_eq!(c.torque_nm, TORQUE_NM);
     let (full, r) = runs(&c, &ModelChoice::ALL, false).unwrap();
@@ -56,6 +56,27 @@ fn the_grasp_needs_the_spin_and_nothing_more() {
     let f = row("full");
     assert!(f.good_enough && f.row.diff.max_force_diff_n == 0.0, "{f:?}");
     assert_eq!(f.host_ratio, 1.0);
+    // The JSON keeps the fields every scene's has.
+    let j = serde_json::to_value(&rep).unwrap();
+    assert_eq!(
+        (j["scene"].as_str(), j["least_model"].as_str()),
+        (Some("grasp"), Some("spin"))
+    );
+    let rows = j["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), ModelChoice::ALL.len());
+    for (r, c) in rows.iter().zip(ModelChoice::ALL) {
+        assert_eq!(r["model"].as_str(), Some(c.name()));
+        assert!(r["instructions"].is_u64(), "{r}");
+        for k in [
+            "max_force_diff_n",
+            "max_path_diff_mm",
+            "held",
+            "slip_mm",
+            "turn_deg",
+        ] {
+            assert!(!r[k].is_null(), "{k}: {r}");
+        }
+    }
 }
 
 /// Without torsion only the object's angular damping c resists a twist about the grasp axis, so
@@ -64,7 +85,7 @@ fn the_grasp_needs_the_spin_and_nothing_more() {
 /// 0.8·τ* `point-friction` holds the object, at 1.25·τ* it turns it past the limit; the full model
 /// and `spin` hold both, and `spin` agrees with the full model within the yardstick there.
 #[test]
-fn dropping_torsion_drops_the_grasp_when_it_twists_bracketed() {
+fn a_model_dropping_torsion_drops_the_grasp_when_it_twists_bracketed() {
     let base = config();
     let c = base.body_params().angular_damping as f64;
     let tau_star = ROTATION_LIMIT_RAD * c / (base.duration_s - SETTLE_S);
