@@ -18,7 +18,7 @@ use softfinger_core::contact::state::Reason;
 use softfinger_core::contact::surface::{Cylinder, Sphere, Surface};
 use softfinger_core::contact::{ContactParams, ContactState, Full, Parts};
 use softfinger_core::grasp::{
-    BodyParams, BodyState, Grasp, GraspError, GraspFlags, GraspStep, Wrench,
+    BodyParams, BodyState, Fingertip, Grasp, GraspError, GraspFlags, GraspStep, Wrench,
 };
 use softfinger_core::{Fast, Flags, Quat, Vec3};
 
@@ -246,14 +246,14 @@ pub struct GraspRun {
 
 /// Run the scene of `config`.
 pub fn run(config: &GraspConfig) -> Result<GraspRun, ConfigError> {
-    run_observed::<Full>(config, |_| {})
+    run_observed::<Full>(config, |_, _, _| {})
 }
 
 /// Run the scene of `config` with both contacts of the model of parts `P`, handing each tick's
-/// [`GraspStep`] to `observe` (after the body's step).
+/// fingertips, external wrench and [`GraspStep`] to `observe` (after the body's step).
 pub fn run_observed<P: Parts>(
     config: &GraspConfig,
-    observe: impl FnMut(&GraspStep),
+    observe: impl FnMut(&[Option<Fingertip>; 2], &Wrench, &GraspStep),
 ) -> Result<GraspRun, ConfigError> {
     config.validate()?;
     match config.shape {
@@ -296,7 +296,7 @@ fn run_on<S: Surface, P: Parts>(
     surface: S,
     radius_m: f32,
     q0: Quat,
-    mut observe: impl FnMut(&GraspStep),
+    mut observe: impl FnMut(&[Option<Fingertip>; 2], &Wrench, &GraspStep),
 ) -> Result<GraspRun, ConfigError> {
     let cp = config.contact_params();
     let dt = 1.0 / config.rate_hz;
@@ -350,7 +350,7 @@ fn run_on<S: Surface, P: Parts>(
         let t0 = std::time::Instant::now();
         let step = grasp.step(tips, external);
         grasp_time += t0.elapsed();
-        observe(&step);
+        observe(&tips, &external, &step);
         for (h, c) in hands.iter_mut().zip(&step.contacts) {
             h.step(lift, lift_vel, c.on_fingertip.force_n, open, dt);
         }
