@@ -5,6 +5,12 @@
 //! contacts roll and spin every tick). Rows `grasp_tick_sphere` (30 mm sphere) and
 //! `grasp_tick_cylinder` (25 mm cylinder, pinched across its axis), per backend.
 //!
+//! The rows `grasp_tick_sphere_<model>` (fast backend) are the sphere's tick with both contacts
+//! of each contact model choice (`softfinger_core::contact::parts`, `Grasp::with_parts`), for
+//! `host-sim model --scene grasp`; with no external torque, so that the choices without the spin
+//! hold the body as well (the fingertips are fixed here, and 5 mN·m would spin a body that a
+//! point contact cannot hold) and every row is of the same held grasp.
+//!
 //! After settling for 0.2 s and after the measurement, both contacts must still be rolling with no
 //! flag, so a figure is never of a dropped or flagged grasp.
 
@@ -12,6 +18,7 @@ use cortex_m_semihosting::hprintln;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::contact::surface::{Cylinder, Sphere, Surface};
+use softfinger_core::contact::{Full, Parts, PointFriction, RollingOnly, WithRolling, WithSpin};
 use softfinger_core::grasp::{BodyParams, BodyState, Fingertip, Grasp, Wrench};
 use softfinger_core::{Fast, Libm, Math, Micromath, Quat, Vec3};
 use softfinger_mcu_bench::bench::Bencher;
@@ -21,65 +28,83 @@ use softfinger_mcu_bench::{bb, bench};
 pub fn benches(b: &mut Bencher) {
     let sphere = BodyParams::solid_sphere(0.1, 0.03);
     let cyl = BodyParams::solid_cylinder_x(0.1, 0.025, 0.08);
-    grasp_tick::<Libm, _>(
+    grasp_tick::<Libm, _, Full>(
         b,
         "grasp_tick_sphere",
         sphere,
         Sphere::new(0.03),
         0.03,
         Quat::IDENTITY,
+        0.005,
     );
-    grasp_tick::<Micromath, _>(
+    grasp_tick::<Micromath, _, Full>(
         b,
         "grasp_tick_sphere",
         sphere,
         Sphere::new(0.03),
         0.03,
         Quat::IDENTITY,
+        0.005,
     );
-    grasp_tick::<Fast, _>(
+    grasp_tick::<Fast, _, Full>(
         b,
         "grasp_tick_sphere",
         sphere,
         Sphere::new(0.03),
         0.03,
         Quat::IDENTITY,
+        0.005,
     );
     // The cylinder's axis (body x) vertical: a turn of −90° about y.
     let q = Quat::from_axis_angle::<Libm>(Vec3::Y, -core::f32::consts::FRAC_PI_2);
-    grasp_tick::<Libm, _>(
+    grasp_tick::<Libm, _, Full>(
         b,
         "grasp_tick_cylinder",
         cyl,
         Cylinder::new(0.025),
         0.025,
         q,
+        0.005,
     );
-    grasp_tick::<Micromath, _>(
+    grasp_tick::<Micromath, _, Full>(
         b,
         "grasp_tick_cylinder",
         cyl,
         Cylinder::new(0.025),
         0.025,
         q,
+        0.005,
     );
-    grasp_tick::<Fast, _>(
+    grasp_tick::<Fast, _, Full>(
         b,
         "grasp_tick_cylinder",
         cyl,
         Cylinder::new(0.025),
         0.025,
         q,
+        0.005,
     );
+    grasp_model::<PointFriction>(b, "grasp_tick_sphere_point-friction", sphere);
+    grasp_model::<RollingOnly>(b, "grasp_tick_sphere_rolling", sphere);
+    grasp_model::<WithSpin>(b, "grasp_tick_sphere_spin", sphere);
+    grasp_model::<WithRolling>(b, "grasp_tick_sphere_spin-rolling", sphere);
+    grasp_model::<Full>(b, "grasp_tick_sphere_full", sphere);
 }
 
-fn grasp_tick<M: Math, S: Surface>(
+/// The sphere's grasp tick with both contacts of parts `P`, no external torque (fast backend).
+fn grasp_model<P: Parts>(b: &mut Bencher, name: &str, body: BodyParams) {
+    grasp_tick::<Fast, _, P>(b, name, body, Sphere::new(0.03), 0.03, Quat::IDENTITY, 0.0);
+}
+
+/// `torque_nm`: the external torque about the grasp axis (world x), N·m.
+fn grasp_tick<M: Math, S: Surface, P: Parts>(
     b: &mut Bencher,
     name: &str,
     body: BodyParams,
     surface: S,
     radius_m: f32,
     q0: Quat,
+    torque_nm: f32,
 ) {
     let mut params = ContactParams::DEFAULT;
     params.spin_stiffness = 0.2;
@@ -89,7 +114,7 @@ fn grasp_tick<M: Math, S: Surface>(
         q: q0,
         ..BodyState::default()
     };
-    let Ok(mut grasp) = Grasp::<M, S>::new(
+    let Ok(mut grasp) = Grasp::<M, S, P>::with_parts(
         body,
         state,
         surface,
@@ -116,7 +141,7 @@ fn grasp_tick<M: Math, S: Surface>(
     ];
     let ext = Wrench {
         force_n: Vec3::ZERO,
-        torque_nm: Vec3::new(0.005, 0.0, 0.0),
+        torque_nm: Vec3::new(torque_nm, 0.0, 0.0),
     };
     let mut k = 0;
     for _ in 0..2000 {

@@ -24,7 +24,9 @@
 
 use crate::contact::limit_surface::patch_radius;
 use crate::contact::spin::torsion_limit;
-use crate::contact::{ContactInput, ContactModel, ContactOutput, ContactParams, Surface};
+use crate::contact::{
+    ContactInput, ContactModel, ContactOutput, ContactParams, Full, Parts, Surface,
+};
 use crate::grasp::body::BodyState;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
@@ -75,26 +77,41 @@ pub struct ContactReport {
     pub tau_max_nm: f32,
 }
 
-/// One fingertip's contact with the body.
+/// One fingertip's contact with the body. `P`: the parts of the contact model it runs
+/// ([`crate::contact::parts`]; the whole model unless named), so a grasp that leaves a part out
+/// does not pay for it.
 #[derive(Clone, Copy, Debug)]
-pub struct FingertipContact<M: Math, S: Surface> {
-    model: ContactModel<M, S>,
+pub struct FingertipContact<M: Math, S: Surface, P: Parts = Full> {
+    model: ContactModel<M, S, P>,
 }
 
-impl<M: Math, S: Surface> FingertipContact<M, S> {
-    /// A contact of the model with `params` on `surface` (the body's object frame), stepped every `dt_s`.
+impl<M: Math, S: Surface> FingertipContact<M, S, Full> {
+    /// A contact of the whole model with `params` on `surface` (the body's object frame), stepped
+    /// every `dt_s`. [`FingertipContact::with_parts`] for a reduced model.
     pub fn new(
         params: ContactParams,
         surface: S,
         dt_s: f32,
     ) -> Result<Self, crate::contact::ParamError> {
+        Self::with_parts(params, surface, dt_s)
+    }
+}
+
+impl<M: Math, S: Surface, P: Parts> FingertipContact<M, S, P> {
+    /// A contact of the model of parts `P` with `params` on `surface` (the body's object frame), stepped every
+    /// `dt_s`.
+    pub fn with_parts(
+        params: ContactParams,
+        surface: S,
+        dt_s: f32,
+    ) -> Result<Self, crate::contact::ParamError> {
         Ok(FingertipContact {
-            model: ContactModel::new(params, surface, Quat::IDENTITY, dt_s)?,
+            model: ContactModel::with_parts(params, surface, Quat::IDENTITY, dt_s)?,
         })
     }
 
     /// The contact model.
-    pub fn model(&self) -> &ContactModel<M, S> {
+    pub fn model(&self) -> &ContactModel<M, S, P> {
         &self.model
     }
 

@@ -171,3 +171,65 @@ fn bad_construction_is_named() {
         assert_eq!(e, GraspError::Dt);
     }
 }
+
+/// The twisting, lifting pinch of the first test for 500 ticks with contacts of parts `P`: the
+/// largest |τn| of either contact (N·m) and the body's last state.
+fn twisted_with<P: crate::contact::Parts>() -> (f32, BodyState) {
+    let mut g = Grasp::<Libm, Sphere, P>::with_parts(
+        BodyParams::solid_sphere(0.1, R_OBJ),
+        BodyState::default(),
+        Sphere::new(R_OBJ),
+        [ContactParams::DEFAULT; 2],
+        Vec3::new(0.0, 0.0, -9.81),
+        1.0e-4,
+    )
+    .unwrap();
+    let mut tau = 0.0_f32;
+    for k in 0..500 {
+        let mut t = tips(0.0025);
+        let twist = Quat::from_axis_angle::<Libm>(Vec3::X, 2.0e-5 * k as f32);
+        for tip in t.iter_mut().flatten() {
+            tip.q = twist;
+        }
+        let s = g.step(t, Wrench::default());
+        for c in &s.contacts {
+            tau = tau.max(c.output.tau_n_nm.abs());
+        }
+    }
+    (tau, g.body.state)
+}
+
+/// The contacts' parts are a compile-time choice of the grasp: the whole model by default
+/// (`Grasp::new` is `with_parts::<Full>`, bit for bit), and a choice without the spin renders
+/// no spin torque while the fingertips twist, one with it does.
+#[test]
+fn a_grasp_runs_the_contact_parts_it_names() {
+    use crate::contact::{Full, PointFriction, RollingOnly, WithRolling, WithSpin};
+    let mut g = grasp();
+    for k in 0..500 {
+        let mut t = tips(0.0025);
+        let twist = Quat::from_axis_angle::<Libm>(Vec3::X, 2.0e-5 * k as f32);
+        for tip in t.iter_mut().flatten() {
+            tip.q = twist;
+        }
+        g.step(t, Wrench::default());
+    }
+    let (full_tau, full_state) = twisted_with::<Full>();
+    assert_eq!(full_state, g.body.state, "new is with_parts::<Full>");
+    assert!(
+        full_tau > 1.0e-5,
+        "the twist loads the spin spring: {full_tau}"
+    );
+    assert_eq!(twisted_with::<PointFriction>().0, 0.0);
+    assert_eq!(twisted_with::<RollingOnly>().0, 0.0);
+    // Inside the limits the limit surface does not act: the spin parts give the full torque.
+    for tau in [
+        twisted_with::<WithSpin>().0,
+        twisted_with::<WithRolling>().0,
+    ] {
+        assert!(
+            (tau - full_tau).abs() <= 1.0e-3 * full_tau,
+            "{tau} {full_tau}"
+        );
+    }
+}

@@ -5,7 +5,7 @@
 //! wrench, and the body is advanced by one semi-implicit Euler step ([`RigidBody::step`]). The
 //! wrench on each fingertip is returned for the caller's fingertip dynamics (the hand, or a device).
 
-use crate::contact::{ContactParams, ParamError, Surface, MAX_DT_S, MIN_DT_S};
+use crate::contact::{ContactParams, Full, ParamError, Parts, Surface, MAX_DT_S, MIN_DT_S};
 use crate::flags::Flags;
 use crate::grasp::body::{BodyError, BodyParams, BodyState, RigidBody};
 use crate::grasp::fingertip_contact::{ContactReport, Fingertip, FingertipContact, Wrench};
@@ -66,21 +66,37 @@ pub struct GraspStep {
     pub grasp_flags: GraspFlags,
 }
 
-/// A body and two fingertip contacts on its surface `S` (the body's object frame).
+/// A body and two fingertip contacts on its surface `S` (the body's object frame), each contact
+/// the model of parts `P` ([`crate::contact::parts`]; the whole model unless named).
 #[derive(Clone, Copy, Debug)]
-pub struct Grasp<M: Math, S: Surface> {
+pub struct Grasp<M: Math, S: Surface, P: Parts = Full> {
     /// The held body.
     pub body: RigidBody,
-    contacts: [FingertipContact<M, S>; 2],
+    contacts: [FingertipContact<M, S, P>; 2],
     gravity_m_s2: Vec3,
     dt_s: f32,
 }
 
-impl<M: Math, S: Surface> Grasp<M, S> {
+impl<M: Math, S: Surface> Grasp<M, S, Full> {
     /// A grasp of a body with `body` parameters starting at `state`, its surface `surface` in the
-    /// object frame, each fingertip's contact with `contacts[i]`, gravity `gravity_m_s2` (world,
-    /// m/s²), stepped every `dt_s` seconds.
+    /// object frame, each fingertip's contact the whole model with `contacts[i]`, gravity
+    /// `gravity_m_s2` (world, m/s²), stepped every `dt_s` seconds. [`Grasp::with_parts`] for
+    /// contacts of a reduced model.
     pub fn new(
+        body: BodyParams,
+        state: BodyState,
+        surface: S,
+        contacts: [ContactParams; 2],
+        gravity_m_s2: Vec3,
+        dt_s: f32,
+    ) -> Result<Self, GraspError> {
+        Self::with_parts(body, state, surface, contacts, gravity_m_s2, dt_s)
+    }
+}
+
+impl<M: Math, S: Surface, P: Parts> Grasp<M, S, P> {
+    /// [`Grasp::new`] with each contact the model of parts `P`.
+    pub fn with_parts(
         body: BodyParams,
         state: BodyState,
         surface: S,
@@ -95,9 +111,9 @@ impl<M: Math, S: Surface> Grasp<M, S> {
             return Err(GraspError::Gravity);
         }
         let body = RigidBody::new(body, state).map_err(GraspError::Body)?;
-        let c0 = FingertipContact::new(contacts[0], surface, dt_s)
+        let c0 = FingertipContact::with_parts(contacts[0], surface, dt_s)
             .map_err(|e| GraspError::Contact(0, e))?;
-        let c1 = FingertipContact::new(contacts[1], surface, dt_s)
+        let c1 = FingertipContact::with_parts(contacts[1], surface, dt_s)
             .map_err(|e| GraspError::Contact(1, e))?;
         Ok(Grasp {
             body,
@@ -108,7 +124,7 @@ impl<M: Math, S: Surface> Grasp<M, S> {
     }
 
     /// The contacts.
-    pub fn contacts(&self) -> &[FingertipContact<M, S>; 2] {
+    pub fn contacts(&self) -> &[FingertipContact<M, S, P>; 2] {
         &self.contacts
     }
 

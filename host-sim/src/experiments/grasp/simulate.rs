@@ -16,8 +16,10 @@ use super::hand::{v64, Hand};
 use nalgebra::Vector3;
 use softfinger_core::contact::state::Reason;
 use softfinger_core::contact::surface::{Cylinder, Sphere, Surface};
-use softfinger_core::contact::{ContactParams, ContactState};
-use softfinger_core::grasp::{BodyParams, BodyState, Grasp, GraspError, GraspFlags, Wrench};
+use softfinger_core::contact::{ContactParams, ContactState, Full, Parts};
+use softfinger_core::grasp::{
+    BodyParams, BodyState, Fingertip, Grasp, GraspError, GraspFlags, GraspStep, Wrench,
+};
 use softfinger_core::{Fast, Flags, Quat, Vec3};
 
 /// The weight and the external torque ramp in over this, s.
@@ -244,22 +246,33 @@ pub struct GraspRun {
 
 /// Run the scene of `config`.
 pub fn run(config: &GraspConfig) -> Result<GraspRun, ConfigError> {
+    run_observed::<Full>(config, |_, _, _| {})
+}
+
+/// Run the scene of `config` with both contacts of the model of parts `P`, handing each tick's
+/// fingertips, external wrench and [`GraspStep`] to `observe` (after the body's step).
+pub fn run_observed<P: Parts>(
+    config: &GraspConfig,
+    observe: impl FnMut(&[Option<Fingertip>; 2], &Wrench, &GraspStep),
+) -> Result<GraspRun, ConfigError> {
     config.validate()?;
     match config.shape {
-        Shape::Sphere => run_on(
+        Shape::Sphere => run_on::<_, P>(
             config,
             Sphere::new(SPHERE_RADIUS_M),
             SPHERE_RADIUS_M,
             Quat::IDENTITY,
+            observe,
         ),
         Shape::Cylinder => {
             // Body x (the cylinder's axis) to world z: a turn of −90° about y.
             let q = Quat::from_axis_angle::<Fast>(Vec3::Y, -core::f32::consts::FRAC_PI_2);
-            run_on(
+            run_on::<_, P>(
                 config,
                 Cylinder::new(CYLINDER_RADIUS_M),
                 CYLINDER_RADIUS_M,
                 q,
+                observe,
             )
         }
     }
@@ -278,11 +291,12 @@ pub(crate) fn smooth_step(t: f64, start: f64, len: f64) -> (f64, f64) {
     }
 }
 
-fn run_on<S: Surface>(
+fn run_on<S: Surface, P: Parts>(
     config: &GraspConfig,
     surface: S,
     radius_m: f32,
     q0: Quat,
+    mut observe: impl FnMut(&[Option<Fingertip>; 2], &Wrench, &GraspStep),
 ) -> Result<GraspRun, ConfigError> {
     let cp = config.contact_params();
     let dt = 1.0 / config.rate_hz;
@@ -292,7 +306,7 @@ fn run_on<S: Surface>(
         ..BodyState::default()
     };
     // Gravity is applied as the external force while the support hands the weight over.
-    let mut grasp: Grasp<Fast, S> = Grasp::new(
+    let mut grasp: Grasp<Fast, S, P> = Grasp::with_parts(
         config.body_params(),
         state,
         surface,
@@ -336,6 +350,7 @@ fn run_on<S: Surface>(
         let t0 = std::time::Instant::now();
         let step = grasp.step(tips, external);
         grasp_time += t0.elapsed();
+        observe(&tips, &external, &step);
         for (h, c) in hands.iter_mut().zip(&step.contacts) {
             h.step(lift, lift_vel, c.on_fingertip.force_n, open, dt);
         }

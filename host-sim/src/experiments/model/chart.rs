@@ -34,6 +34,22 @@ pub fn worst_ratio(r: &crate::experiments::model::Row, torque_displayed: bool) -
 
 /// Write the chart of `report` to `path` (SVG).
 pub fn write(path: &Path, report: &Report) -> Result<(), ChartError> {
+    write_for(
+        path,
+        report,
+        "instructions per contact step (emulated Cortex-M4F, fast backend)",
+        &[],
+    )
+}
+
+/// [`write`] with the x axis described by `x_desc`, and the choices named in `dropped` labelled
+/// as dropping the held object (the grasp: a failure the force and path yardstick does not show).
+pub fn write_for(
+    path: &Path,
+    report: &Report,
+    x_desc: &str,
+    dropped: &[&str],
+) -> Result<(), ChartError> {
     let device = crate::experiments::model::yardstick::DEVICE_DISPLAYS_TORQUE;
     let pts: Vec<(f64, f64, &str)> = report
         .rows
@@ -97,11 +113,7 @@ pub fn write(path: &Path, report: &Report) -> Result<(), ChartError> {
             .y_label_area_size(64)
             .build_cartesian_2d(x_lo..x_hi, (RATIO_FLOOR / 5.0..y_hi).log_scale())
             .map_err(drawing_err)?;
-        draw_axes(
-            &mut chart,
-            "instructions per contact step (emulated Cortex-M4F, fast backend)",
-            "worst difference / yardstick",
-        )?;
+        draw_axes(&mut chart, x_desc, "worst difference / yardstick")?;
         draw_line(
             &mut chart,
             &[(x_lo, 1.0), (x_hi, 1.0)],
@@ -130,7 +142,12 @@ pub fn write(path: &Path, report: &Report) -> Result<(), ChartError> {
         }
         chart
             .draw_series(pts.iter().zip(&labels).map(|(&(_, _, name), &at)| {
-                Text::new(name.to_string(), at, (FONT, 13).into_font())
+                let label = if dropped.contains(&name) {
+                    format!("{name} (drops the object)")
+                } else {
+                    name.to_string()
+                };
+                Text::new(label, at, (FONT, 13).into_font())
             }))
             .map_err(drawing_err)?;
         Ok(())

@@ -9,6 +9,7 @@
 
 pub mod ablation;
 pub mod chart;
+pub mod grasp;
 pub mod yardstick;
 
 use crate::error::{ChartError, JsonError};
@@ -32,6 +33,9 @@ pub enum ModelError {
         /// The stage and its reason.
         source: SetupError,
     },
+    /// The grasp scene could not be run.
+    #[error("scene 'grasp': {0}")]
+    Grasp(String),
     /// The JSON could not be serialised.
     #[error(transparent)]
     Json(#[from] JsonError),
@@ -61,7 +65,8 @@ pub enum ModelError {
 #[derive(Debug, Clone, clap::Args)]
 pub struct Args {
     /// A built-in scene name (finger-on-plane, finger-on-sphere, finger-in-bowl,
-    /// finger-on-cylinder, finger-slide-twist) or a scene TOML file.
+    /// finger-on-cylinder, finger-slide-twist), `grasp` (two fingertips holding an object,
+    /// [`grasp`]) or a scene TOML file.
     #[arg(long, default_value = "finger-on-plane")]
     pub scene: String,
     /// Print JSON instead of the table.
@@ -128,12 +133,16 @@ const BUDGET_JSON: &str = include_str!("../../../../mcu-bench/budget.json");
 
 /// Instructions per contact step of `model` on `surface` (fast backend), from the budget.
 pub fn instructions(surface: &str, model: ModelChoice) -> Option<u32> {
+    budget_instructions(&format!("contact_step_{surface}_{}", model.name()))
+}
+
+/// Instructions of the budget's row `name` (fast backend).
+pub fn budget_instructions(name: &str) -> Option<u32> {
     let v: serde_json::Value = serde_json::from_str(BUDGET_JSON).ok()?;
-    let name = format!("contact_step_{surface}_{}", model.name());
     v.get("baseline")?
         .as_array()?
         .iter()
-        .find(|r| r["name"] == name.as_str() && r["backend"] == "fast")?
+        .find(|r| r["name"] == name && r["backend"] == "fast")?
         .get("instructions")?
         .as_u64()
         .map(|n| n as u32)
@@ -295,6 +304,9 @@ pub fn check(name_or_path: &str) -> Result<Difference, ModelError> {
 
 /// `host-sim model`.
 pub fn main(args: &Args) -> Result<(), ModelError> {
+    if args.scene == grasp::SCENE {
+        return grasp::main(args);
+    }
     if args.check {
         let d = check(&args.scene)?;
         println!(
