@@ -87,7 +87,10 @@ fn link_queues(outcomes: Consumer<'static, CommandOutcome>) -> Option<(LinkQueue
 }
 
 /// What the host link says about this board at `rate_hz`.
-fn host_link_config(rate_hz: u32, pipeline: &PipelineConfig<config::TickEnvironment>) -> LinkConfig {
+fn host_link_config(
+    rate_hz: u32,
+    pipeline: &PipelineConfig<config::TickEnvironment>,
+) -> LinkConfig {
     LinkConfig {
         info: InfoSource {
             name: config::DEVICE.name,
