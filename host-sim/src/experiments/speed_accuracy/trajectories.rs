@@ -15,7 +15,7 @@ use crate::chart::style::{
 pub struct Run {
     /// Legend name.
     pub name: String,
-    /// Contact on the plane, plane frame.
+    /// Contact on the plane, object frame.
     pub plane: Vec<[f64; 3]>,
     /// Contact on the sphere, fingertip frame.
     pub sphere: Vec<[f64; 3]>,

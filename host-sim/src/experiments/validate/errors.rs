@@ -2,7 +2,7 @@
 
 use crate::sim::reference::max_abs_diff_per_axis;
 
-/// Largest |Δx|, |Δy|, |Δz| (mm) between two runs' contact paths, on the plane (plane frame) and on the
+/// Largest |Δx|, |Δy|, |Δz| (mm) between two runs' contact paths, on the plane (object frame) and on the
 /// sphere (fingertip frame). The paper reports "0.004 mm, 0.004 mm, 0.001 mm along x, y, z".
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PathErrors {

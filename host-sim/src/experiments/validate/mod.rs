@@ -7,7 +7,7 @@
 //! adaptive Dormand–Prince RK45 at `rtol` 1e-12 ([`classical::REFERENCE_TOLERANCES`]); it is itself checked
 //! against the exact closed form and that check is reported. Every method × math backend of the core
 //! (f32, [`softfinger_core::contact::rolling::Rolling`] on [`softfinger_core::contact::surface::Plane`]) runs over the same
-//! samples; its contact paths on the plane (plane frame) and on the sphere (fingertip frame) are compared
+//! samples; its contact paths on the plane (object frame) and on the sphere (fingertip frame) are compared
 //! with the reference axis by axis, in mm, and its time per step is measured in the same run
 //! ([`timing`]). The classical method is timed too: at Matlab's `ode45` defaults (the paper's setting),
 //! called three ways ([`classical::Rk45Call`]), and at the loosest tolerance whose error against the closed

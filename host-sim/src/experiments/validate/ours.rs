@@ -50,7 +50,7 @@ pub fn to_f32(samples: &[UnitQuaternion<f64>]) -> Vec<Quat> {
 }
 
 /// Contact paths in metres, one row per sample (row 0 the initial contact), in the layout of
-/// [`crate::sim::reference::ReferencePaths`]: on the plane (plane frame) and on the sphere (fingertip frame).
+/// [`crate::sim::reference::ReferencePaths`]: on the plane (object frame) and on the sphere (fingertip frame).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Paths {
     /// Contact point on the plane `z = 0`, m.

@@ -1,8 +1,8 @@
 //! Input sequences for the rolling reference: orientation samples of the finger sphere and the
 //! piecewise-constant angular velocities they imply.
 //!
-//! Orientations are unit quaternions (Hamilton, scalar first) mapping the sphere's body frame to the fixed
-//! (plane) frame. Between two samples the angular velocity is constant: the body rate over `[t_k, t_{k+1}]`
+//! Orientations are unit quaternions (Hamilton, scalar first) mapping the fingertip frame (the
+//! sphere's) to the object frame (the plane's; the frames table in `softfinger_core`). Between two samples the angular velocity is constant: the body rate over `[t_k, t_{k+1}]`
 //! is `ω_b = log(q_k⁻¹ q_{k+1}) / dt` (rotation vector of the body-fixed increment), and the same angular
 //! velocity in the fixed frame is `ω_O = log(q_{k+1} q_k⁻¹) / dt = R_k ω_b`. A constant body rate is also
 //! constant in the fixed frame during the interval (`R(t) = R_k exp(t[ω_b]) = exp(t[R_k ω_b]) R_k`), so
@@ -22,7 +22,7 @@ pub const PAPER_INCREMENTS_ZYX: [f64; 3] = [0.05, 0.02, 0.03];
 /// A sampled orientation sequence with its sampling period and sphere radius.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
-    /// Orientation samples `q_0 … q_N` (body → plane frame).
+    /// Orientation samples `q_0 … q_N` (fingertip → object frame).
     pub samples: Vec<UnitQuaternion<f64>>,
     /// Sampling period (s).
     pub dt: f64,
@@ -104,7 +104,7 @@ pub fn body_increments(samples: &[UnitQuaternion<f64>]) -> Vec<Vector3<f64>> {
         .collect()
 }
 
-/// Fixed-frame increments `log(q_{k+1} q_k⁻¹)` (rad, plane frame), one per interval.
+/// Fixed-frame increments `log(q_{k+1} q_k⁻¹)` (rad, object frame), one per interval.
 pub fn object_increments(samples: &[UnitQuaternion<f64>]) -> Vec<Vector3<f64>> {
     samples
         .windows(2)
