@@ -128,3 +128,34 @@ impl ControllerConfig<Plane> {
         }
     }
 }
+
+/// The named device is a valid definition, and each part of a definition is validated (from it).
+#[cfg(test)]
+mod tests {
+    use super::OMEGA_LIKE;
+    use crate::validate::ParamError;
+
+    #[test]
+    fn omega_like_is_valid() {
+        assert_eq!(OMEGA_LIKE.validate(), Ok(()));
+    }
+
+    #[test]
+    fn each_part_is_validated() {
+        let mut d = OMEGA_LIKE;
+        d.driver_wake_s = 0.0;
+        assert_eq!(d.validate(), Err(ParamError::NotPositive("driver_wake_s")));
+        let mut d = OMEGA_LIKE;
+        d.arm_ramp_s = f32::NAN;
+        assert_eq!(d.validate(), Err(ParamError::NotFinite("arm_ramp_s")));
+        let mut d = OMEGA_LIKE;
+        d.homing.speed_rad_s = 0.0;
+        assert!(d.validate().is_err());
+        let mut d = OMEGA_LIKE;
+        d.limits.stuck_s = -1.0;
+        assert!(d.validate().is_err());
+        let mut d = OMEGA_LIKE;
+        d.params.supply_v = 0.0;
+        assert!(d.validate().is_err());
+    }
+}

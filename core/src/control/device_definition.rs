@@ -40,33 +40,3 @@ impl DeviceDefinition {
         Ok(())
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::omega_like::OMEGA_LIKE;
-
-    #[test]
-    fn omega_like_is_valid() {
-        assert_eq!(OMEGA_LIKE.validate(), Ok(()));
-    }
-
-    #[test]
-    fn each_part_is_validated() {
-        let mut d = OMEGA_LIKE;
-        d.driver_wake_s = 0.0;
-        assert_eq!(d.validate(), Err(ParamError::NotPositive("driver_wake_s")));
-        let mut d = OMEGA_LIKE;
-        d.arm_ramp_s = f32::NAN;
-        assert_eq!(d.validate(), Err(ParamError::NotFinite("arm_ramp_s")));
-        let mut d = OMEGA_LIKE;
-        d.homing.speed_rad_s = 0.0;
-        assert!(d.validate().is_err());
-        let mut d = OMEGA_LIKE;
-        d.limits.stuck_s = -1.0;
-        assert!(d.validate().is_err());
-        let mut d = OMEGA_LIKE;
-        d.params.supply_v = 0.0;
-        assert!(d.validate().is_err());
-    }
-}

@@ -1,7 +1,7 @@
 //! The controller's configuration: the device, the contact model, the environment and the limits and
 //! fault thresholds (in physical units; [`Limits::per_tick`] converts them for a control rate).
 
-use super::Environment;
+use super::stage::Environment;
 use crate::contact::params::ContactParams;
 use crate::contact::surface::Plane;
 use crate::device::DeviceParams;
