@@ -291,14 +291,7 @@ fn run_phases(q: &mut Queues) {
         "armed in contact: driving",
     );
     q.drain();
-    hprintln!(
-        "record in contact: mode {} state {} force_mn {:?} compare {:?} flags {:#x}",
-        q.last_record.mode.name(),
-        q.last_record.state as u8,
-        q.last_record.force_mn,
-        q.last_record.compare,
-        q.last_record.flags.0
-    );
+    print_record("in contact", &q.last_record);
     slide(q);
     report(
         "armed_sliding",
@@ -309,15 +302,21 @@ fn run_phases(q: &mut Queues) {
         q.last_record.state == ContactState::Sliding,
         "armed sliding: not sliding at the end of the phase",
     );
-    hprintln!(
-        "record sliding: mode {} state {} force_mn {:?} compare {:?} flags {:#x}",
-        q.last_record.mode.name(),
-        q.last_record.state as u8,
-        q.last_record.force_mn,
-        q.last_record.compare,
-        q.last_record.flags.0
-    );
+    print_record("sliding", &q.last_record);
     fault_checks(q);
+}
+
+/// Print the latest telemetry record of a phase.
+fn print_record(phase: &str, r: &PipelineRecord) {
+    hprintln!(
+        "record {}: mode {} state {} force_mn {:?} compare {:?} flags {:#x}",
+        phase,
+        r.mode.name(),
+        r.state as u8,
+        r.force_mn,
+        r.compare,
+        r.flags.0
+    );
 }
 
 /// Faults while armed: nFAULT low, then a break flag alone (a pulse the pin read missed); each
