@@ -59,6 +59,7 @@ fn session<const TX: usize>() -> LinkSession<TX> {
             max_force_n: ContactParams::DEFAULT.max_force_n,
             min_stream_divisor: MIN_DIVISOR,
             watchdog_ms: 0,
+            reset_cause: "power-on",
         },
         timer_clock_hz: TIMER_HZ,
         contact: ContactParams::DEFAULT,

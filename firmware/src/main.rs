@@ -32,10 +32,14 @@ use defmt_rtt as _;
 use embassy_executor::{Executor, Spawner};
 use heapless::spsc::Queue;
 use heapless::spsc::{Consumer, Producer};
+use softfinger_app::persist::DeviceStore;
+use softfinger_app::reset_cause::ResetCause;
 use softfinger_app::tap::Tap;
 use softfinger_app::tick::{self, CommandOutcome, ControlLoop};
 use softfinger_app::{config, failsafe, link, logger, operator, queues, stream, supervisor};
 use softfinger_core::control::pipeline::Command;
+use softfinger_update::layout::G474;
+use softfinger_update::{BootState, SelfTest};
 
 /// The operator's end of the tick's command queue (the link has a queue of its own).
 pub type CommandTx = Producer<'static, Command>;
@@ -73,13 +77,18 @@ fn main() -> ! {
     })
 }
 
+/// The device's flash: the settings store and the update's slots.
+type Store = DeviceStore<bsp::BoardFlash>;
+
 /// The USB device and the link tasks, the link sending to the tick's link command queue
-/// (`link_commands`); returns the queue the supervisor forwards to and the tick's end of the
-/// stream queue.
+/// (`link_commands`) and answering settings and update requests from `store`; returns the queue
+/// the supervisor forwards to and the tick's end of the stream queue.
 fn start_usb_link(
     spawner: &Spawner,
     usb: bsp::UsbParts,
     link_commands: Producer<'static, Command>,
+    store: Store,
+    reset_cause: ResetCause,
 ) -> Option<(OutcomeTap, bsp::StreamTx)> {
     let link_stream = cortex_m::singleton!(
         : Queue<stream::StreamPoint, {stream::QUEUE_LEN}> = Queue::new()
@@ -97,6 +106,8 @@ fn start_usb_link(
         class,
         link_commands,
         link::task::LinkQueues { outcomes, stream },
+        store,
+        reset_cause,
     ) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("USB link task not spawned: {}", e),
@@ -114,9 +125,12 @@ async fn usb_link_task(
     class: embassy_usb::class::cdc_acm::CdcAcmClass<'static, usb_link::UsbDriver>,
     commands: Producer<'static, Command>,
     queues: link::task::LinkQueues,
+    mut store: Store,
+    reset_cause: ResetCause,
 ) {
+    self_test_and_confirm(&mut store).await;
     let pipeline = config::pipeline_config();
-    let session = link::session::LinkSession::<{ usb_link::LINK_TX_BYTES }>::new(
+    let session = link::session::LinkSession::<{ usb_link::LINK_TX_BYTES }, Store>::with_store(
         &link::session::LinkConfig {
             info: link::info::InfoSource {
                 name: config::DEVICE.name,
@@ -125,12 +139,59 @@ async fn usb_link_task(
                 max_force_n: pipeline.contact.max_force_n,
                 min_stream_divisor: link::info::min_stream_divisor(config::CONTROL_RATE_HZ),
                 watchdog_ms: config::BENCH_WATCHDOG_MS,
+                reset_cause: reset_cause.name(),
             },
             timer_clock_hz: config::SYSCLK_HZ,
             contact: pipeline.contact,
         },
+        store,
     );
     usb_link::run(class, session, commands, queues).await
+}
+
+/// How long the self-test watches the tick, ms.
+const SELF_TEST_MS: u64 = 200;
+
+/// The running image's self-test (clock, encoders, the tick running without an overrun, the
+/// store read), and on a trial boot (just swapped in by an update) its confirm: passed, the
+/// image is kept; failed, the device resets and the bootloader swaps the previous image back.
+async fn self_test_and_confirm(store: &mut Store) {
+    // The tick publishes its longest run since the logger last took it: seen non-zero (running)
+    // and never past the period (no overrun) over the window.
+    let mut ran = false;
+    let mut overran = false;
+    for _ in 0..(SELF_TEST_MS / 10) {
+        embassy_time::Timer::after_millis(10).await;
+        let longest = tick::STATUS
+            .max_tick_counts
+            .load(core::sync::atomic::Ordering::Relaxed);
+        ran |= longest != 0;
+        overran |= longest >= config::TICK_PERIOD_COUNTS;
+    }
+    let test = SelfTest {
+        clock: bsp::clock_ok(),
+        encoders: bsp::encoders_ok(),
+        tick: ran && !overran,
+        store: store.status() != softfinger_store::LoadStatus::FlashError,
+    };
+    let trial = store.boot_state() == BootState::Trial;
+    match store.confirm(&test) {
+        Ok(true) if trial => info!("update: the new image passed its self-test: confirmed"),
+        Ok(true) => {}
+        Ok(false) => {
+            error!(
+                "update: the new image failed its self-test ({}): resetting, the bootloader restores the previous one",
+                test
+            );
+            embassy_time::Timer::after_millis(50).await;
+            bsp::emergency_stop();
+            cortex_m::peripheral::SCB::sys_reset();
+        }
+        Err(e) => error!("update: confirm failed: {}", e),
+    }
+    if store.boot_state() == BootState::RolledBack {
+        error!("update: the last update failed its trial: the previous image was restored");
+    }
 }
 
 /// Start-up, as the first task: validate, configure, spawn the tasks, start the tick.
@@ -169,8 +230,22 @@ async fn start(spawner: Spawner) {
         led,
         button,
         usb,
+        flash,
     } = Board::new(periph);
-    let Some((outcome_tap, stream_tx)) = start_usb_link(&spawner, usb, tasks.link_commands) else {
+    let store = Store::boot(flash, G474, env!("CARGO_PKG_VERSION"));
+    let load = store.boot_load();
+    info!(
+        "{=str} (flags {=u8:#x}, boot {})",
+        load.notice(),
+        load.flags(),
+        store.boot_state()
+    );
+    if let Some(why) = store.arm_refusal() {
+        error!("arming refused: {=str}", why);
+    }
+    let Some((outcome_tap, stream_tx)) =
+        start_usb_link(&spawner, usb, tasks.link_commands, store, reset_cause)
+    else {
         return;
     };
     let command_tx = tasks.commands;

@@ -28,6 +28,7 @@ use softfinger_core::control::pipeline::Command;
 
 use softfinger_app::link::session::LinkSession;
 use softfinger_app::link::task::LinkQueues;
+use softfinger_app::persist::Persistence;
 
 /// USB vendor id: pid.codes' open-source vendor id (host/src/usb.rs finds the device by it).
 pub const USB_VID: u16 = 0x1209;
@@ -111,9 +112,9 @@ pub fn build(
 
 /// The link over `class`: read packets into the session, forward the tick's news, write the
 /// session's bytes back in short packets. Reconnects forever.
-pub async fn run<const TX: usize>(
+pub async fn run<const TX: usize, S: Persistence>(
     mut class: CdcAcmClass<'static, UsbDriver>,
-    mut session: LinkSession<TX>,
+    mut session: LinkSession<TX, S>,
     mut commands: Producer<'static, Command>,
     mut q: LinkQueues,
 ) -> ! {
@@ -164,6 +165,16 @@ pub async fn run<const TX: usize>(
                     break;
                 }
             }
+            // An accepted Reboot (disarmed only): its answer has gone out above; reset, and the
+            // bootloader swaps in an image an update marked.
+            if session.take_reset_request() {
+                Timer::after_millis(RESET_DELAY_MS).await;
+                crate::board::stm32g474::emergency_stop();
+                cortex_m::peripheral::SCB::sys_reset();
+            }
         }
     }
 }
+
+/// After an accepted Reboot, how long the link waits for the host to take the answer, ms.
+const RESET_DELAY_MS: u64 = 20;

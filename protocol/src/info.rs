@@ -28,6 +28,29 @@ pub struct DeviceInfo {
     pub surfaces: heapless::Vec<SurfaceKind, 8>,
     /// Communication watchdog timeout in force, ms (0: off).
     pub watchdog_ms: u16,
+    /// What the boot's load of the settings store found: `softfinger_store::boot::FLAG_*` bits
+    /// (0: the settings and a calibration read from the store; see [`settings_flag_names`]).
+    pub settings_flags: u8,
+    /// Why the device last started (`power-on`, `reset-pin`, `software`, `watchdog`,
+    /// `window-watchdog`, `low-power`, `option-bytes`, `unknown`; `virtual` for host-sim).
+    pub reset_cause: Text<16>,
+}
+
+/// The names of the bits set in a [`DeviceInfo::settings_flags`], lowest bit first.
+pub fn settings_flag_names(flags: u8) -> impl Iterator<Item = &'static str> {
+    use softfinger_store::boot as b;
+    [
+        (b::FLAG_DEFAULTS, "defaults"),
+        (b::FLAG_ABSENT, "absent"),
+        (b::FLAG_CORRUPT, "corrupt"),
+        (b::FLAG_UNKNOWN_VERSION, "unknown-version"),
+        (b::FLAG_MIGRATED, "migrated"),
+        (b::FLAG_FLASH_ERROR, "flash-error"),
+        (b::FLAG_NO_CALIBRATION, "no-calibration"),
+    ]
+    .into_iter()
+    .filter(move |(bit, _)| flags & bit != 0)
+    .map(|(_, name)| name)
 }
 
 /// Link counters over all connections since the device started.

@@ -11,6 +11,7 @@
 //! - [`logger`], [`supervisor`], [`operator`]: the low-priority tasks (telemetry log, fault report
 //!   and blink code, the operator's button).
 //! - [`link`]: the host link, transport-independent.
+//! - [`persist`]: the device's flash behind the link: the settings store and the firmware update.
 //! - [`reset_cause`]: why the MCU last reset (logged, and in the device info).
 //! - [`config`]: the device, the board timing, queue sizes and task periods.
 //! - [`critical_section_basepri`], [`failsafe`]: the critical section and the fault handlers each
@@ -34,6 +35,7 @@ pub mod link;
 pub mod logger;
 #[cfg(target_os = "none")]
 pub mod operator;
+pub mod persist;
 #[cfg(target_os = "none")]
 pub mod queues;
 pub mod reset_cause;

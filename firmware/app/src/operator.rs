@@ -8,6 +8,8 @@
 //! | long (1 s ..< 3 s) | (already stopped) | Unhomed or Disarmed → `Home` |
 //! | very long (≥ 3 s) | (already stopped) | Unhomed or Disarmed: the next stiffness preset |
 //!
+//! A short press never arms a device whose settings store could not be read (`persist`).
+//!
 //! So a press while the device renders force stops it within the debounce time
 //! ([`config::BUTTON_TIMING`]), and the preset never changes while armed.
 //!
@@ -22,6 +24,7 @@
 use defmt::{info, warn};
 use embassy_time::Timer;
 use softfinger_core::control::operator::ButtonRules;
+use softfinger_core::control::pipeline::Command;
 
 use crate::board::OperatorButton;
 use crate::config;
@@ -45,6 +48,13 @@ pub async fn run(mut button: impl OperatorButton, mut commands: impl CommandSink
         let Some(command) = rules.sample(pressed, mode) else {
             continue;
         };
+        // Never arm on settings the device could not read (`persist::DeviceStore::arm_refusal`).
+        if matches!(command, Command::Arm)
+            && crate::persist::ARM_REFUSED.load(core::sync::atomic::Ordering::Relaxed)
+        {
+            warn!("button: Arm refused: the settings store could not be read (config reset or save first)");
+            continue;
+        }
         info!("button: while {}: {}", mode, command);
         if !commands.try_submit(command) {
             warn!("operator command dropped: queue full (tick not running?)");

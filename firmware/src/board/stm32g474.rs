@@ -298,6 +298,38 @@ pub struct Board {
     pub led: Led,
     pub button: Button,
     pub usb: UsbParts,
+    /// The whole flash, blocking (the settings store and the update's slots, both in bank 2;
+    /// softfinger-update's `layout::G474`).
+    pub flash: BoardFlash,
+}
+
+/// The STM32G474's flash as the settings store and the update use it: embassy-stm32's blocking
+/// driver (offsets from 0x0800_0000; dual-bank, 2 KiB pages, 8-byte writes), paced so that the
+/// thread-mode heartbeat keeps going through a long erase (`softfinger_app::persist::PacedFlash`).
+pub type BoardFlash = softfinger_app::persist::PacedFlash<
+    embassy_stm32::flash::Flash<'static, embassy_stm32::flash::Blocking>,
+>;
+
+/// The self-test's clock check: the PLL locked and the system clock running from it.
+pub fn clock_ok() -> bool {
+    pac::RCC.cr().read().pllrdy() && pac::RCC.cfgr().read().sws() == pac::rcc::vals::Sw::PLL1_R
+}
+
+/// The self-test's encoder check: each of the six encoder timers enabled and counting in
+/// quadrature (x4) mode. (Whether an encoder's lines move needs motion: homing checks that.)
+pub fn encoders_ok() -> bool {
+    use pac::timer::vals::Sms;
+    let quad = Sms::ENCODER_MODE_3;
+    let gp32 = [pac::TIM2, pac::TIM5]
+        .iter()
+        .all(|t| t.smcr().read().sms() == quad && t.cr1().read().cen());
+    let gp16 = [pac::TIM3, pac::TIM4]
+        .iter()
+        .all(|t| t.smcr().read().sms() == quad && t.cr1().read().cen());
+    let adv = [pac::TIM8, pac::TIM20]
+        .iter()
+        .all(|t| t.smcr().read().sms() == quad && t.cr1().read().cen());
+    gp32 && gp16 && adv
 }
 
 impl Board {
@@ -374,6 +406,9 @@ impl Board {
                 dp: p.PA12,
                 dm: p.PA11,
             },
+            flash: softfinger_app::persist::PacedFlash(embassy_stm32::flash::Flash::new_blocking(
+                p.FLASH,
+            )),
         }
     }
 }

@@ -131,7 +131,10 @@ impl<P: Parts> DeviceLoop<P> {
             min_stream_divisor: 1,
             surfaces: heapless::Vec::from_slice(&SurfaceKind::ALL).unwrap_or_default(),
             watchdog_ms: 0,
+            settings_flags: 0,
+            reset_cause: heapless::String::new(),
         };
+        let _ = info.reset_cause.push_str("virtual");
         let force_limit_n = info.max_force_n;
         let _ = info.name.push_str("virtual omega-like");
         let _ = info
@@ -324,6 +327,7 @@ impl<P: Parts> DeviceLoop<P> {
         let result = match &req {
             Request::GetInfo => {
                 self.info.watchdog_ms = (self.core.watchdog_s() * 1000.0).round() as u16;
+                self.info.settings_flags = self.persist.settings_flags();
                 let info = self.info.clone();
                 return self.reply(id, DeviceMsg::Info { seq, info });
             }

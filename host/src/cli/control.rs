@@ -60,6 +60,8 @@ pub fn info(spec: &str, json: bool) -> Result<(), String> {
             "min_stream_divisor": info.min_stream_divisor,
             "surfaces": info.surfaces.iter().map(|s| format!("{s:?}").to_lowercase()).collect::<Vec<_>>(),
             "watchdog_ms": info.watchdog_ms,
+            "settings_flags": softfinger_protocol::info::settings_flag_names(info.settings_flags).collect::<Vec<_>>(),
+            "reset_cause": info.reset_cause.as_str(),
             "link": {
                 "rx_frames": c.rx_frames, "rx_errors": c.rx_errors, "rx_cobs": c.rx_cobs,
                 "rx_crc": c.rx_crc, "rx_version": c.rx_version, "rx_decode": c.rx_decode,
@@ -96,6 +98,17 @@ pub fn info(spec: &str, json: bool) -> Result<(), String> {
             .map(|s| format!("{s:?}").to_lowercase())
             .collect();
         println!("surfaces: {}", surfaces.join(", "));
+        let flags: Vec<&str> =
+            softfinger_protocol::info::settings_flag_names(info.settings_flags).collect();
+        println!(
+            "settings: {}; last reset: {}",
+            if flags.is_empty() {
+                "read from the store".to_string()
+            } else {
+                flags.join(", ")
+            },
+            info.reset_cause
+        );
         println!(
             "link: rx_frames {} rx_errors {} (cobs {} crc {} version {} decode {} oversized {}), tx_frames {} tx_dropped {}, connections {}",
             c.rx_frames, c.rx_errors, c.rx_cobs, c.rx_crc, c.rx_version, c.rx_decode, c.rx_oversized,

@@ -99,6 +99,8 @@ fn largest_device_msgs() -> Vec<DeviceMsg> {
                 min_stream_divisor: u16::MAX,
                 surfaces,
                 watchdog_ms: u16::MAX,
+                settings_flags: u8::MAX,
+                reset_cause: heapless::String::try_from("éééééééé").unwrap(),
             },
         },
         DeviceMsg::Counters {

@@ -18,6 +18,8 @@ pub struct InfoSource {
     pub min_stream_divisor: u16,
     /// Communication watchdog timeout in force, ms (0: off).
     pub watchdog_ms: u16,
+    /// Why the MCU last reset (`crate::reset_cause::ResetCause::name`).
+    pub reset_cause: &'static str,
 }
 
 pub use crate::stream::min_stream_divisor;
@@ -33,8 +35,9 @@ fn text<const N: usize>(s: &str) -> Text<N> {
     t
 }
 
-/// The description: the local model's surfaces, the watchdog in force.
-pub fn device_info(src: &InfoSource) -> DeviceInfo {
+/// The description: the local model's surfaces, the watchdog in force, the settings store's
+/// flags (`softfinger_store::boot::FLAG_*`).
+pub fn device_info(src: &InfoSource, settings_flags: u8) -> DeviceInfo {
     DeviceInfo {
         protocol_version: PROTOCOL_VERSION,
         name: text(src.name),
@@ -46,5 +49,7 @@ pub fn device_info(src: &InfoSource) -> DeviceInfo {
         // Every kind the local-model renderer draws. Cannot fail: 4 kinds, capacity 8.
         surfaces: heapless::Vec::from_slice(&SurfaceKind::ALL).unwrap_or_default(),
         watchdog_ms: src.watchdog_ms,
+        settings_flags,
+        reset_cause: text(src.reset_cause),
     }
 }

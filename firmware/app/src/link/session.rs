@@ -16,7 +16,10 @@ use super::info::{device_info, InfoSource};
 use super::requests::{route, Route};
 use super::state::StateBuilder;
 use super::tx::TxRing;
+use crate::persist::{NoStore, Persistence, ARM_REFUSED};
 use crate::stream_point::StreamPoint;
+use crate::tick::published_mode;
+use softfinger_core::control::pipeline::Mode;
 
 /// Where the link's pipeline commands go: the tick's command queue, never waiting.
 pub trait CommandSink {
@@ -41,9 +44,10 @@ pub struct LinkConfig {
     pub contact: ContactParams,
 }
 
-/// One connection's state. `TX`: bytes of frames waiting for the transport.
+/// One connection's state. `TX`: bytes of frames waiting for the transport; `S`: the device's
+/// flash (its settings, update and reboot requests; [`NoStore`] on a board without one).
 #[derive(Debug)]
-pub struct LinkSession<const TX: usize> {
+pub struct LinkSession<const TX: usize, S: Persistence = NoStore> {
     endpoint: DeviceEndpoint,
     acks: PendingAcks,
     state: StateBuilder,
@@ -56,11 +60,24 @@ pub struct LinkSession<const TX: usize> {
     stream_dropped: u32,
     /// Valid frames received, as last seen (see [`LinkSession::receive`]).
     rx_frames: u32,
+    store: S,
 }
 
-impl<const TX: usize> LinkSession<TX> {
-    /// A session with nothing received and no stream.
+impl<const TX: usize> LinkSession<TX, NoStore> {
+    /// A session with nothing received and no stream, on a board without a settings store.
     pub fn new(config: &LinkConfig) -> Self {
+        Self::with_store(config, NoStore)
+    }
+}
+
+impl<const TX: usize, S: Persistence> LinkSession<TX, S> {
+    /// A session with nothing received and no stream, answering settings and update requests
+    /// from `store`.
+    pub fn with_store(config: &LinkConfig, store: S) -> Self {
+        ARM_REFUSED.store(
+            store.arm_refusal().is_some(),
+            core::sync::atomic::Ordering::Relaxed,
+        );
         LinkSession {
             endpoint: DeviceEndpoint::new(config.info.min_stream_divisor),
             acks: PendingAcks::new(),
@@ -71,6 +88,7 @@ impl<const TX: usize> LinkSession<TX> {
             last_tick: None,
             stream_dropped: 0,
             rx_frames: 0,
+            store,
         }
     }
 
@@ -100,6 +118,22 @@ impl<const TX: usize> LinkSession<TX> {
     fn request(&mut self, seq: u16, req: &Request, sink: &mut impl CommandSink) {
         let tx = &mut self.tx;
         let mut send = |f: &[u8]| tx.push_frame(f);
+        // Settings, update and reboot: the flash's, in this (thread-mode) task, never the tick's.
+        let armed = matches!(published_mode(), Mode::Armed | Mode::Homing);
+        if let Some(msg) = self.store.handle(seq, req, armed) {
+            ARM_REFUSED.store(
+                self.store.arm_refusal().is_some(),
+                core::sync::atomic::Ordering::Relaxed,
+            );
+            self.endpoint.send(&msg, &mut send);
+            return;
+        }
+        // Never arm on settings the device could not read (the store's arm check).
+        if matches!(req, Request::Arm) && self.store.arm_refusal().is_some() {
+            self.endpoint
+                .reply(seq, AckResult::Err(ErrorCode::WrongMode), &mut send);
+            return;
+        }
         match route(req, &self.contact) {
             Route::Pipeline(command) => {
                 let queued = self.acks.has_room() && sink.try_submit(command);
@@ -112,10 +146,13 @@ impl<const TX: usize> LinkSession<TX> {
                 }
             }
             Route::Info => {
-                let info = device_info(&InfoSource {
-                    max_force_n: self.contact.max_force_n,
-                    ..self.info
-                });
+                let info = device_info(
+                    &InfoSource {
+                        max_force_n: self.contact.max_force_n,
+                        ..self.info
+                    },
+                    self.store.settings_flags(),
+                );
                 self.endpoint
                     .send(&DeviceMsg::Info { seq, info }, &mut send);
             }
@@ -192,5 +229,16 @@ impl<const TX: usize> LinkSession<TX> {
     /// Requests waiting for the tick's outcome.
     pub fn pending(&self) -> usize {
         self.acks.len()
+    }
+
+    /// A `Reboot` was accepted since the last call: the transport resets the device once the
+    /// answer has gone out.
+    pub fn take_reset_request(&mut self) -> bool {
+        self.store.take_reset_request()
+    }
+
+    /// The device's flash, as this session answers for it.
+    pub fn store(&self) -> &S {
+        &self.store
     }
 }

@@ -6,6 +6,7 @@ use embassy_time::Timer;
 use heapless::spsc::Consumer;
 
 use super::session::{CommandSink, LinkSession};
+use crate::persist::Persistence;
 use crate::stream::{self, StreamPoint};
 use crate::tick::CommandOutcome;
 
@@ -32,7 +33,10 @@ pub struct LinkQueues {
 impl LinkQueues {
     /// Hand the tick's outcomes and stream points to `session`, and its stream divisor to the
     /// tick.
-    pub fn forward_news<const TX: usize>(&mut self, session: &mut LinkSession<TX>) {
+    pub fn forward_news<const TX: usize, S: Persistence>(
+        &mut self,
+        session: &mut LinkSession<TX, S>,
+    ) {
         stream::set_divisor(session.stream_divisor());
         while let Some(o) = self.outcomes.dequeue() {
             session.outcome(&o.command, o.result);
@@ -44,9 +48,9 @@ impl LinkQueues {
 }
 
 /// One poll: receive, then the tick's news, then send what fits.
-pub fn poll<const TX: usize>(
+pub fn poll<const TX: usize, S: Persistence>(
     transport: &mut impl ByteTransport,
-    session: &mut LinkSession<TX>,
+    session: &mut LinkSession<TX, S>,
     commands: &mut impl CommandSink,
     q: &mut LinkQueues,
 ) {
@@ -69,9 +73,9 @@ pub fn poll<const TX: usize>(
 }
 
 /// Poll every `period_us` forever.
-pub async fn run<const TX: usize>(
+pub async fn run<const TX: usize, S: Persistence>(
     mut transport: impl ByteTransport,
-    mut session: LinkSession<TX>,
+    mut session: LinkSession<TX, S>,
     mut commands: impl CommandSink,
     mut q: LinkQueues,
     period_us: u64,

@@ -99,6 +99,8 @@ fn host_link_config(
             max_force_n: pipeline.contact.max_force_n,
             min_stream_divisor: min_stream_divisor(rate_hz),
             watchdog_ms: config::BENCH_WATCHDOG_MS,
+            // Every run of the emulator is a power-on.
+            reset_cause: softfinger_app::reset_cause::ResetCause::PowerOn.name(),
         },
         // The board's tick-timer counts are scaled to the shared timing's 170 MHz clock.
         timer_clock_hz: pipeline.timing.timer_clock_hz,
