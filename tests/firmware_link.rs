@@ -2,6 +2,7 @@
 //! app, `firmware/app`) compiled for the host: real frames in, the device's frames out, the
 //! command queue and the tick's outcomes played by the test.
 
+use softfinger_app::persist::{DeviceStore, Persistence};
 use softfinger_app::{link, stream, stream_point};
 
 use link::info::{min_stream_divisor, InfoSource};
@@ -50,8 +51,8 @@ fn queue() -> Queue {
     }
 }
 
-fn session<const TX: usize>() -> LinkSession<TX> {
-    LinkSession::new(&LinkConfig {
+fn link_config() -> LinkConfig {
+    LinkConfig {
         info: InfoSource {
             name: OMEGA_LIKE.name,
             firmware_version: "0.1.0",
@@ -63,7 +64,11 @@ fn session<const TX: usize>() -> LinkSession<TX> {
         },
         timer_clock_hz: TIMER_HZ,
         contact: ContactParams::DEFAULT,
-    })
+    }
+}
+
+fn session<const TX: usize>() -> LinkSession<TX> {
+    LinkSession::new(&link_config())
 }
 
 fn frame(msg: &HostMsg) -> Vec<u8> {
@@ -76,7 +81,7 @@ fn request(seq: u16, req: Request) -> Vec<u8> {
     frame(&HostMsg::Request { seq, req })
 }
 
-fn feed<const TX: usize>(s: &mut LinkSession<TX>, q: &mut Queue, bytes: &[u8]) {
+fn feed<const TX: usize, S: Persistence>(s: &mut LinkSession<TX, S>, q: &mut Queue, bytes: &[u8]) {
     for &b in bytes {
         s.receive(b, q);
     }
@@ -98,7 +103,7 @@ fn states(msgs: &[DeviceMsg]) -> Vec<StateSample> {
 }
 
 /// Every frame the device queued for the host, decoded.
-fn sent<const TX: usize>(s: &mut LinkSession<TX>) -> Vec<DeviceMsg> {
+fn sent<const TX: usize, S: Persistence>(s: &mut LinkSession<TX, S>) -> Vec<DeviceMsg> {
     let mut dec = FrameDecoder::new();
     let mut out = Vec::new();
     while let Some(b) = s.tx().pop() {
@@ -676,4 +681,214 @@ fn the_transmit_ring_takes_whole_frames_or_nothing() {
     assert_eq!(r.pop_into(&mut out), 8);
     assert_eq!(&out[..8], &[1, 2, 3, 4, 5, 6, 7, 8]);
     assert!(r.is_empty());
+}
+
+// ---- The device's flash behind the link (softfinger_app::persist), on the G474 flash model ----
+
+use softfinger_protocol::config::{ConfigSection, ConfigValue, StoreStatus};
+use softfinger_store::boot::{FLAG_ABSENT, FLAG_CORRUPT, FLAG_DEFAULTS, FLAG_NO_CALIBRATION};
+use softfinger_store::flash_model::{G474Flash, PAGE_SIZE};
+use softfinger_update::layout::{G474, G474_FLASH_LEN};
+
+type Flash = G474Flash;
+
+fn blank_flash() -> Flash {
+    G474Flash::new(G474_FLASH_LEN as usize / PAGE_SIZE)
+}
+
+/// A session on a board with `flash` (booted: the store loaded).
+fn stored_session(flash: Flash) -> LinkSession<1024, DeviceStore<Flash>> {
+    LinkSession::with_store(&link_config(), DeviceStore::boot(flash, G474, "0.1.0"))
+}
+
+/// One request's answers.
+fn ask<S: Persistence>(
+    s: &mut LinkSession<1024, S>,
+    q: &mut Queue,
+    seq: u16,
+    req: Request,
+) -> Vec<DeviceMsg> {
+    feed(s, q, &request(seq, req));
+    sent(s)
+}
+
+fn info_of(msgs: &[DeviceMsg]) -> softfinger_protocol::DeviceInfo {
+    match msgs {
+        [DeviceMsg::Info { info, .. }] => info.clone(),
+        other => panic!("expected the device info, got {other:?}"),
+    }
+}
+
+#[test]
+fn settings_saved_over_the_link_are_read_at_the_next_boot() {
+    let mut q = queue();
+    let mut s = stored_session(blank_flash());
+    let info = info_of(&ask(&mut s, &mut q, 1, Request::GetInfo));
+    assert_eq!(
+        info.settings_flags,
+        FLAG_DEFAULTS | FLAG_ABSENT | FLAG_NO_CALIBRATION
+    );
+    assert_eq!(info.reset_cause.as_str(), "power-on");
+    let mut identity = softfinger_store::Settings::default().identity;
+    identity.name = heapless::String::try_from("bench-a").unwrap();
+    let r = ask(
+        &mut s,
+        &mut q,
+        2,
+        Request::ConfigSet(ConfigValue::Identity(identity.clone())),
+    );
+    assert!(
+        matches!(
+            r[..],
+            [DeviceMsg::Ack {
+                seq: 2,
+                result: AckResult::Ok
+            }]
+        ),
+        "{r:?}"
+    );
+    let r = ask(&mut s, &mut q, 3, Request::ConfigSave);
+    assert!(
+        matches!(
+            r[..],
+            [DeviceMsg::Ack {
+                seq: 3,
+                result: AckResult::Ok
+            }]
+        ),
+        "{r:?}"
+    );
+    // A power cycle: a new store on the same flash.
+    let flash = s.into_store().into_flash();
+    let mut s = stored_session(flash);
+    let r = ask(
+        &mut s,
+        &mut q,
+        4,
+        Request::ConfigGet(ConfigSection::Identity),
+    );
+    assert!(
+        matches!(&r[..], [DeviceMsg::Config { value: ConfigValue::Identity(i), .. }] if *i == identity),
+        "{r:?}"
+    );
+    let r = ask(&mut s, &mut q, 5, Request::ConfigGet(ConfigSection::Status));
+    assert!(
+        matches!(
+            &r[..],
+            [DeviceMsg::Config {
+                value: ConfigValue::Status {
+                    store: StoreStatus::Read,
+                    unsaved: false,
+                    may_arm: true,
+                    ..
+                },
+                ..
+            }]
+        ),
+        "{r:?}"
+    );
+    // Read, but no calibration stored yet.
+    let info = info_of(&ask(&mut s, &mut q, 6, Request::GetInfo));
+    assert_eq!(info.settings_flags, FLAG_NO_CALIBRATION);
+    // None of it went to the tick.
+    assert!(q.commands.is_empty());
+}
+
+#[test]
+fn a_store_it_cannot_read_refuses_to_arm_until_reset() {
+    let mut flash = blank_flash();
+    {
+        // A record that fails its CRC.
+        let mut st = softfinger_store::Store::new(&mut flash, G474.store.clone()).unwrap();
+        let mut rec = vec![0xFFu8, 0x7F];
+        rec.extend_from_slice(&[1, 2, 3, 4, 5, 6]);
+        embassy_futures::block_on(st.save_raw_record(&rec)).unwrap();
+    }
+    let mut q = queue();
+    let mut s = stored_session(flash);
+    let info = info_of(&ask(&mut s, &mut q, 1, Request::GetInfo));
+    assert_ne!(
+        info.settings_flags & FLAG_CORRUPT,
+        0,
+        "{:#x}",
+        info.settings_flags
+    );
+    let r = ask(&mut s, &mut q, 2, Request::Arm);
+    assert!(
+        matches!(
+            r[..],
+            [DeviceMsg::Ack {
+                seq: 2,
+                result: AckResult::Err(ErrorCode::WrongMode)
+            }]
+        ),
+        "{r:?}"
+    );
+    assert!(
+        q.commands.is_empty(),
+        "refused before the tick: {:?}",
+        q.commands
+    );
+    // Erased: the defaults, and arming goes to the tick again.
+    let r = ask(&mut s, &mut q, 3, Request::ConfigReset);
+    assert!(
+        matches!(
+            r[..],
+            [DeviceMsg::Ack {
+                seq: 3,
+                result: AckResult::Ok
+            }]
+        ),
+        "{r:?}"
+    );
+    assert!(
+        ask(&mut s, &mut q, 4, Request::Arm).is_empty(),
+        "acknowledged by the tick's outcome"
+    );
+    assert_eq!(q.commands, vec![Command::Arm]);
+}
+
+#[test]
+fn a_reboot_is_answered_then_requested_once() {
+    let mut q = queue();
+    let mut s = stored_session(blank_flash());
+    assert!(!s.take_reset_request());
+    let r = ask(&mut s, &mut q, 9, Request::Reboot);
+    assert!(
+        matches!(
+            r[..],
+            [DeviceMsg::Ack {
+                seq: 9,
+                result: AckResult::Ok
+            }]
+        ),
+        "{r:?}"
+    );
+    assert!(s.take_reset_request());
+    assert!(!s.take_reset_request());
+}
+
+#[test]
+fn a_board_without_a_store_refuses_settings_naming_why() {
+    let mut q = queue();
+    let mut s = session::<1024>();
+    let r = ask(&mut s, &mut q, 1, Request::ConfigSave);
+    match &r[..] {
+        [DeviceMsg::ConfigRefused { seq: 1, refusal }] => {
+            assert_eq!(refusal.key.as_str(), "store");
+            assert!(refusal.reason.contains("no settings store"), "{refusal:?}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let r = ask(&mut s, &mut q, 2, Request::Reboot);
+    assert!(
+        matches!(
+            r[..],
+            [DeviceMsg::Ack {
+                seq: 2,
+                result: AckResult::Err(ErrorCode::Unsupported)
+            }]
+        ),
+        "{r:?}"
+    );
 }

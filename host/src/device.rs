@@ -300,6 +300,11 @@ impl Device {
         self.timeout = t;
     }
 
+    /// How long a request waits for its reply now.
+    pub fn timeout(&self) -> Duration {
+        self.timeout
+    }
+
     /// Send raw bytes (tests of the device's handling of bad input).
     pub fn send_raw(&mut self, bytes: &[u8]) -> Result<(), LinkError> {
         write_all(&self.writer, bytes)

@@ -61,6 +61,9 @@ fn refusal_of(msg: &DeviceMsg) -> Option<UpdateRefusal> {
     }
 }
 
+/// How long a device may take to answer an update's begin (it erases its update slot), s.
+const BEGIN_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(10);
+
 impl Device {
     /// The device's update status and running version.
     pub fn update_status(&mut self) -> Result<UpdateStatus, LinkError> {
@@ -71,10 +74,16 @@ impl Device {
     fn update_begin(&mut self, pkg: &Package<'_>) -> Result<u32, LinkError> {
         let signature = heapless::Vec::from_slice(&pkg.signature)
             .map_err(|_| LinkError::Context("signature".into()))?;
-        let s = answer(self.request(Request::UpdateBegin {
+        // A new image's begin erases the device's whole update slot first: 115 pages of 2 KiB on
+        // the STM32G474, 22 ms each typically and 40 ms at most (RM0440), so up to ~4.6 s.
+        let usual = self.timeout();
+        self.set_timeout(BEGIN_TIMEOUT);
+        let reply = self.request(Request::UpdateBegin {
             len: pkg.image.len() as u32,
             signature,
-        })?)?;
+        });
+        self.set_timeout(usual);
+        let s = answer(reply?)?;
         match s.phase {
             UpdatePhase::Receiving { received, .. } => Ok(received),
             other => Err(LinkError::Protocol(format!("update begin: {other:?}"))),

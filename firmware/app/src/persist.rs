@@ -389,7 +389,7 @@ pub static ARM_REFUSED: core::sync::atomic::AtomicBool = core::sync::atomic::Ato
 
 /// A flash whose long operations keep the thread-mode heartbeat going: an erase is done page by
 /// page and a write in pieces of a page at most, with [`crate::tick::thread_heartbeat`] before
-/// each. A save or an update's erase of the DFU slot (115 pages, ~22 ms each on the G474) blocks
+/// each, and each read beats too. A save or an update's erase of the DFU slot (115 pages, ~22 ms each on the G474) blocks
 /// the link task for far longer than the tick's thread watchdog (`THREAD_STALE_S`, 50 ms), but
 /// no single page operation does (RM0440: page erase 22 ms typical, 40 ms at most).
 #[derive(Debug)]
@@ -406,6 +406,9 @@ impl<F: embedded_storage::nor_flash::ReadNorFlash> embedded_storage::nor_flash::
 {
     const READ_SIZE: usize = F::READ_SIZE;
     fn read(&mut self, offset: u32, bytes: &mut [u8]) -> Result<(), Self::Error> {
+        // The signature check hashes the whole received image chunk by chunk (SHA-512 in
+        // software, ~0.2 s for a full slot): each read is a heartbeat too.
+        crate::tick::thread_heartbeat();
         self.0.read(offset, bytes)
     }
     fn capacity(&self) -> usize {

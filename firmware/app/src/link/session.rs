@@ -241,4 +241,9 @@ impl<const TX: usize, S: Persistence> LinkSession<TX, S> {
     pub fn store(&self) -> &S {
         &self.store
     }
+
+    /// End the session, giving its store back.
+    pub fn into_store(self) -> S {
+        self.store
+    }
 }
