@@ -2,8 +2,9 @@
 //! UART0 is a Unix socket; this side connects and sends real frames while the plant runs in lock
 //! step: hello, device info, a stream request (one below the minimum divisor, then the minimum),
 //! garbage, wrong-CRC, truncated and wrong-version frames, local models the pipeline refuses,
-//! arming before homing, home, arm, then the local model and the communication watchdog
-//! (`link_model`); it decodes the state frames and checks each answer, the link counters, and
+//! the settings store (`link_settings`: a save, the tick meanwhile, read back), arming before
+//! homing, home, arm, a save refused while armed, then the local model and the communication
+//! watchdog (`link_model`); it decodes the state frames and checks each answer, the link counters, and
 //! that the link stays usable after every bad frame.
 //!
 //! A separate run from the scene runs: the host link owns the board's command queue (the plant's
@@ -62,7 +63,9 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Link
     start_stream(c, min_divisor, r)?;
     bad_frames(c, r)?;
     refused_models(c, r)?;
+    super::link_settings::check_disarmed(c, rate_hz, r)?;
     let armed = home_and_arm(c, rate_hz, r)?;
+    super::link_settings::check_armed(c, r)?;
     super::link_model::check(c, rate_hz, min_divisor, r)?;
     let states = check_state_frames(c, rate_hz, min_divisor, armed.tick, r);
     check_tick_timing(c, rate_hz, r);

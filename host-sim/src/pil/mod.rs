@@ -11,6 +11,7 @@ pub mod link_check;
 mod link_client;
 mod link_model;
 mod link_report;
+mod link_settings;
 pub mod operator;
 pub mod qemu;
 pub mod reference;

@@ -18,6 +18,7 @@ mod defmt_sink;
 mod faults;
 mod hw;
 mod link;
+mod ram_flash;
 mod time_driver;
 mod uart;
 mod vectors;
@@ -39,6 +40,7 @@ use cmsdk::{FreeRunning, Irq, PCLK_HZ};
 use softfinger_app::link::info::{min_stream_divisor, InfoSource};
 use softfinger_app::link::session::{LinkConfig, LinkSession};
 use softfinger_app::link::task::LinkQueues;
+use softfinger_app::persist::{DeviceStore, PacedFlash};
 use softfinger_app::tick::{self, CommandOutcome, ControlLoop};
 use softfinger_app::{config, logger, queues, stream, supervisor};
 
@@ -65,7 +67,15 @@ async fn host_link_task(
     commands: Producer<'static, Command>,
     queues: LinkQueues,
 ) {
-    let session = LinkSession::<LINK_TX_BYTES>::new(&config);
+    // The settings store and the update's slots on the emulated flash, as the STM32 build has
+    // them on its own (softfinger-update's layout::G474).
+    let store = DeviceStore::boot(
+        PacedFlash(ram_flash::RamFlash::erased()),
+        softfinger_update::layout::G474,
+        env!("CARGO_PKG_VERSION"),
+    );
+    info!("{=str}", store.boot_load().notice());
+    let session = LinkSession::<LINK_TX_BYTES, _>::with_store(&config, store);
     softfinger_app::link::task::run(uart::Uart0::open(), session, commands, queues, LINK_POLL_US)
         .await
 }
