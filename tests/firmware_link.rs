@@ -787,9 +787,10 @@ fn settings_saved_over_the_link_are_read_at_the_next_boot() {
         ),
         "{r:?}"
     );
-    // Read, but no calibration stored yet.
+    // Read, but no calibration stored yet; the device calls itself by the saved name.
     let info = info_of(&ask(&mut s, &mut q, 6, Request::GetInfo));
     assert_eq!(info.settings_flags, FLAG_NO_CALIBRATION);
+    assert_eq!(info.name.as_str(), "bench-a");
     // None of it went to the tick.
     assert!(q.commands.is_empty());
 }

@@ -20,7 +20,8 @@ pub struct DeviceConfig {
     pub store: StoreStatus,
     /// The schema version the device writes.
     pub schema_version: u16,
-    /// Whether the device may arm (its calibration was read from the store).
+    /// Whether the store lets the device arm (false while it holds settings the device could not
+    /// read, until they are saved over or erased).
     pub may_arm: bool,
     /// Changed since the last save.
     pub unsaved: bool,

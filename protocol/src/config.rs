@@ -70,14 +70,15 @@ impl From<softfinger_store::LoadStatus> for StoreStatus {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum ConfigValue {
-    /// Read-only: what the boot's load found, whether the device may arm (a calibration read
-    /// from the store), whether the settings in force differ from the stored ones.
+    /// Read-only: what the boot's load found, whether the store lets the device arm, whether
+    /// the settings in force differ from the stored ones.
     Status {
         /// The load's result.
         store: StoreStatus,
         /// The schema version this firmware writes.
         schema_version: u16,
-        /// The arm check's input: false unless the calibration was read from the store.
+        /// The store's arm check: false while the store holds settings the device could not
+        /// read (corrupt, unknown schema, flash error) until they are saved over or erased.
         may_arm: bool,
         /// Settings changed since the last save or load.
         unsaved: bool,

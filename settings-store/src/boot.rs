@@ -27,7 +27,7 @@ pub const FLAG_UNKNOWN_VERSION: u8 = 1 << 3;
 pub const FLAG_MIGRATED: u8 = 1 << 4;
 /// Device-info flag: the flash region could not be opened or read.
 pub const FLAG_FLASH_ERROR: u8 = 1 << 5;
-/// Device-info flag: no calibration read from the store, so the device refuses to arm.
+/// Device-info flag: no calibration read from the store (the settings in force have none).
 pub const FLAG_NO_CALIBRATION: u8 = 1 << 6;
 
 /// What the boot-time load gives the firmware.

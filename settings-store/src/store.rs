@@ -60,7 +60,7 @@ pub struct Loaded {
 }
 
 impl Loaded {
-    /// True only when the calibration was read from the store: the device never arms otherwise.
+    /// True only when the calibration was read from the store.
     pub fn may_arm(&self) -> bool {
         self.status.from_store() && self.settings.calibration.is_some()
     }

@@ -454,6 +454,8 @@ pub trait Persistence {
     fn arm_refusal(&self) -> Option<&'static str>;
     /// A `Reboot` was accepted since the last call: reset once its answer is sent.
     fn take_reset_request(&mut self) -> bool;
+    /// The name the user gave the device (`identity.name`), if any: device info's name.
+    fn device_name(&self) -> Option<&str>;
 }
 
 impl<F: NorFlash> Persistence for DeviceStore<F> {
@@ -468,6 +470,10 @@ impl<F: NorFlash> Persistence for DeviceStore<F> {
     }
     fn take_reset_request(&mut self) -> bool {
         DeviceStore::take_reset_request(self)
+    }
+    fn device_name(&self) -> Option<&str> {
+        let name = self.live.identity.name.as_str();
+        (!name.is_empty()).then_some(name)
     }
 }
 
@@ -509,5 +515,8 @@ impl Persistence for NoStore {
     }
     fn take_reset_request(&mut self) -> bool {
         false
+    }
+    fn device_name(&self) -> Option<&str> {
+        None
     }
 }

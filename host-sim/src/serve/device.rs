@@ -328,7 +328,11 @@ impl<P: Parts> DeviceLoop<P> {
             Request::GetInfo => {
                 self.info.watchdog_ms = (self.core.watchdog_s() * 1000.0).round() as u16;
                 self.info.settings_flags = self.persist.settings_flags();
-                let info = self.info.clone();
+                let mut info = self.info.clone();
+                if let Some(name) = self.persist.device_name() {
+                    // Both hold 24 bytes (`softfinger_store::schema::NAME_LEN`).
+                    info.name = heapless::String::try_from(name).unwrap_or_default();
+                }
                 return self.reply(id, DeviceMsg::Info { seq, info });
             }
             Request::GetCounters => {

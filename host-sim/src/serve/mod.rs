@@ -50,7 +50,8 @@ pub struct Args {
     pub auto_arm: bool,
     /// Keep the device's flash (settings store, firmware slots) in FILE, the G474's 512 KiB with
     /// its page size and write granularity: settings and updates survive a restart. Without it,
-    /// RAM. With it, arming needs a calibration read from the store.
+    /// RAM. A store it cannot read (corrupt, unknown schema) refuses arming until saved over or
+    /// reset, as on the firmware.
     #[arg(long, value_name = "FILE")]
     pub flash: Option<std::path::PathBuf>,
     /// Stop after this many seconds (default: run until killed).

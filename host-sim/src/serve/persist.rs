@@ -136,6 +136,11 @@ impl Persist {
         self.store.version().to_string()
     }
 
+    /// The name the user gave the device, if any (device info's name).
+    pub fn device_name(&self) -> Option<&str> {
+        self.store.device_name()
+    }
+
     /// Device info's settings flags.
     pub fn settings_flags(&self) -> u8 {
         self.store.settings_flags()
@@ -161,3 +166,48 @@ impl Persist {
 
 /// The number of presets, for clients that walk them.
 pub const PRESET_COUNT: usize = PRESETS;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flash whose store holds a record that fails its CRC.
+    fn corrupt_store() -> G474Flash {
+        let mut f = G474Flash::new(G474_FLASH_LEN as usize / PAGE_SIZE);
+        let mut st = softfinger_store::Store::new(&mut f, G474.store.clone()).unwrap();
+        embassy_futures::block_on(st.save_raw_record(&[0xFF, 0x7F, 1, 2, 3, 4, 5, 6])).unwrap();
+        drop(st);
+        f
+    }
+
+    #[test]
+    fn a_store_it_cannot_read_refuses_arm_until_reset() {
+        let mut p = Persist::boot_from(corrupt_store()).unwrap();
+        assert_eq!(p.status(), LoadStatus::Corrupt);
+        let refused = p.handle(1, &Request::Arm, false);
+        assert_eq!(
+            refused,
+            Some(DeviceMsg::Ack {
+                seq: 1,
+                result: AckResult::Err(ErrorCode::WrongMode)
+            })
+        );
+        let reset = p.handle(2, &Request::ConfigReset, false);
+        assert!(matches!(
+            reset,
+            Some(DeviceMsg::Ack {
+                result: AckResult::Ok,
+                ..
+            })
+        ));
+        // Not the store's to answer any more: the pipeline arms.
+        assert_eq!(p.handle(3, &Request::Arm, false), None);
+    }
+
+    #[test]
+    fn a_blank_store_lets_a_new_device_arm() {
+        let mut p = Persist::in_ram();
+        assert_eq!(p.status(), LoadStatus::Absent);
+        assert_eq!(p.handle(1, &Request::Arm, false), None);
+    }
+}

@@ -25,7 +25,7 @@ pub struct InfoSource {
 pub use crate::stream::min_stream_divisor;
 
 /// `s` cut at a character boundary to fit `N` bytes.
-fn text<const N: usize>(s: &str) -> Text<N> {
+pub fn text<const N: usize>(s: &str) -> Text<N> {
     let mut t = Text::new();
     for c in s.chars() {
         if t.push(c).is_err() {

@@ -146,13 +146,17 @@ impl<const TX: usize, S: Persistence> LinkSession<TX, S> {
                 }
             }
             Route::Info => {
-                let info = device_info(
+                let mut info = device_info(
                     &InfoSource {
                         max_force_n: self.contact.max_force_n,
                         ..self.info
                     },
                     self.store.settings_flags(),
                 );
+                // The name the user gave the device (`config set identity.name=...`), if any.
+                if let Some(name) = self.store.device_name() {
+                    info.name = super::info::text(name);
+                }
                 self.endpoint
                     .send(&DeviceMsg::Info { seq, info }, &mut send);
             }
