@@ -893,3 +893,47 @@ fn a_board_without_a_store_refuses_settings_naming_why() {
         "{r:?}"
     );
 }
+
+// ---- The scripted application session of the processor-in-the-loop run ----
+
+use softfinger_app::scripted_app::{
+    ScriptedApp, AMPLITUDE_M, PARAMS_EVERY, SOFT_STIFFNESS_FRACTION,
+};
+
+#[test]
+fn the_scripted_application_moves_the_plane_within_its_amplitude_and_changes_params_every_hundredth(
+) {
+    let mut app = ScriptedApp::new(ContactParams::DEFAULT);
+    let top = softfinger_app::config::INITIAL_PLANE_TOP_M.z;
+    let (mut last_seq, mut lowest, mut highest) = (0, f32::MAX, f32::MIN);
+    for n in 1..=1000u32 {
+        match app.next_command() {
+            Command::SetContactParams(p) => {
+                assert_eq!(n % PARAMS_EVERY, 0, "update {n}");
+                let soft = (n / PARAMS_EVERY) % 2 == 1;
+                let want = ContactParams::DEFAULT.normal_stiffness
+                    * if soft { SOFT_STIFFNESS_FRACTION } else { 1.0 };
+                assert_eq!(p.normal_stiffness, want);
+                assert!(p.validate().is_ok());
+            }
+            Command::SetLocalModel(m) => {
+                assert_ne!(n % PARAMS_EVERY, 0, "update {n}");
+                assert!(m.seq > last_seq);
+                last_seq = m.seq;
+                let dz = m.pose.position_m.z - top;
+                lowest = lowest.min(dz);
+                highest = highest.max(dz);
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+    // The whole wave (its turning points fall on parameter updates: one step short), no further.
+    for extreme in [highest, -lowest] {
+        assert!(
+            extreme <= AMPLITUDE_M && extreme >= 0.98 * AMPLITUDE_M,
+            "{lowest} {highest}"
+        );
+    }
+    assert_eq!(ScriptedApp::update_period_ticks(20_000), 20);
+    assert_eq!(ScriptedApp::stream_divisor(10_000), 5);
+}

@@ -12,6 +12,8 @@
 //!   and blink code, the operator's button).
 //! - [`link`]: the host link, transport-independent.
 //! - [`persist`]: the device's flash behind the link: the settings store and the firmware update.
+//! - [`scripted_app`]: the application session the processor-in-the-loop run plays (board and
+//!   in-process reference alike).
 //! - [`reset_cause`]: why the MCU last reset (logged, and in the device info).
 //! - [`config`]: the device, the board timing, queue sizes and task periods.
 //! - [`critical_section_basepri`], [`failsafe`]: the critical section and the fault handlers each
@@ -39,6 +41,7 @@ pub mod persist;
 #[cfg(target_os = "none")]
 pub mod queues;
 pub mod reset_cause;
+pub mod scripted_app;
 pub mod stream;
 pub mod stream_point;
 #[cfg(target_os = "none")]

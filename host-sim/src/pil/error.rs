@@ -16,6 +16,10 @@ pub enum PilError {
     /// `--rate-hz` out of range for the board.
     #[error("--rate-hz {0}: must be within 1000..=20000 and divide 25 MHz")]
     Rate(u32),
+    /// `--app-session` without the local-model scene (the application's updates are local
+    /// models), or with `--link-check` (whose host owns the command queue).
+    #[error("--app-session needs --local-model (the application sends local models) and no --link-check")]
+    AppSessionNeedsLocalModel,
     /// `pil-decode --rate-hz 0`.
     #[error("--rate-hz must be positive")]
     DecodeRate,

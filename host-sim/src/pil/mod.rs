@@ -79,6 +79,12 @@ pub struct Args {
     /// scene (`reference::firmware_config`). Without it: the default build's fixed plane.
     #[arg(long)]
     pub local_model: bool,
+    /// Play the scripted application session (`softfinger_app::scripted_app`): a state stream at
+    /// 2 kHz from power-up, once armed a local model every 1 ms and a contact-parameter change
+    /// every 100 ms, through the tick's link command queue on the board and
+    /// `Pipeline::link_command` in the in-process run, at the same ticks.
+    #[arg(long)]
+    pub app_session: bool,
     /// Instruction budget file (JSON: tolerance_percent, baseline {rate: {name: instructions}}).
     #[arg(long)]
     pub budget: Option<PathBuf>,
@@ -196,6 +202,7 @@ fn settings(args: &Args, scene: &Scene) -> Result<session::Settings, PilError> {
         scene_ticks: (duration_s * f64::from(rate_hz)).round() as u64,
         fault: args.fault,
         fault_offset: (args.fault_at_s * f64::from(rate_hz)).round() as u64,
+        app_session: args.app_session,
     })
 }
 
@@ -329,6 +336,9 @@ fn link_main(args: &Args) -> Result<(), PilError> {
 
 /// `host-sim pil`.
 pub fn main(args: &Args) -> Result<(), PilError> {
+    if args.app_session && (args.link_check || !args.local_model) {
+        return Err(PilError::AppSessionNeedsLocalModel);
+    }
     if args.link_check {
         return link_main(args);
     }

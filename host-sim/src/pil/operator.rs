@@ -10,6 +10,7 @@
 
 use crate::sim::closed_loop::{POWER_UP_S, SETTLE_S};
 use crate::sim::plant::Plant;
+use softfinger_app::scripted_app::ScriptedApp;
 use softfinger_core::control::pipeline::{Command, Mode};
 
 /// Longest homing the session waits for, s (as `closed_loop::prepare`).
@@ -33,6 +34,8 @@ enum Phase {
 /// The operator, tick by tick.
 #[derive(Clone, Debug)]
 pub struct Operator {
+    /// With the scripted application session: ticks between its updates once armed.
+    app_period: Option<u64>,
     power_up_ticks: u64,
     settle_ticks: u64,
     homing_limit: u64,
@@ -44,10 +47,31 @@ impl Operator {
     pub fn new(rate_hz: u32) -> Operator {
         let ticks = |s: f64| ((s * f64::from(rate_hz)).round() as u64).max(1);
         Operator {
+            app_period: None,
             power_up_ticks: ticks(POWER_UP_S),
             settle_ticks: ticks(SETTLE_S),
             homing_limit: ticks(HOMING_WAIT_S),
             phase: Phase::PowerUp,
+        }
+    }
+
+    /// The operator of the run `s` (with the scripted application session if it has one).
+    pub fn for_settings(s: &super::session::Settings) -> Operator {
+        let rate = s.rate_hz();
+        Operator {
+            app_period: s
+                .app_session
+                .then(|| u64::from(ScriptedApp::update_period_ticks(rate))),
+            ..Operator::new(rate)
+        }
+    }
+
+    /// The scripted application gives its next update after tick `k` (from the scene's first
+    /// tick, every update period). Ask after [`Self::before_sample`] for the same `k`.
+    pub fn app_step(&self, k: u64) -> bool {
+        match (self.app_period, self.phase) {
+            (Some(p), Phase::Scene { start }) => k >= start && (k - start) % p == 0,
+            _ => false,
         }
     }
 

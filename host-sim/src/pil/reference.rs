@@ -11,6 +11,7 @@ use super::operator::Operator;
 use super::session::Settings;
 use super::PilError;
 use crate::sim::plant::Plant;
+use softfinger_app::scripted_app::ScriptedApp;
 use softfinger_core::contact::params::ContactParams;
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::contact::RollingOnly;
@@ -74,11 +75,13 @@ pub fn run<S: Environment>(
 ) -> Result<RefRun, PilError> {
     let mut plant = plant.clone();
     let timing = config.timing;
+    let config_contact = config.contact;
     let planned = OutputTiming::planned(&timing);
     let load_after = planned.effect_counts / planned.pwm_counts.max(1);
     let mut pipe = Pipeline::<Fast, S>::new(config)?;
     plant.step_bridges(&BridgeCommands::OFF, &timing);
-    let mut op = Operator::new(s.rate_hz());
+    let mut op = Operator::for_settings(s);
+    let mut app = ScriptedApp::new(config_contact);
     let mut prev_mode = Mode::Unhomed;
     let mut ticks = Vec::new();
     for k in 0.. {
@@ -102,6 +105,9 @@ pub fn run<S: Environment>(
         if let Some(c) = command {
             // A refusal is the pipeline's answer, as on the board.
             let _ = pipe.command(c);
+        } else if op.app_step(k) {
+            // After the operator's queue, as the board's tick serves its link queue.
+            let _ = pipe.link_command(app.next_command());
         }
         prev_mode = out.mode;
         ticks.push(RefTick {

@@ -64,6 +64,8 @@ pub struct Settings {
     pub fault: Fault,
     /// Ticks from the scene's start to the fault.
     pub fault_offset: u64,
+    /// The scripted application session runs (`softfinger_app::scripted_app`).
+    pub app_session: bool,
 }
 
 impl Settings {
@@ -165,8 +167,10 @@ impl Lockstep<'_> {
     fn sense_reply(&mut self, mode: Mode) -> [u8; wire::REPLY_LEN] {
         let k = self.period.saturating_sub(1);
         let mut command = None;
+        let mut app_step = false;
         if k >= self.next_tick {
             command = self.op.before_sample(k, mode, &mut self.plant);
+            app_step = self.op.app_step(k);
             self.next_tick = k + 1;
         }
         let start = self.op.scene_start();
@@ -192,7 +196,12 @@ impl Lockstep<'_> {
             control |= wire::CONTROL_INJECT;
         }
         self.trace.samples += 1;
-        wire::sense_reply(raw.counts, raw.driver_fault, control, command_code(command))
+        let code = if app_step && command.is_none() {
+            wire::APP_STEP
+        } else {
+            command_code(command)
+        };
+        wire::sense_reply(raw.counts, raw.driver_fault, control, code)
     }
 }
 
@@ -214,7 +223,7 @@ pub fn run_with_link(
         plant,
         s,
         stop,
-        op: Operator::new(s.rate_hz()),
+        op: Operator::for_settings(s),
         period: 0,
         next_tick: 0,
         base: 0,
@@ -237,7 +246,12 @@ pub fn run_with_link(
             // A fault is injected once: a rebooted board's test hook stays disarmed.
             let code = if booted { 0 } else { s.fault.board_code() };
             booted = true;
-            emu.reply(&wire::hello_reply(s.rate_hz(), code, host_link))?;
+            emu.reply(&wire::hello_reply(
+                s.rate_hz(),
+                code,
+                host_link,
+                s.app_session && !host_link,
+            ))?;
             continue;
         }
         l.advance_to((l.base + st.time_counts) / period_counts(s.rate_hz()));

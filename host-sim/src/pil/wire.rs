@@ -133,17 +133,28 @@ pub fn sense_reply(counts: [u16; 6], n_fault: bool, control: u8, command: u8) ->
 }
 
 /// Reply to `Hello`: control rate, the fault the board's test hook injects when asked.
-pub fn hello_reply(rate_hz: u32, fault_code: u32, host_link: bool) -> [u8; REPLY_LEN] {
+pub fn hello_reply(
+    rate_hz: u32,
+    fault_code: u32,
+    host_link: bool,
+    app_session: bool,
+) -> [u8; REPLY_LEN] {
     let mut r = [0u8; REPLY_LEN];
     r[0..4].copy_from_slice(&rate_hz.to_le_bytes());
     r[4..8].copy_from_slice(&fault_code.to_le_bytes());
-    r[8] = if host_link { HELLO_HOST_LINK } else { 0 };
+    r[8] = if host_link { HELLO_HOST_LINK } else { 0 }
+        | if app_session { HELLO_APP_SESSION } else { 0 };
     r
 }
 
 /// Hello reply byte 8: the board runs the host link on UART0, which owns its command queue (the
 /// operator's commands in the sense replies are then ignored).
 pub const HELLO_HOST_LINK: u8 = 1 << 0;
+/// Hello reply byte 8: the scripted application session runs; a sense reply's command byte
+/// [`APP_STEP`] then hands the tick the application's next update.
+pub const HELLO_APP_SESSION: u8 = 1 << 1;
+/// A sense reply's command byte: the scripted application's next update, after this tick.
+pub const APP_STEP: u8 = 5;
 
 #[cfg(test)]
 mod tests {
@@ -152,10 +163,13 @@ mod tests {
     #[test]
     fn the_hello_reply_carries_rate_fault_and_the_host_link_bit() {
         // The board reads byte 8 bit 0 (firmware/src/board/mps2/link.rs, HELLO_HOST_LINK).
-        let on = hello_reply(20_000, 3, true);
-        let off = hello_reply(20_000, 3, false);
+        let on = hello_reply(20_000, 3, true, false);
+        let off = hello_reply(20_000, 3, false, false);
+        let app = hello_reply(20_000, 3, false, true);
         assert_eq!(on[8], 1);
         assert_eq!(off[8], 0);
+        // The board reads bit 1 (HELLO_APP_SESSION).
+        assert_eq!(app[8], 2);
         assert_eq!(on[..8], off[..8]);
         assert_eq!(u32::from_le_bytes([on[0], on[1], on[2], on[3]]), 20_000);
         assert_eq!(u32::from_le_bytes([on[4], on[5], on[6], on[7]]), 3);

@@ -12,7 +12,7 @@
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 use cortex_m::peripheral::NVIC;
-use heapless::spsc::Producer;
+use heapless::spsc::{Consumer, Producer};
 use softfinger_core::control::pipeline::{BridgeCommands, Command};
 
 use super::cmsdk::{FreeRunning, Irq, Watchdog, PCLK_HZ, TICK_TIMER};
@@ -73,6 +73,14 @@ pub static MAX_TICK: AtomicU32 = AtomicU32::new(0);
 pub static TICKS: AtomicU32 = AtomicU32::new(0);
 pub static OVERRUNS: AtomicU32 = AtomicU32::new(0);
 
+/// The scripted application's updates on their way to the tick: prepared in thread mode (the
+/// application's side), moved to the tick's link command queue on the plant's
+/// [`link::APP_STEP`] (as a host link's request arrives: served at the end of that tick).
+pub struct AppFeed {
+    pub ready: Consumer<'static, Command>,
+    pub link_commands: Producer<'static, Command>,
+}
+
 /// Everything the control interrupt touches on this board.
 pub struct Mps2Control {
     /// Tick period in 170 MHz timer counts.
@@ -80,14 +88,22 @@ pub struct Mps2Control {
     /// Operator commands from the plant's operator, into the tick's command queue.
     commands: Producer<'static, Command>,
     fault: Injected,
+    /// With the scripted application session.
+    app: Option<AppFeed>,
 }
 
 impl Mps2Control {
-    pub fn new(period_counts: u32, commands: Producer<'static, Command>, fault: Injected) -> Self {
+    pub fn new(
+        period_counts: u32,
+        commands: Producer<'static, Command>,
+        fault: Injected,
+        app: Option<AppFeed>,
+    ) -> Self {
         Mps2Control {
             period_counts,
             commands,
             fault,
+            app,
         }
     }
 }
@@ -137,6 +153,14 @@ impl ControlHw for Mps2Control {
         if let Some(c) = link::command(s.command) {
             // Served at the end of this tick, in effect from the next (as a button press would be).
             let _ = self.commands.enqueue(c);
+        } else if s.command == link::APP_STEP {
+            if let Some(app) = &mut self.app {
+                // None ready (the application's task starved): the update is missed, and the
+                // comparison with the in-process run shows it.
+                if let Some(c) = app.ready.dequeue() {
+                    let _ = app.link_commands.enqueue(c);
+                }
+            }
         }
         RawSample {
             counts: s.counts,

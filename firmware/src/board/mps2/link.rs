@@ -14,7 +14,9 @@
 //! `[13]` control bits ([`CONTROL_STOP`], [`CONTROL_LOG_STALL`], [`CONTROL_INJECT`]), `[14]` an
 //! operator command ([`command`]); to `Hello`: `[0..4]` control rate (Hz), `[4..8]` the fault the
 //! test hook injects when asked, `[8]` bit 0: the host link on UART0 owns the command queue
-//! ([`HELLO_HOST_LINK`]; the plant's operator commands are then ignored).
+//! ([`HELLO_HOST_LINK`]; the plant's operator commands are then ignored), bit 1: the scripted
+//! application session runs ([`HELLO_APP_SESSION`]; byte 14 = [`APP_STEP`] then gives its next
+//! update).
 //! The host side is host-sim/src/pil/wire.rs; both sides must change together.
 #![allow(unsafe_code)]
 
@@ -55,6 +57,10 @@ pub const CONTROL_STOP: u8 = 1 << 0;
 pub const CONTROL_LOG_STALL: u8 = 1 << 1;
 /// Reply control bit: the test hook injects its fault in this tick.
 pub const CONTROL_INJECT: u8 = 1 << 2;
+
+/// A reply's byte 14: the scripted application's next update is due after this tick
+/// (`softfinger_app::scripted_app`; `host-sim pil --app-session`).
+pub const APP_STEP: u8 = 5;
 
 /// The operator command of a reply's byte 14 (0: none).
 pub fn command(code: u8) -> Option<Command> {
@@ -148,6 +154,8 @@ fn receive() -> Option<[u8; REPLY_LEN]> {
 
 /// Hello reply byte 8: the host link on UART0 owns the command queue.
 pub const HELLO_HOST_LINK: u8 = 1 << 0;
+/// Hello reply byte 8: the scripted application session runs (its updates on [`APP_STEP`]).
+pub const HELLO_APP_SESSION: u8 = 1 << 1;
 
 /// How the plant configures a run.
 #[derive(Clone, Copy, Debug)]
@@ -158,6 +166,8 @@ pub struct RunConfig {
     pub fault_code: u32,
     /// The host link on UART0 runs and owns the command queue.
     pub host_link: bool,
+    /// The scripted application session runs.
+    pub app_session: bool,
 }
 
 /// Announce a boot; returns the run's configuration.
@@ -169,6 +179,7 @@ pub fn hello(reset_cause: u32) -> Option<RunConfig> {
         rate_hz: word(0),
         fault_code: word(4),
         host_link: r[8] & HELLO_HOST_LINK != 0,
+        app_session: r[8] & HELLO_APP_SESSION != 0,
     })
 }
 

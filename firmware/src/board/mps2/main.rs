@@ -41,6 +41,7 @@ use softfinger_app::link::info::{min_stream_divisor, InfoSource};
 use softfinger_app::link::session::{LinkConfig, LinkSession};
 use softfinger_app::link::task::LinkQueues;
 use softfinger_app::persist::{DeviceStore, PacedFlash};
+use softfinger_app::scripted_app::ScriptedApp;
 use softfinger_app::tick::{self, CommandOutcome, ControlLoop};
 use softfinger_app::{config, logger, queues, stream, supervisor};
 
@@ -78,6 +79,29 @@ async fn host_link_task(
     let session = LinkSession::<LINK_TX_BYTES, _>::with_store(&config, store);
     softfinger_app::link::task::run(uart::Uart0::open(), session, commands, queues, LINK_POLL_US)
         .await
+}
+
+/// Updates the scripted application prepares ahead of the tick.
+const APP_READY_LEN: usize = 4;
+
+/// The scripted application (`softfinger_app::scripted_app`): its state stream on from the
+/// start (drained here, as a host link would take it), its next updates kept ready for the tick
+/// to take on the plant's `APP_STEP`.
+#[embassy_executor::task]
+async fn scripted_app_task(
+    rate_hz: u32,
+    mut app: ScriptedApp,
+    mut ready: Producer<'static, Command>,
+    mut stream: Consumer<'static, stream::StreamPoint>,
+) {
+    stream::set_divisor(ScriptedApp::stream_divisor(rate_hz));
+    loop {
+        while ready.ready() {
+            let _ = ready.enqueue(app.next_command());
+        }
+        while stream.dequeue().is_some() {}
+        Timer::after_micros(LINK_POLL_US).await;
+    }
 }
 
 /// The host link's queues (command outcomes, stream points) and the tick's end of the stream;
@@ -203,19 +227,18 @@ fn open_board(reset_cause: u32) -> link::RunConfig {
 /// emulation.
 fn spawn_command_side(
     spawner: Spawner,
-    host_link: bool,
-    rate_hz: u32,
+    run: &link::RunConfig,
     config: &PipelineConfig<config::TickEnvironment>,
     command_tx: Producer<'static, Command>,
     link_command_tx: Producer<'static, Command>,
     outcome_rx: Consumer<'static, CommandOutcome>,
-) -> (Producer<'static, Command>, hw::StreamTx) {
-    if host_link {
+) -> (Producer<'static, Command>, hw::StreamTx, Option<hw::AppFeed>) {
+    if run.host_link {
         let Some((queues, stream_tx)) = link_queues(outcome_rx) else {
             error!("the host link needs the local-model build (as the STM32's USB build)");
             exit(false)
         };
-        match host_link_task(host_link_config(rate_hz, config), link_command_tx, queues) {
+        match host_link_task(host_link_config(run.rate_hz, config), link_command_tx, queues) {
             Ok(t) => spawner.spawn(t),
             Err(e) => error!("host link task not spawned: {}", e),
         }
@@ -226,27 +249,43 @@ fn spawn_command_side(
         else {
             exit(false)
         };
-        (discarded.split().0, stream_tx)
-    } else {
-        match supervisor_task(outcome_rx) {
-            Ok(t) => spawner.spawn(t),
-            Err(e) => error!("supervisor task not spawned: {}", e),
-        }
+        return (discarded.split().0, stream_tx, None);
+    }
+    match supervisor_task(outcome_rx) {
+        Ok(t) => spawner.spawn(t),
+        Err(e) => error!("supervisor task not spawned: {}", e),
+    }
+    if !run.app_session {
         let Some(stream_tx) = hw::idle_stream() else {
             exit(false)
         };
-        (command_tx, stream_tx)
+        return (command_tx, stream_tx, None);
     }
+    let (Some(ready), Some(points)) = (
+        cortex_m::singleton!(: Queue<Command, APP_READY_LEN> = Queue::new()),
+        cortex_m::singleton!(: Queue<stream::StreamPoint, { stream::QUEUE_LEN }> = Queue::new()),
+    ) else {
+        exit(false)
+    };
+    let (ready_tx, ready_rx) = ready.split();
+    let (stream_tx, stream_rx) = points.split();
+    let app = ScriptedApp::new(config.contact);
+    match scripted_app_task(run.rate_hz, app, ready_tx, stream_rx) {
+        Ok(t) => spawner.spawn(t),
+        Err(e) => error!("scripted application task not spawned: {}", e),
+    }
+    let feed = hw::AppFeed {
+        ready: ready_rx,
+        link_commands: link_command_tx,
+    };
+    (command_tx, stream_tx, Some(feed))
 }
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
     let reset_cause = faults::take_reset_cause();
-    let link::RunConfig {
-        rate_hz,
-        fault_code,
-        host_link,
-    } = open_board(reset_cause);
+    let run = open_board(reset_cause);
+    let (rate_hz, fault_code) = (run.rate_hz, run.fault_code);
     let config = pipeline_config(rate_hz);
     let pipeline = match tick::TickPipeline::new(config) {
         Ok(p) => p,
@@ -268,10 +307,9 @@ async fn main(spawner: Spawner) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("logger task not spawned: {}", e),
     }
-    let (command_tx, stream_tx) = spawn_command_side(
+    let (command_tx, stream_tx, app) = spawn_command_side(
         spawner,
-        host_link,
-        rate_hz,
+        &run,
         &config,
         tasks.commands,
         tasks.link_commands,
@@ -281,7 +319,10 @@ async fn main(spawner: Spawner) {
     if fault != hw::Injected::None {
         warn!("test hook armed: {}", fault);
     }
-    let control = hw::Mps2Control::new(config.timing.tick_period_counts(), command_tx, fault);
+    if app.is_some() {
+        info!("scripted application session: updates at 1 kHz once armed, stream at 2 kHz");
+    }
+    let control = hw::Mps2Control::new(config.timing.tick_period_counts(), command_tx, fault, app);
     let queues = tick_ends.with_stream(stream_tx);
     faults::set_watchdog_counts(WATCHDOG_COUNTS);
     if !hw::start_tick(
