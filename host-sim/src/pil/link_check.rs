@@ -64,10 +64,11 @@ fn converse(c: &mut Client, rate_hz: u32, r: &mut LinkReport) -> Result<(), Link
     bad_frames(c, r)?;
     refused_models(c, r)?;
     super::link_settings::check_disarmed(c, rate_hz, r)?;
+    let after_update = super::link_settings::check_update(c, rate_hz, r)?;
     let armed = home_and_arm(c, rate_hz, r)?;
     super::link_settings::check_armed(c, r)?;
     super::link_model::check(c, rate_hz, min_divisor, r)?;
-    let states = check_state_frames(c, rate_hz, min_divisor, armed.tick, r);
+    let states = check_state_frames(c, rate_hz, min_divisor, after_update, armed.tick, r);
     check_tick_timing(c, rate_hz, r);
     check_mode_order(c, r);
     final_counters(c, states, r)
@@ -246,22 +247,32 @@ fn home_and_arm(
     Ok(armed)
 }
 
-/// Every multiple of the divisor from the first sample to the last: no gap, nothing dropped,
-/// finite values, the stream started by `armed_tick`; returns the number of states.
+/// Every multiple of the divisor from `from_tick` (after the update) to the last sample: no gap,
+/// nothing dropped, finite values, the stream running by `armed_tick`; returns the number of
+/// those states.
 fn check_state_frames(
     c: &Client,
     rate_hz: u32,
     min_divisor: u16,
+    from_tick: u64,
     armed_tick: u64,
     r: &mut LinkReport,
 ) -> usize {
-    let ticks: Vec<u64> = c.states.iter().map(|s| s.tick).collect();
-    let gaps = ticks
+    // From the end of the update on (the update blocks the link task and loses samples: its own
+    // check counts them, `link_settings::check_update`).
+    let since: Vec<&StateSample> = c.states.iter().filter(|s| s.tick >= from_tick).collect();
+    let ticks: Vec<u64> = since.iter().map(|s| s.tick).collect();
+    let gap_at: Vec<u64> = ticks
         .windows(2)
         .filter(|w| w[1] != w[0] + u64::from(min_divisor))
-        .count();
-    let dropped = c.states.last().map_or(0, |s| s.dropped);
-    let finite = c.states.iter().all(|s| {
+        .map(|w| w[0])
+        .collect();
+    let gaps = gap_at.len();
+    let dropped = since
+        .last()
+        .zip(since.first())
+        .map_or(0, |(b, a)| b.dropped.saturating_sub(a.dropped));
+    let finite = since.iter().all(|s| {
         s.probe_m
             .iter()
             .chain(&s.probe_vel_m_s)
@@ -275,15 +286,16 @@ fn check_state_frames(
         .zip(ticks.first())
         .map_or(0.0, |(b, a)| (b - a) as f64 / f64::from(rate_hz));
     r.check(
-        "state frames: every tick on the divisor, no gap, none dropped, finite values",
+        "state frames after the update (homing, arming, the models): every tick on the divisor, no gap, none dropped, finite values",
         gaps == 0 && dropped == 0 && finite && ticks.first() <= Some(&armed_tick),
         format!(
             "{} states over {seconds:.2} s of board time ({:.0} Hz), ticks {:?}..{:?}, gaps {gaps}, \
-             dropped {dropped}",
+             dropped {dropped}, first gaps after ticks {:?}",
             ticks.len(),
             (ticks.len().saturating_sub(1)) as f64 / seconds.max(1e-9),
             ticks.first(),
-            ticks.last()
+            ticks.last(),
+            &gap_at[..gap_at.len().min(5)]
         ),
     );
     ticks.len()
