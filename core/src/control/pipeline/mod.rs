@@ -436,11 +436,7 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
     #[must_use]
     fn extend_counts(&mut self, raw: [u16; CHANNELS]) -> Flags {
         match &mut self.encoders {
-            Some(bank) => {
-                let (p, f) = bank.update(raw);
-                self.extended = p;
-                f
-            }
+            Some(bank) => bank.update_into(raw, &mut self.extended),
             None => {
                 self.encoders = Some(EncoderBank::new(raw, self.glitch_limit));
                 self.extended = [0; CHANNELS];
