@@ -68,6 +68,11 @@ pub struct Controller<M: Math, S: Environment = Plane> {
     pending: Flags,
     /// The passivity observer and controller (on by default).
     passivity: Passivity,
+    /// The device's arm angle per extended motor count, rad/count
+    /// ([`DeviceParams::arm_rad_per_motor_count`], computed once: the device never changes).
+    arm_rad_per_count: f32,
+    /// The device's wrist angle per count, rad/count ([`DeviceParams::wrist_rad_per_count`]).
+    wrist_rad_per_count: f32,
 }
 
 /// Faults that latch: the outputs stay at zero torque until an explicit clear (one set, defined
@@ -105,6 +110,8 @@ impl<M: Math, S: Environment> Controller<M, S> {
                 stored_spring(&config.contact),
                 config.contact.max_force_n,
             )?,
+            arm_rad_per_count: config.device.arm_rad_per_motor_count(),
+            wrist_rad_per_count: config.device.wrist_rad_per_count(),
         })
     }
 
@@ -220,8 +227,13 @@ impl<M: Math, S: Environment> Controller<M, S> {
         // Kinematics.
         let dev = &self.config.device;
         let named = EncoderCounts::from(*counts);
-        let angles = named.motor.map(|c| dev.motor_counts_to_arm_angle_rad(c));
-        let wrist = named.wrist.map(|c| dev.wrist_counts_to_angle_rad(c));
+        // `DeviceParams::motor_counts_to_arm_angle_rad` and `wrist_counts_to_angle_rad` with
+        // their scales computed once (the same operations, so the same bits).
+        let (k_arm, k_wrist) = (self.arm_rad_per_count, self.wrist_rad_per_count);
+        let angles = named
+            .motor
+            .map(|c| dev.arm_angle_at_zero_count_rad + c as f32 * k_arm);
+        let wrist = named.wrist.map(|c| c as f32 * k_wrist);
         let (pose, mut kflags) = dev.delta.pose::<M>(angles);
         let [lo, hi] = self.config.limits.arm_angle_range_rad;
         if angles.iter().any(|a| !(lo..=hi).contains(a)) {

@@ -212,6 +212,34 @@ impl OutputGuard {
         events: Flags,
         overrun: bool,
     ) -> Guarded {
+        self.guard::<true>(counts, out, events, overrun)
+    }
+
+    /// [`Self::apply`] without its own glitch check, for a caller whose `events` already carry
+    /// [`Flags::ENCODER_GLITCH`] from a count extension (`device::encoder::EncoderBank`) with the
+    /// same limit (`ticks.max_counts_per_tick`, counts per tick) that is fed every tick `counts`
+    /// come from: the extension's per-tick difference of a channel is exactly the difference of
+    /// its extended counts, so the guard's check would find nothing the extension has not
+    /// already flagged (the pipeline's case; it saves six comparisons before the compare
+    /// writes). The stuck check, the latching and the duty limit are [`Self::apply`]'s.
+    pub fn apply_extension_checked(
+        &mut self,
+        counts: &[i32; CHANNELS],
+        out: &TickOutput,
+        events: Flags,
+        overrun: bool,
+    ) -> Guarded {
+        self.guard::<false>(counts, out, events, overrun)
+    }
+
+    #[inline(always)]
+    fn guard<const CHECK_GLITCH: bool>(
+        &mut self,
+        counts: &[i32; CHANNELS],
+        out: &TickOutput,
+        events: Flags,
+        overrun: bool,
+    ) -> Guarded {
         let mut flags = out.flags | events;
         let t = self.config.ticks;
         self.overruns = if overrun {
@@ -231,10 +259,12 @@ impl OutputGuard {
             out.duties.map(|d| if d.is_finite() { d } else { 0.0 })
         };
         if self.started {
-            let max = u32::from(t.max_counts_per_tick);
-            for (now, before) in counts.iter().zip(self.prev_counts.iter()) {
-                if now.wrapping_sub(*before).unsigned_abs() > max {
-                    flags |= Flags::ENCODER_GLITCH;
+            if CHECK_GLITCH {
+                let max = u32::from(t.max_counts_per_tick);
+                for (now, before) in counts.iter().zip(self.prev_counts.iter()) {
+                    if now.wrapping_sub(*before).unsigned_abs() > max {
+                        flags |= Flags::ENCODER_GLITCH;
+                    }
                 }
             }
             for (k, stuck) in self.stuck.iter_mut().enumerate() {

@@ -107,13 +107,22 @@ impl<const N: usize> EncoderBank<N> {
     #[must_use]
     pub fn update(&mut self, raw: [u16; N]) -> ([i32; N], Flags) {
         let mut positions = [0i32; N];
+        let flags = self.update_into(raw, &mut positions);
+        (positions, flags)
+    }
+
+    /// [`Self::update`] writing the positions (counts) into `positions` in place (no array
+    /// returned and copied: the control tick's way); returns the union of the flags.
+    #[inline]
+    #[must_use]
+    pub fn update_into(&mut self, raw: [u16; N], positions: &mut [i32; N]) -> Flags {
         let mut flags = Flags::NONE;
         for ((ext, r), p) in self.extenders.iter_mut().zip(raw).zip(positions.iter_mut()) {
             let e = ext.update(r);
             *p = e.position;
             flags |= e.flags;
         }
-        (positions, flags)
+        flags
     }
 
     /// The current positions, counts.

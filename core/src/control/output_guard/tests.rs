@@ -452,3 +452,31 @@ fn phase_enable_compare_never_exceeds_full_scale() {
         );
     }
 }
+
+/// `apply_extension_checked` with the count extension's flags in `events` gives exactly what
+/// `apply` gives: a sequence of raw 16-bit readings with steps below, at and above the glitch
+/// limit (10 counts), wrapping round the counter, through one extension bank per guard.
+#[test]
+fn extension_checked_guard_matches_the_full_guard_when_fed_by_the_extension() {
+    use crate::device::encoder::EncoderBank;
+    let steps: [i32; 12] = [0, 3, -10, 10, 11, -11, 0, 40_000, -7, 2, -30_000, 1];
+    let first = [65_530u16, 0, 5, 32_767, 32_768, 100];
+    let mut bank = EncoderBank::new(first, TICKS.max_counts_per_tick);
+    let (mut full, mut checked) = (guard(), guard());
+    let mut raw = first;
+    let mut extended = [0i32; 6];
+    for (k, step) in steps.iter().enumerate() {
+        for (i, r) in raw.iter_mut().enumerate() {
+            // Even channels move by `step` counts, odd ones by half of it.
+            let s = if i % 2 == 0 { *step } else { *step / 2 };
+            *r = r.wrapping_add(s as u16);
+        }
+        let events = bank.update_into(raw, &mut extended);
+        let o = out([0.3, -0.1, 0.0]);
+        let a = full.apply(&extended, &o, events, false);
+        let b = checked.apply_extension_checked(&extended, &o, events, false);
+        assert_eq!(a, b, "tick {k}");
+        assert_eq!(full.latched(), checked.latched(), "tick {k}");
+    }
+    assert!(full.latched().contains(Flags::ENCODER_GLITCH));
+}

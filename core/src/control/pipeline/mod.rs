@@ -396,7 +396,9 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
         let (out, drive, gain) = self.control(counts, ready);
         let g = self
             .guard
-            .apply(&self.extended, &out, events, verdict.overrun);
+            // The count extension above already checked every channel's step against the same
+            // limit (`glitch_limit`), every tick: its ENCODER_GLITCH is in `events`.
+            .apply_extension_checked(&self.extended, &out, events, verdict.overrun);
         if !self.guard.latched().is_empty() && self.mode != Mode::Faulted {
             self.enter_fault();
         }
@@ -434,11 +436,7 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
     #[must_use]
     fn extend_counts(&mut self, raw: [u16; CHANNELS]) -> Flags {
         match &mut self.encoders {
-            Some(bank) => {
-                let (p, f) = bank.update(raw);
-                self.extended = p;
-                f
-            }
+            Some(bank) => bank.update_into(raw, &mut self.extended),
             None => {
                 self.encoders = Some(EncoderBank::new(raw, self.glitch_limit));
                 self.extended = [0; CHANNELS];
