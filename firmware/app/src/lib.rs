@@ -56,5 +56,6 @@ pub mod __private {
     #[cfg(target_os = "none")]
     pub use cortex_m_rt;
     pub use critical_section;
+    #[cfg(feature = "defmt")]
     pub use defmt;
 }

@@ -23,7 +23,8 @@ pub struct ResetFlags {
 }
 
 /// The one cause reported: the most specific flag set.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, defmt::Format)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum ResetCause {
     PowerOn,
     Pin,
