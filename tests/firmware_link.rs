@@ -930,7 +930,7 @@ fn the_scripted_application_moves_the_plane_within_its_amplitude_and_changes_par
     // The whole wave (its turning points fall on parameter updates: one step short), no further.
     for extreme in [highest, -lowest] {
         assert!(
-            extreme <= AMPLITUDE_M && extreme >= 0.98 * AMPLITUDE_M,
+            (0.98 * AMPLITUDE_M..=AMPLITUDE_M).contains(&extreme),
             "{lowest} {highest}"
         );
     }

@@ -70,7 +70,7 @@ impl Operator {
     /// tick, every update period). Ask after [`Self::before_sample`] for the same `k`.
     pub fn app_step(&self, k: u64) -> bool {
         match (self.app_period, self.phase) {
-            (Some(p), Phase::Scene { start }) => k >= start && (k - start) % p == 0,
+            (Some(p), Phase::Scene { start }) => k >= start && (k - start).is_multiple_of(p),
             _ => false,
         }
     }

@@ -174,9 +174,10 @@ mod tests {
     /// A flash whose store holds a record that fails its CRC.
     fn corrupt_store() -> G474Flash {
         let mut f = G474Flash::new(G474_FLASH_LEN as usize / PAGE_SIZE);
-        let mut st = softfinger_store::Store::new(&mut f, G474.store.clone()).unwrap();
-        embassy_futures::block_on(st.save_raw_record(&[0xFF, 0x7F, 1, 2, 3, 4, 5, 6])).unwrap();
-        drop(st);
+        {
+            let mut st = softfinger_store::Store::new(&mut f, G474.store.clone()).unwrap();
+            embassy_futures::block_on(st.save_raw_record(&[0xFF, 0x7F, 1, 2, 3, 4, 5, 6])).unwrap();
+        }
         f
     }
 

@@ -232,13 +232,21 @@ fn spawn_command_side(
     command_tx: Producer<'static, Command>,
     link_command_tx: Producer<'static, Command>,
     outcome_rx: Consumer<'static, CommandOutcome>,
-) -> (Producer<'static, Command>, hw::StreamTx, Option<hw::AppFeed>) {
+) -> (
+    Producer<'static, Command>,
+    hw::StreamTx,
+    Option<hw::AppFeed>,
+) {
     if run.host_link {
         let Some((queues, stream_tx)) = link_queues(outcome_rx) else {
             error!("the host link needs the local-model build (as the STM32's USB build)");
             exit(false)
         };
-        match host_link_task(host_link_config(run.rate_hz, config), link_command_tx, queues) {
+        match host_link_task(
+            host_link_config(run.rate_hz, config),
+            link_command_tx,
+            queues,
+        ) {
             Ok(t) => spawner.spawn(t),
             Err(e) => error!("host link task not spawned: {}", e),
         }

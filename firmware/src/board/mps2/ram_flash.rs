@@ -58,9 +58,13 @@ impl RamFlash {
         unsafe { core::slice::from_raw_parts_mut(BASE as *mut u8, LEN) }
     }
 
-    fn range(offset: u32, len: usize, align: usize) -> Result<core::ops::Range<usize>, RamFlashError> {
+    fn range(
+        offset: u32,
+        len: usize,
+        align: usize,
+    ) -> Result<core::ops::Range<usize>, RamFlashError> {
         let o = offset as usize;
-        if o % align != 0 || len % align != 0 {
+        if !o.is_multiple_of(align) || !len.is_multiple_of(align) {
             return Err(RamFlashError::NotAligned);
         }
         let end = o.checked_add(len).ok_or(RamFlashError::OutOfBounds)?;
@@ -91,7 +95,9 @@ impl NorFlash for RamFlash {
     const WRITE_SIZE: usize = DOUBLE_WORD;
     const ERASE_SIZE: usize = PAGE;
     fn erase(&mut self, from: u32, to: u32) -> Result<(), RamFlashError> {
-        let len = (to as usize).checked_sub(from as usize).ok_or(RamFlashError::OutOfBounds)?;
+        let len = (to as usize)
+            .checked_sub(from as usize)
+            .ok_or(RamFlashError::OutOfBounds)?;
         let r = Self::range(from, len, PAGE)?;
         self.bytes()[r].fill(0xFF);
         Ok(())
