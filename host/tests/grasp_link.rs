@@ -42,8 +42,10 @@ fn two_served_devices_hold_the_object_run_on_the_host() {
     // Both devices streamed and got models all along. The loop runs in real time: on a loaded
     // machine its steps start late (counted in `late_steps`, not failed), and 143-305 of the 500
     // models went out in 0.5 s with two compile jobs beside it (500 on a quiet machine), so the
-    // bound is a fifth of the rate.
-    assert!(r.samples.iter().all(|&n| n > 5_000), "{r:?}");
+    // bound is a fifth of the rate. The samples too arrive in real time: 3 725-5 031 from the
+    // second device in four runs on a 2-core machine (the CI machine among them), 7 145 from the
+    // first; the bound is half the 5 000 it was.
+    assert!(r.samples.iter().all(|&n| n > 2_500), "{r:?}");
     assert!(r.models_sent > 100, "{r:?}");
     // The squeeze: within 10 % of the hands' 5 N (measured 4.60 N).
     assert!(
