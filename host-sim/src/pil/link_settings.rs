@@ -7,7 +7,7 @@
 use super::link_client::{Client, LinkError, ANSWER_TIMEOUT};
 use super::link_report::LinkReport;
 use softfinger_protocol::config::{ConfigSection, ConfigValue, StoreStatus};
-use softfinger_protocol::{AckResult, DeviceMsg, Request};
+use softfinger_protocol::{AckResult, DeviceMsg, Request, StateSample};
 use softfinger_store::boot::{FLAG_ABSENT, FLAG_DEFAULTS, FLAG_NO_CALIBRATION};
 
 /// The name the stage saves.
@@ -39,6 +39,25 @@ fn settings_flags(c: &mut Client) -> Result<u8, LinkError> {
         DeviceMsg::Info { info, .. } => Ok(info.settings_flags),
         other => Err(LinkError::unexpected("device info", &other)),
     }
+}
+
+/// The tick's figures in the samples `during` a flash operation that began after the sample
+/// at `first_tick`: every sample without an overrun and within the period, the longest tick
+/// (ns), and the board time the window spans (ticks).
+fn tick_window(during: &[StateSample], first_tick: Option<u64>, rate_hz: u32) -> (bool, u32, u64) {
+    let period_ns = 1e9 / f64::from(rate_hz);
+    let calm = during
+        .iter()
+        .all(|s| s.tick_stats.overruns == 0 && f64::from(s.tick_stats.max_duration_ns) < period_ns);
+    let longest = during
+        .iter()
+        .map(|s| s.tick_stats.max_duration_ns)
+        .max()
+        .unwrap_or(0);
+    let ticks = first_tick
+        .zip(during.last().map(|s| s.tick))
+        .map_or(0, |(a, b)| b.saturating_sub(a));
+    (calm, longest, ticks)
 }
 
 /// Before homing: blank store, change, save with the tick's figures meanwhile, read back.
@@ -93,17 +112,7 @@ pub(super) fn check_disarmed(
     c.wait_states(c.states.len() + 1)?;
     let during = &c.states[before..];
     let period_ns = 1e9 / f64::from(rate_hz);
-    let calm = during
-        .iter()
-        .all(|s| s.tick_stats.overruns == 0 && f64::from(s.tick_stats.max_duration_ns) < period_ns);
-    let longest = during
-        .iter()
-        .map(|s| s.tick_stats.max_duration_ns)
-        .max()
-        .unwrap_or(0);
-    let ticks = first_tick
-        .zip(during.last().map(|s| s.tick))
-        .map_or(0, |(a, b)| b.saturating_sub(a));
+    let (calm, longest, ticks) = tick_window(during, first_tick, rate_hz);
     r.check(
         "settings: saved, the tick running meanwhile (no overrun, every sample within the period)",
         matches!(saved, DeviceMsg::Ack { result: AckResult::Ok, .. }) && calm && !during.is_empty(),
@@ -235,18 +244,8 @@ pub(super) fn check_update(
     c.wait_states(c.states.len() + 100)?;
     let during = &c.states[before..];
     let period_ns = 1e9 / f64::from(rate_hz);
-    let calm = during
-        .iter()
-        .all(|s| s.tick_stats.overruns == 0 && f64::from(s.tick_stats.max_duration_ns) < period_ns)
-        && during.iter().all(|s| s.flags == 0);
-    let longest = during
-        .iter()
-        .map(|s| s.tick_stats.max_duration_ns)
-        .max()
-        .unwrap_or(0);
-    let ticks = first_tick
-        .zip(during.last().map(|s| s.tick))
-        .map_or(0, |(a, b)| b.saturating_sub(a));
+    let (calm, longest, ticks) = tick_window(during, first_tick, rate_hz);
+    let calm = calm && during.iter().all(|s| s.flags == 0);
     // The link task is blocked while it writes and checks: the samples the tick could not
     // queue are lost, and the next sample sent says how many.
     let divisor = during
