@@ -64,17 +64,22 @@ class cSoftfingerDevice {
             return false;
         }
     }
-    // CHAI3D: getPosition() of the end effector (the fingertip centre), m, never waits.
+    // CHAI3D: getPosition() of the end effector (the fingertip centre), m, never waits. The
+    // position is kept: the application computes its next force for it.
     bool getPosition(cVector3d &p) {
         auto s = dev_->latest();
         if (!s) return false;
         p = {s->position_m[0], s->position_m[1], s->position_m[2]};
+        last_position_ = p;
+        have_position_ = true;
         return true;
     }
-    // CHAI3D: setForce(); the force becomes the plane that renders it (see the top).
+    // CHAI3D: setForce(); the force becomes the plane that renders it (see the top), placed for
+    // the position of the last getPosition() (the one the force was computed for: a newer
+    // sample would move the plane by the probe's motion in between).
     bool setForce(const cVector3d &f) {
-        cVector3d p;
-        if (!getPosition(p)) return false;
+        if (!have_position_) return false;
+        const cVector3d p = last_position_;
         const double r = info_.fingertip_radius_m, mag = f.length();
         softfinger::LocalModel m;
         m.stiffness_n_per_m = k_;
@@ -126,6 +131,8 @@ class cSoftfingerDevice {
     sf_info_t info_{};
     softfinger::LocalModel plane_;
     bool have_plane_ = false;
+    cVector3d last_position_;
+    bool have_position_ = false;
     cVector3d last_normal_{0.0, 0.0, 1.0};
 };
 
@@ -195,7 +202,8 @@ int main(int argc, char **argv) {
     while (auto s = dev.device().next(0.0)) states.push_back(*s);
     check(states.size() >= 1000, "fewer than 1000 samples streamed");
     int in_contact = 0;
-    double worst = 0.0;
+    double worst = 0.0, worst_spring = 0.0;
+    sf_state worst_sample{};
     for (const auto &s : states) {
         if (s.tick < from || s.tick >= to) continue;
         check(s.mode == SF_MODE_ARMED, "not armed while checked");
@@ -206,7 +214,11 @@ int main(int argc, char **argv) {
         double fmag = std::sqrt(s.force_n[0] * s.force_n[0] + s.force_n[1] * s.force_n[1] +
                                 s.force_n[2] * s.force_n[2]);
         if (fmag >= dev.info().max_force_n * 0.999) continue; // the device's force cap
-        worst = std::fmax(worst, std::fabs(s.force_n[2] - f));
+        if (std::fabs(s.force_n[2] - f) > worst) {
+            worst = std::fabs(s.force_n[2] - f);
+            worst_sample = s;
+            worst_spring = f;
+        }
         in_contact++;
     }
     const double bound_n = 5e-6; // derived in press.c
@@ -215,6 +227,13 @@ int main(int argc, char **argv) {
                 states.size(), in_contact, worst, bound_n);
     check(in_contact >= 900, "fewer than 900 samples in contact");
     check(worst <= bound_n, "normal force off the wall's spring");
+    if (worst > bound_n)
+        std::fprintf(stderr,
+                     "chai_device: worst sample: tick %llu (checked second from %llu), force %.6g N, "
+                     "spring %.6g N, flags 0x%x, model seq %u (first %u), contact %d\n",
+                     (unsigned long long)worst_sample.tick, (unsigned long long)from,
+                     worst_sample.force_n[2], worst_spring, worst_sample.flags,
+                     worst_sample.model_seq, first_seq, worst_sample.contact);
     dev.device().disarm();
     dev.close();
     if (failures) {
