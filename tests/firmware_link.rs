@@ -795,6 +795,70 @@ fn settings_saved_over_the_link_are_read_at_the_next_boot() {
     assert!(q.commands.is_empty());
 }
 
+/// The stored watchdog and stream defaults act from the next boot: the session starts its
+/// stream at `stream.rate_hz` and the pipeline's host watchdog is `watchdog.timeout_ms`.
+#[test]
+fn stored_watchdog_and_stream_defaults_apply_at_the_next_boot() {
+    use softfinger_app::boot_defaults::BootDefaults;
+    use softfinger_store::schema::{StreamDefaults, WatchdogDefaults};
+    let mut q = queue();
+    let mut s = stored_session(blank_flash());
+    assert_eq!(s.stream_divisor(), 0);
+    for (seq, value) in [
+        (1, ConfigValue::Stream(StreamDefaults { rate_hz: 1000 })),
+        (
+            2,
+            ConfigValue::Watchdog(WatchdogDefaults { timeout_ms: 50 }),
+        ),
+    ] {
+        let r = ask(&mut s, &mut q, seq, Request::ConfigSet(value));
+        assert!(
+            matches!(
+                r[..],
+                [DeviceMsg::Ack {
+                    result: AckResult::Ok,
+                    ..
+                }]
+            ),
+            "{r:?}"
+        );
+    }
+    // Set, not yet booted with: nothing changes now.
+    assert_eq!(s.stream_divisor(), 0);
+    let r = ask(&mut s, &mut q, 3, Request::ConfigSave);
+    assert!(
+        matches!(
+            r[..],
+            [DeviceMsg::Ack {
+                result: AckResult::Ok,
+                ..
+            }]
+        ),
+        "{r:?}"
+    );
+    assert_eq!(s.stream_divisor(), 0);
+    // A power cycle.
+    let flash = s.into_store().into_flash();
+    let s = stored_session(flash);
+    assert_eq!(s.stream_divisor(), (RATE_HZ / 1000) as u16);
+    let defaults = s.into_store().boot_defaults();
+    assert_eq!(
+        defaults,
+        BootDefaults {
+            host_watchdog_s: Some(0.05),
+            stream_rate_hz: 1000
+        }
+    );
+    let mut pipeline =
+        softfinger_app::tick::TickPipeline::new(softfinger_app::config::pipeline_config())
+            .expect("the firmware's configuration");
+    assert_eq!(pipeline.host_watchdog_s(), 0.2);
+    assert_eq!(defaults.apply(&mut pipeline), Ok(()));
+    assert_eq!(pipeline.host_watchdog_s(), 0.05);
+    // A board without a store: the built-in ones.
+    assert_eq!(session::<1024>().stream_divisor(), 0);
+}
+
 #[test]
 fn a_store_it_cannot_read_refuses_to_arm_until_reset() {
     let mut flash = blank_flash();

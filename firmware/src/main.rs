@@ -212,7 +212,7 @@ async fn start(spawner: Spawner) {
     bsp::write_protect_ccm(ccm_start, ccm_end);
     let reset_cause = bsp::take_reset_cause();
     info!("reset cause: {=str}", reset_cause.name());
-    let pipeline = match pipeline {
+    let mut pipeline = match pipeline {
         Ok(p) => p,
         Err(e) => {
             error!("configuration rejected: {}; control loop not started", e);
@@ -242,6 +242,15 @@ async fn start(spawner: Spawner) {
     );
     if let Some(why) = store.arm_refusal() {
         error!("arming refused: {=str}", why);
+    }
+    // The stored watchdog and stream defaults, before the first tick (boot_defaults.rs).
+    let defaults = store.boot_defaults();
+    match defaults.apply(&mut pipeline) {
+        Ok(()) => info!("boot defaults: {}", defaults),
+        Err(e) => error!(
+            "stored watchdog.timeout_ms refused ({}): the built-in host watchdog stays",
+            e
+        ),
     }
     let Some((outcome_tap, stream_tx)) =
         start_usb_link(&spawner, usb, tasks.link_commands, store, reset_cause)

@@ -24,9 +24,14 @@ fn kills() -> u32 {
 }
 
 fn start(flash: &std::path::Path) -> (Child, TcpStream) {
+    start_with(flash, &[])
+}
+
+fn start_with(flash: &std::path::Path, extra: &[&str]) -> (Child, TcpStream) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_host-sim"))
         .args(["serve", "--listen", "127.0.0.1:0", "--flash"])
         .arg(flash)
+        .args(extra)
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
         .spawn()
@@ -168,4 +173,92 @@ fn a_sigkill_around_a_save_leaves_the_old_or_the_new_settings() {
         "serve --flash killed with SIGKILL {kills} times around a save: {acked} after the acknowledgement, \
          {unacked} before it; read back the old settings {got_old} times, the new {got_new}, defaults 0"
     );
+}
+
+/// The next answer that is not a state sample, and how many samples came before it.
+fn answer(s: &mut TcpStream) -> (DeviceMsg, u32) {
+    let mut samples = 0;
+    loop {
+        match recv(s).unwrap() {
+            DeviceMsg::State(_) => samples += 1,
+            m => return (m, samples),
+        }
+    }
+}
+
+/// The stored stream and watchdog defaults act after a restart, as on the firmware
+/// (`softfinger_app::boot_defaults`): samples arrive without a `SetStream`, and a host's Arm
+/// turns the stored timeout on.
+#[test]
+fn saved_stream_and_watchdog_defaults_apply_after_a_restart() {
+    use softfinger_store::schema::{StreamDefaults, WatchdogDefaults};
+    let dir = std::env::temp_dir().join(format!("softfinger-boot-defaults-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let flash = dir.join("device.flash");
+    let _ = std::fs::remove_file(&flash);
+    // Disarmed: settings are written only then.
+    let (mut child, mut s) = start(&flash);
+    for (seq, value) in [
+        (1, ConfigValue::Stream(StreamDefaults { rate_hz: 100 })),
+        (
+            2,
+            ConfigValue::Watchdog(WatchdogDefaults { timeout_ms: 50 }),
+        ),
+    ] {
+        send(&mut s, seq, Request::ConfigSet(value)).unwrap();
+        let (m, samples) = answer(&mut s);
+        assert!(
+            matches!(
+                m,
+                DeviceMsg::Ack {
+                    result: softfinger_protocol::AckResult::Ok,
+                    ..
+                }
+            ),
+            "{m:?}"
+        );
+        assert_eq!(samples, 0, "a stream before the restart");
+    }
+    send(&mut s, 3, Request::ConfigSave).unwrap();
+    assert!(matches!(
+        answer(&mut s).0,
+        DeviceMsg::Ack {
+            result: softfinger_protocol::AckResult::Ok,
+            ..
+        }
+    ));
+    child.kill().unwrap();
+    child.wait().unwrap();
+
+    // Armed from the bench (no watchdog) so that a host's Arm re-arms at once.
+    let (mut child, mut s) = start_with(&flash, &["--auto-arm"]);
+    // 100 Hz from the connection on: 0.3 s of device time gives samples before the answer.
+    std::thread::sleep(Duration::from_millis(300));
+    send(&mut s, 4, Request::Arm).unwrap();
+    let (m, samples) = answer(&mut s);
+    assert!(
+        matches!(
+            m,
+            DeviceMsg::Ack {
+                result: softfinger_protocol::AckResult::Ok,
+                ..
+            }
+        ),
+        "{m:?}"
+    );
+    assert!(
+        samples >= 5,
+        "{samples} samples in 0.3 s at the stored 100 Hz"
+    );
+    send(&mut s, 5, Request::GetInfo).unwrap();
+    let DeviceMsg::Info { info, .. } = answer(&mut s).0 else {
+        panic!("no device info")
+    };
+    assert_eq!(
+        info.watchdog_ms, 50,
+        "the host's Arm turns on the stored timeout"
+    );
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
 }

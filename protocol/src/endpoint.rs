@@ -77,6 +77,17 @@ impl DeviceEndpoint {
         self.divisor
     }
 
+    /// Start the stream at `divisor` (0: off) without a request: the device's stored default.
+    /// A divisor faster than the link's fastest is refused, as `SetStream` refuses it, and the
+    /// divisor in force stays.
+    pub fn set_divisor(&mut self, divisor: u16) -> Result<(), ErrorCode> {
+        if divisor != 0 && divisor < self.min_divisor {
+            return Err(ErrorCode::StreamTooFast);
+        }
+        self.divisor = divisor;
+        Ok(())
+    }
+
     /// Encode `msg` and hand it to `send`; counts what was sent and dropped.
     pub fn send(&mut self, msg: &DeviceMsg, send: &mut impl FnMut(&[u8]) -> bool) -> bool {
         let mut buf = [0u8; MAX_FRAME_LEN];
@@ -127,11 +138,9 @@ impl DeviceEndpoint {
                 None
             }
             Request::SetStream { divisor } => {
-                let result = if divisor != 0 && divisor < self.min_divisor {
-                    AckResult::Err(ErrorCode::StreamTooFast)
-                } else {
-                    self.divisor = divisor;
-                    AckResult::Ok
+                let result = match self.set_divisor(divisor) {
+                    Ok(()) => AckResult::Ok,
+                    Err(e) => AckResult::Err(e),
                 };
                 self.send(&DeviceMsg::Ack { seq, result }, send);
                 None

@@ -29,9 +29,9 @@ pub struct Settings {
     pub calibration: Option<Calibration>,
     /// Contact-parameter presets an application can select by index.
     pub presets: [ContactPreset; PRESETS],
-    /// State-stream defaults applied at boot.
+    /// State-stream defaults applied at boot (`softfinger_app::boot_defaults`).
     pub stream: StreamDefaults,
-    /// Communication-watchdog defaults applied at boot.
+    /// Communication-watchdog defaults applied at boot (`softfinger_app::boot_defaults`).
     pub watchdog: WatchdogDefaults,
 }
 
@@ -90,7 +90,9 @@ pub struct ContactPreset {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct StreamDefaults {
-    /// Stream rate at boot, Hz; 0 = off, else in [1, 10 000].
+    /// Stream rate the link starts with at boot, before any `SetStream`, Hz; 0 = off, else in
+    /// [1, 10 000] (the device rounds it to a divisor of its control rate, at most its fastest
+    /// stream: 2 kHz on the firmware).
     pub rate_hz: u16,
 }
 
@@ -98,7 +100,9 @@ pub struct StreamDefaults {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct WatchdogDefaults {
-    /// Timeout, ms; 0 = off, else in [10, 10 000].
+    /// The timeout a host's `Arm` turns the communication watchdog on with, ms, in
+    /// [10, 10 000]; 0 = the firmware's built-in 200 ms (a host that arms always holds a
+    /// watchdog; a device armed from its button, with no host, has none).
     pub timeout_ms: u16,
 }
 
@@ -243,8 +247,8 @@ fn preset(name: &str, k: f32, b: f32, mu: f32, kz: f32) -> ContactPreset {
 }
 
 impl Default for Settings {
-    /// What a device without a readable store runs on: no serial, no name, no calibration (so it
-    /// does not arm), the default presets, the stream off and the watchdog at 200 ms.
+    /// What a device without a readable store runs on: no serial, no name, no calibration, the
+    /// default presets, the stream off and the host watchdog at 200 ms.
     fn default() -> Self {
         Self {
             identity: Identity {

@@ -24,6 +24,7 @@
 #![deny(unsafe_code)]
 
 pub mod board;
+pub mod boot_defaults;
 pub mod config;
 #[cfg(target_os = "none")]
 #[allow(unsafe_code)] // implementing `critical_section::Impl` is unsafe by definition

@@ -15,6 +15,8 @@
 
 use core::cell::RefCell;
 
+use crate::boot_defaults::BootDefaults;
+
 use embassy_embedded_hal::adapter::BlockingAsync;
 use embassy_sync::blocking_mutex::raw::NoopRawMutex;
 use embassy_sync::blocking_mutex::Mutex;
@@ -39,6 +41,8 @@ pub struct DeviceStore<F: NorFlash> {
     layout: Layout,
     /// The settings in force.
     live: Settings,
+    /// What the settings loaded at boot change.
+    boot_defaults: BootDefaults,
     /// What the boot's load (or the last save or reset) found.
     status: LoadStatus,
     /// Changed since the last load or save.
@@ -82,6 +86,7 @@ impl<F: NorFlash> DeviceStore<F> {
         let mut s = DeviceStore {
             flash,
             layout,
+            boot_defaults: BootDefaults::of(&loaded.settings),
             live: loaded.settings,
             status: loaded.status,
             unsaved: false,
@@ -132,6 +137,13 @@ impl<F: NorFlash> DeviceStore<F> {
     /// The running image: normal, on trial (not yet confirmed), or rolled back.
     pub fn boot_state(&self) -> BootState {
         self.boot
+    }
+
+    /// What the settings loaded at boot change (the defaults' when the load fell back to them):
+    /// applied to the pipeline and the link before the first tick ([`crate::boot_defaults`]).
+    /// Later `config set`s act from the next boot, after a save.
+    pub fn boot_defaults(&self) -> BootDefaults {
+        self.boot_defaults
     }
 
     /// The calibration was read from the store.
@@ -456,6 +468,8 @@ pub trait Persistence {
     fn take_reset_request(&mut self) -> bool;
     /// The name the user gave the device (`identity.name`), if any: device info's name.
     fn device_name(&self) -> Option<&str>;
+    /// What the settings loaded at boot change ([`crate::boot_defaults`]).
+    fn boot_defaults(&self) -> BootDefaults;
 }
 
 impl<F: NorFlash> Persistence for DeviceStore<F> {
@@ -474,6 +488,9 @@ impl<F: NorFlash> Persistence for DeviceStore<F> {
     fn device_name(&self) -> Option<&str> {
         let name = self.live.identity.name.as_str();
         (!name.is_empty()).then_some(name)
+    }
+    fn boot_defaults(&self) -> BootDefaults {
+        DeviceStore::boot_defaults(self)
     }
 }
 
@@ -518,5 +535,8 @@ impl Persistence for NoStore {
     }
     fn device_name(&self) -> Option<&str> {
         None
+    }
+    fn boot_defaults(&self) -> BootDefaults {
+        BootDefaults::BUILT_IN
     }
 }

@@ -100,9 +100,11 @@ impl<P: Parts> PipelineCore<P> {
         RenderedTick::of(&self.pipe, out)
     }
 
-    /// An operator command, at a tick boundary.
+    /// A client's command, at a tick boundary, under the host link's rules as on the firmware
+    /// (`Pipeline::link_command`: a client's `Arm` turns the host watchdog on when it is off, and
+    /// that client cannot turn it off while the device stays armed).
     pub fn request(&mut self, command: Command) -> Result<(), CommandError> {
-        self.pipe.command(command)
+        self.pipe.link_command(command)
     }
 
     /// A valid message arrived from some client (the communication watchdog's food).

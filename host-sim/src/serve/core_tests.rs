@@ -53,9 +53,15 @@ fn no_force_before_homing_and_arming_then_the_real_homing() {
     next.continue_counters_from(&plant);
     plant = next;
     assert_eq!(AckResult::from(core.request(Command::Arm)), AckResult::Ok);
+    // The client's Arm turned the host watchdog on; the client keeps it fed.
+    assert_eq!(
+        core.watchdog_s(),
+        softfinger_core::control::pipeline::HOST_WATCHDOG_S
+    );
     let mut most = 0.0f32;
     let end = (plant.script().duration_s() * 10_000.0) as u32;
     for _ in 0..end {
+        core.message_received();
         let out = core.tick(&mut plant);
         assert_eq!(out.mode, Mode::Armed, "{:?}", out.flags);
         most = most.max(out.control.force_n.norm::<Fast>());

@@ -164,7 +164,21 @@ impl<P: Parts> DeviceLoop<P> {
     /// The same device with `persist` as its flash.
     pub fn with_persist(mut self, persist: super::persist::Persist) -> DeviceLoop<P> {
         self.persist = persist;
+        self.apply_boot_defaults();
         self
+    }
+
+    /// What the settings loaded at boot change, as the firmware applies them before its first
+    /// tick (`softfinger_app::boot_defaults`): the host watchdog here, the stream at each
+    /// connection.
+    fn apply_boot_defaults(&mut self) {
+        let defaults = self.persist.boot_defaults();
+        if let Err(e) = defaults.apply(self.core.pipeline_mut()) {
+            self.log.line(
+                self.tick,
+                format_args!("stored watchdog.timeout_ms refused ({e}): the built-in one stays"),
+            );
+        }
     }
 
     /// Log each connection, mode change, model or parameter change and fault into `out` (one
@@ -212,7 +226,13 @@ impl<P: Parts> DeviceLoop<P> {
                         self.tick,
                         format_args!("connection {id} opened ({} open)", self.clients.len() + 1),
                     );
-                    let endpoint = DeviceEndpoint::one_of_several(self.info.min_stream_divisor);
+                    let mut endpoint = DeviceEndpoint::one_of_several(self.info.min_stream_divisor);
+                    // The stored stream default (never faster than the link allows).
+                    let _ =
+                        endpoint.set_divisor(self.persist.boot_defaults().stream_divisor(
+                            self.info.control_rate_hz,
+                            self.info.min_stream_divisor,
+                        ));
                     self.clients.insert(id, Client { endpoint, out });
                 }
                 Ok(Event::Disconnected { id }) => {
@@ -322,6 +342,10 @@ impl<P: Parts> DeviceLoop<P> {
     fn handle(&mut self, id: u32, seq: u16, req: Request) {
         let armed = matches!(self.last.mode, Mode::Armed | Mode::Homing);
         if let Some(reply) = self.persist.handle(seq, &req, armed) {
+            if matches!(req, Request::Reboot) {
+                // The virtual device's reset reloaded the store: its boot defaults again.
+                self.apply_boot_defaults();
+            }
             return self.reply(id, reply);
         }
         let result = match &req {

@@ -13,6 +13,7 @@
 use std::path::Path;
 
 use embedded_storage::nor_flash::NorFlash;
+use softfinger_app::boot_defaults::BootDefaults;
 use softfinger_app::persist::{DeviceStore, Persistence};
 use softfinger_protocol::{AckResult, DeviceMsg, ErrorCode, Request};
 use softfinger_store::flash_model::{G474Flash, PAGE_SIZE};
@@ -129,6 +130,11 @@ impl Persist {
     /// The settings in force.
     pub fn settings(&self) -> &Settings {
         self.store.settings()
+    }
+
+    /// What the settings loaded at the last boot change (`softfinger_app::boot_defaults`).
+    pub fn boot_defaults(&self) -> BootDefaults {
+        self.store.boot_defaults()
     }
 
     /// The running image's version.

@@ -21,6 +21,12 @@ use crate::flags::Flags;
 /// host library's 20 ms pings.
 pub const HOST_WATCHDOG_S: f32 = 0.2;
 
+/// Shortest host watchdog timeout a device may be set to, s (the stored settings' 10 ms floor).
+pub const HOST_WATCHDOG_MIN_S: f32 = 0.010;
+
+/// Longest host watchdog timeout a device may be set to, s (the stored settings' 10 s ceiling).
+pub const HOST_WATCHDOG_MAX_S: f32 = 10.0;
+
 /// Time a lost link takes to fade the force to zero, s.
 pub const LINK_FADE_S: f32 = 0.020;
 

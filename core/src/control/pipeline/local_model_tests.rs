@@ -383,3 +383,27 @@ fn a_host_arm_turns_the_watchdog_on_and_keeps_it_on() {
         Ok(())
     );
 }
+
+/// The stored host watchdog (`watchdog.timeout_ms`, applied at boot) is what a host's Arm turns
+/// on; its limits are taken just inside and refused just outside, and a refusal keeps the
+/// timeout in force.
+#[test]
+fn a_host_arm_turns_on_the_stored_watchdog_timeout() {
+    let mut p = scene_pipeline(LocalModelEnvironment::new(plane(1, 0.003)));
+    assert_eq!(p.host_watchdog_s(), HOST_WATCHDOG_S);
+    for bad in [0.0099, 10.01, 0.0, -1.0, f32::NAN, f32::INFINITY] {
+        assert!(p.set_host_watchdog(bad).is_err(), "{bad} taken");
+        assert_eq!(p.host_watchdog_s(), HOST_WATCHDOG_S);
+    }
+    assert_eq!(p.set_host_watchdog(HOST_WATCHDOG_MIN_S), Ok(()));
+    assert_eq!(p.set_host_watchdog(HOST_WATCHDOG_MAX_S), Ok(()));
+    assert_eq!(p.set_host_watchdog(0.05), Ok(()));
+    let mut arms = Arms::new(0.3);
+    let _ = home(&mut p, &mut arms);
+    arms.hand = Some(HOLD.map(|t| t - 0.05));
+    for _ in 0..100 {
+        let _ = tick(&mut p, &mut arms, |_| {});
+    }
+    assert_eq!(p.link_command(Command::Arm), Ok(()));
+    assert_eq!(p.controller().contact().watchdog_s(), 0.05);
+}

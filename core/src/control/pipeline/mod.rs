@@ -44,7 +44,7 @@ pub use board::{BoardTiming, TimingError};
 pub use bridge::{BridgeCommands, BridgeMapper};
 pub use config::{PipelineConfig, PipelineError};
 pub use homing::HomingSpec;
-pub use link::{HOST_WATCHDOG_S, LINK_FADE_S};
+pub use link::{HOST_WATCHDOG_MAX_S, HOST_WATCHDOG_MIN_S, HOST_WATCHDOG_S, LINK_FADE_S};
 pub use mode::Mode;
 pub use record::PipelineRecord;
 pub use timing::TimingSummary;
@@ -132,6 +132,9 @@ pub struct Pipeline<M: Math, S: Environment = Plane> {
     /// The probe was in contact with the surface on the last disarmed tick (Arm is refused).
     inside: bool,
     link: LinkHold,
+    /// The communication watchdog's timeout a host's `Arm` turns on when it is off, s
+    /// ([`HOST_WATCHDOG_S`] unless the stored settings say otherwise: [`Self::set_host_watchdog`]).
+    host_watchdog_s: f32,
     /// `COMM_TIMEOUT` of a lost link this tick.
     link_flags: Flags,
 }
@@ -180,6 +183,7 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
             tick: 0,
             inside: false,
             link: LinkHold::new(rate),
+            host_watchdog_s: HOST_WATCHDOG_S,
             link_flags: Flags::NONE,
             config,
         })
@@ -240,9 +244,33 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
         self.controller.contact_mut().note_link_activity();
     }
 
+    /// The timeout a host's `Arm` turns the communication watchdog on with, s.
+    pub fn host_watchdog_s(&self) -> f32 {
+        self.host_watchdog_s
+    }
+
+    /// Set the timeout a host's `Arm` turns the communication watchdog on with (the stored
+    /// settings' `watchdog.timeout_ms`, applied at boot), s, in
+    /// [[`HOST_WATCHDOG_MIN_S`], [`HOST_WATCHDOG_MAX_S`]]. Anything else is refused and the
+    /// timeout in force stays: a host that arms always holds a watchdog.
+    pub fn set_host_watchdog(
+        &mut self,
+        timeout_s: f32,
+    ) -> Result<(), crate::contact::params::ParamError> {
+        use crate::contact::params::ParamError;
+        if !timeout_s.is_finite() {
+            return Err(ParamError::NotFinite("host watchdog timeout"));
+        }
+        if !(HOST_WATCHDOG_MIN_S..=HOST_WATCHDOG_MAX_S).contains(&timeout_s) {
+            return Err(ParamError::OutOfRange("host watchdog timeout"));
+        }
+        self.host_watchdog_s = timeout_s;
+        Ok(())
+    }
+
     /// A command that arrived over the host link: link activity, then [`Self::command`] under
     /// the host's rules ([`link`]): an accepted `Arm` turns the communication watchdog on
-    /// ([`HOST_WATCHDOG_S`]) when it is off and makes the link hold the force; while it does,
+    /// ([`Self::host_watchdog_s`], [`HOST_WATCHDOG_S`] by default) when it is off and makes the link hold the force; while it does,
     /// `SetWatchdog` cannot turn the watchdog off ([`CommandError::WatchdogRequired`]).
     pub fn link_command(&mut self, command: Command) -> Result<(), CommandError> {
         self.note_link_activity();
@@ -252,7 +280,10 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
                 self.link.armed_by_host();
                 if self.controller.contact().watchdog_s() == 0.0 {
                     // A fixed surface has no watchdog (Unsupported): the link-loss rule still holds.
-                    let _ = self.controller.contact_mut().set_watchdog(HOST_WATCHDOG_S);
+                    let _ = self
+                        .controller
+                        .contact_mut()
+                        .set_watchdog(self.host_watchdog_s);
                 }
                 Ok(())
             }

@@ -71,15 +71,22 @@ impl<const TX: usize> LinkSession<TX, NoStore> {
 }
 
 impl<const TX: usize, S: Persistence> LinkSession<TX, S> {
-    /// A session with nothing received and no stream, answering settings and update requests
-    /// from `store`.
+    /// A session with nothing received, its stream at the store's default (`stream.rate_hz`,
+    /// off by default), answering settings and update requests from `store`.
     pub fn with_store(config: &LinkConfig, store: S) -> Self {
         ARM_REFUSED.store(
             store.arm_refusal().is_some(),
             core::sync::atomic::Ordering::Relaxed,
         );
+        let mut endpoint = DeviceEndpoint::new(config.info.min_stream_divisor);
+        // The stored stream default (never faster than the link's fastest, so never refused).
+        let _ = endpoint.set_divisor(
+            store
+                .boot_defaults()
+                .stream_divisor(config.info.control_rate_hz, config.info.min_stream_divisor),
+        );
         LinkSession {
-            endpoint: DeviceEndpoint::new(config.info.min_stream_divisor),
+            endpoint,
             acks: PendingAcks::new(),
             state: StateBuilder::new(config.timer_clock_hz),
             info: config.info,

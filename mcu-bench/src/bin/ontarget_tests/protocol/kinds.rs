@@ -248,6 +248,8 @@ fn device_messages(c: &mut Checker) {
         && surfaces.push(SurfaceKind::Sphere).is_ok()
         && surfaces.push(SurfaceKind::Bowl).is_ok()
         && surfaces.push(SurfaceKind::Cylinder).is_ok();
+    let mut reset_cause = heapless::String::new();
+    let filled = filled && reset_cause.push_str("watchdog").is_ok();
     c.ok("round trip: info fields fit", filled);
     let info = DeviceInfo {
         protocol_version: PROTOCOL_VERSION,
@@ -259,6 +261,8 @@ fn device_messages(c: &mut Checker) {
         min_stream_divisor: 10,
         surfaces,
         watchdog_ms: 100,
+        settings_flags: 0x41,
+        reset_cause,
     };
     let counters = LinkCounters {
         rx_frames: 1_000_000,
