@@ -795,6 +795,20 @@ fn settings_saved_over_the_link_are_read_at_the_next_boot() {
     assert!(q.commands.is_empty());
 }
 
+/// The answer is one `Ack` of `Ok`.
+fn assert_acked(r: &[DeviceMsg]) {
+    assert!(
+        matches!(
+            r,
+            [DeviceMsg::Ack {
+                result: AckResult::Ok,
+                ..
+            }]
+        ),
+        "{r:?}"
+    );
+}
+
 /// The stored watchdog and stream defaults act from the next boot: the session starts its
 /// stream at `stream.rate_hz` and the pipeline's host watchdog is `watchdog.timeout_ms`.
 #[test]
@@ -812,30 +826,11 @@ fn stored_watchdog_and_stream_defaults_apply_at_the_next_boot() {
         ),
     ] {
         let r = ask(&mut s, &mut q, seq, Request::ConfigSet(value));
-        assert!(
-            matches!(
-                r[..],
-                [DeviceMsg::Ack {
-                    result: AckResult::Ok,
-                    ..
-                }]
-            ),
-            "{r:?}"
-        );
+        assert_acked(&r);
     }
     // Set, not yet booted with: nothing changes now.
     assert_eq!(s.stream_divisor(), 0);
-    let r = ask(&mut s, &mut q, 3, Request::ConfigSave);
-    assert!(
-        matches!(
-            r[..],
-            [DeviceMsg::Ack {
-                result: AckResult::Ok,
-                ..
-            }]
-        ),
-        "{r:?}"
-    );
+    assert_acked(&ask(&mut s, &mut q, 3, Request::ConfigSave));
     assert_eq!(s.stream_divisor(), 0);
     // A power cycle.
     let flash = s.into_store().into_flash();

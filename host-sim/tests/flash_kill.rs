@@ -186,6 +186,22 @@ fn answer(s: &mut TcpStream) -> (DeviceMsg, u32) {
     }
 }
 
+/// The next answer is an `Ack` of `Ok`; the state samples that came before it.
+fn acked(s: &mut TcpStream) -> u32 {
+    let (m, samples) = answer(s);
+    assert!(
+        matches!(
+            m,
+            DeviceMsg::Ack {
+                result: softfinger_protocol::AckResult::Ok,
+                ..
+            }
+        ),
+        "{m:?}"
+    );
+    samples
+}
+
 /// The stored stream and watchdog defaults act after a restart, as on the firmware
 /// (`softfinger_app::boot_defaults`): samples arrive without a `SetStream`, and a host's Arm
 /// turns the stored timeout on.
@@ -206,27 +222,10 @@ fn saved_stream_and_watchdog_defaults_apply_after_a_restart() {
         ),
     ] {
         send(&mut s, seq, Request::ConfigSet(value)).unwrap();
-        let (m, samples) = answer(&mut s);
-        assert!(
-            matches!(
-                m,
-                DeviceMsg::Ack {
-                    result: softfinger_protocol::AckResult::Ok,
-                    ..
-                }
-            ),
-            "{m:?}"
-        );
-        assert_eq!(samples, 0, "a stream before the restart");
+        assert_eq!(acked(&mut s), 0, "a stream before the restart");
     }
     send(&mut s, 3, Request::ConfigSave).unwrap();
-    assert!(matches!(
-        answer(&mut s).0,
-        DeviceMsg::Ack {
-            result: softfinger_protocol::AckResult::Ok,
-            ..
-        }
-    ));
+    acked(&mut s);
     child.kill().unwrap();
     child.wait().unwrap();
 
@@ -235,17 +234,7 @@ fn saved_stream_and_watchdog_defaults_apply_after_a_restart() {
     // 100 Hz from the connection on: 0.3 s of device time gives samples before the answer.
     std::thread::sleep(Duration::from_millis(300));
     send(&mut s, 4, Request::Arm).unwrap();
-    let (m, samples) = answer(&mut s);
-    assert!(
-        matches!(
-            m,
-            DeviceMsg::Ack {
-                result: softfinger_protocol::AckResult::Ok,
-                ..
-            }
-        ),
-        "{m:?}"
-    );
+    let samples = acked(&mut s);
     assert!(
         samples >= 5,
         "{samples} samples in 0.3 s at the stored 100 Hz"
