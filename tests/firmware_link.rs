@@ -3,6 +3,7 @@
 //! command queue and the tick's outcomes played by the test.
 
 use softfinger_app::persist::{DeviceStore, Persistence};
+use softfinger_app::tick::Applied;
 use softfinger_app::{link, stream, stream_point};
 
 use link::info::{min_stream_divisor, InfoSource};
@@ -10,7 +11,7 @@ use link::session::{CommandSink, LinkConfig, LinkSession};
 use link::state::{StateBuilder, TickExtender};
 use link::tx::TxRing;
 use softfinger_core::contact::params::ContactParams;
-use softfinger_core::control::pipeline::{Command, CommandError};
+use softfinger_core::control::pipeline::{CheckedCommand, Command, CommandError};
 use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::{Flags, Vec3};
 use softfinger_protocol::frame::encode_frame_with_version;
@@ -27,7 +28,8 @@ const MIN_DIVISOR: u16 = 5;
 /// The tick timer's clock of the test sessions (the STM32's 170 MHz).
 const TIMER_HZ: u32 = 170_000_000;
 
-/// The tick's command queue, as a list (`capacity`: how many it takes).
+/// The tick's command queue, as a list of the commands it was given, checked (`capacity`: how
+/// many it takes).
 #[derive(Default)]
 struct Queue {
     commands: Vec<Command>,
@@ -35,13 +37,18 @@ struct Queue {
 }
 
 impl CommandSink for Queue {
-    fn try_submit(&mut self, command: Command) -> bool {
+    fn try_submit(&mut self, command: CheckedCommand) -> bool {
         if self.commands.len() >= self.capacity {
             return false;
         }
-        self.commands.push(command);
+        self.commands.push(command.command());
         true
     }
+}
+
+/// The tick's outcome of a host command: by its key, as the tick reports it.
+fn host(c: Command) -> Applied {
+    Applied::Link(c.key())
 }
 
 fn queue() -> Queue {
@@ -209,8 +216,8 @@ fn a_command_is_acknowledged_with_the_ticks_outcome_not_before() {
         "no answer before the tick applied it"
     );
     assert_eq!(s.pending(), 2);
-    s.outcome(&Command::Home, Ok(()));
-    s.outcome(&Command::Arm, Err(CommandError::NotHomed));
+    s.outcome(&host(Command::Home), Ok(()));
+    s.outcome(&host(Command::Arm), Err(CommandError::NotHomed));
     assert_eq!(
         sent(&mut s),
         vec![
@@ -232,9 +239,9 @@ fn another_sources_outcome_answers_nothing() {
     let (mut s, mut q) = (session::<1024>(), queue());
     feed(&mut s, &mut q, &request(5, Request::Disarm));
     // The operator's button pressed Home meanwhile.
-    s.outcome(&Command::Home, Ok(()));
+    s.outcome(&Applied::Operator(Command::Home), Ok(()));
     assert!(sent(&mut s).is_empty());
-    s.outcome(&Command::Disarm, Ok(()));
+    s.outcome(&host(Command::Disarm), Ok(()));
     assert_eq!(
         sent(&mut s),
         vec![DeviceMsg::Ack {
@@ -319,12 +326,12 @@ fn local_model_and_watchdog_go_to_the_pipeline_the_simulated_hand_is_unsupported
         "only the hand is answered before the tick applies the others"
     );
     s.outcome(
-        &Command::SetLocalModel(want),
+        &host(Command::SetLocalModel(want)),
         Err(CommandError::InvalidModel(
             softfinger_core::control::local_model::ModelError::StaleSequence,
         )),
     );
-    s.outcome(&Command::SetWatchdog { timeout_s: 0.15 }, Ok(()));
+    s.outcome(&host(Command::SetWatchdog { timeout_s: 0.15 }), Ok(()));
     assert_eq!(
         sent(&mut s),
         vec![
@@ -357,7 +364,7 @@ fn a_refused_watchdog_leaves_the_reported_one() {
     );
     assert_eq!(q.commands, vec![Command::SetWatchdog { timeout_s: 65.0 }]);
     s.outcome(
-        &Command::SetWatchdog { timeout_s: 65.0 },
+        &host(Command::SetWatchdog { timeout_s: 65.0 }),
         Err(CommandError::InvalidParams(
             softfinger_core::contact::params::ParamError::OutOfRange("watchdog_timeout_s"),
         )),
@@ -416,7 +423,7 @@ fn contact_parameters_change_only_when_the_tick_accepts_them() {
     );
     // Still the old ones until the outcome.
     feed(&mut s, &mut q, &request(2, Request::GetContactParams));
-    s.outcome(&Command::SetContactParams(p), Ok(()));
+    s.outcome(&host(Command::SetContactParams(p)), Ok(()));
     feed(&mut s, &mut q, &request(3, Request::GetContactParams));
     let msgs = sent(&mut s);
     let stiffness: Vec<f32> = msgs

@@ -70,3 +70,34 @@ pub fn at_most(name: &'static str, v: f32, max: f32) -> Result<(), ParamError> {
         Ok(())
     }
 }
+
+/// A value that passed its type's validation (`ContactParams::checked`,
+/// `LocalModelSpec::checked`): only this crate makes one, so a stage or the control tick can take
+/// it without checking again. The firmware checks a host's command where it arrives, in thread
+/// mode, and the tick only applies it (`crate::control::command::CheckedCommand`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Checked<T>(T);
+
+impl<T> Checked<T> {
+    /// Mark `value` as checked: only after its validation passed.
+    pub(crate) const fn assume_checked(value: T) -> Checked<T> {
+        Checked(value)
+    }
+
+    /// The checked value.
+    pub fn get(&self) -> &T {
+        &self.0
+    }
+
+    /// The checked value, by value.
+    pub fn into_inner(self) -> T {
+        self.0
+    }
+}
+
+impl<T> core::ops::Deref for Checked<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.0
+    }
+}

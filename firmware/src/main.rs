@@ -37,7 +37,7 @@ use softfinger_app::reset_cause::ResetCause;
 use softfinger_app::tap::Tap;
 use softfinger_app::tick::{self, CommandOutcome, ControlLoop};
 use softfinger_app::{config, failsafe, link, logger, operator, queues, stream, supervisor};
-use softfinger_core::control::pipeline::Command;
+use softfinger_core::control::pipeline::{CheckedCommand, Command};
 use softfinger_update::layout::G474;
 use softfinger_update::{BootState, SelfTest};
 
@@ -86,7 +86,7 @@ type Store = DeviceStore<bsp::BoardFlash>;
 fn start_usb_link(
     spawner: &Spawner,
     usb: bsp::UsbParts,
-    link_commands: Producer<'static, Command>,
+    link_commands: Producer<'static, CheckedCommand>,
     store: Store,
     reset_cause: ResetCause,
 ) -> Option<(OutcomeTap, bsp::StreamTx)> {
@@ -123,7 +123,7 @@ async fn usb_device_task(mut device: embassy_usb::UsbDevice<'static, usb_link::U
 #[embassy_executor::task]
 async fn usb_link_task(
     class: embassy_usb::class::cdc_acm::CdcAcmClass<'static, usb_link::UsbDriver>,
-    commands: Producer<'static, Command>,
+    commands: Producer<'static, CheckedCommand>,
     queues: link::task::LinkQueues,
     mut store: Store,
     reset_cause: ResetCause,

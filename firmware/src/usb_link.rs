@@ -24,7 +24,7 @@ use embassy_time::{with_timeout, Duration, Instant, Timer};
 use embassy_usb::class::cdc_acm::{CdcAcmClass, State};
 use embassy_usb::{Builder, UsbDevice};
 use heapless::spsc::Producer;
-use softfinger_core::control::pipeline::Command;
+use softfinger_core::control::pipeline::CheckedCommand;
 
 use softfinger_app::link::session::LinkSession;
 use softfinger_app::link::task::LinkQueues;
@@ -115,7 +115,7 @@ pub fn build(
 pub async fn run<const TX: usize, S: Persistence>(
     mut class: CdcAcmClass<'static, UsbDriver>,
     mut session: LinkSession<TX, S>,
-    mut commands: Producer<'static, Command>,
+    mut commands: Producer<'static, CheckedCommand>,
     mut q: LinkQueues,
 ) -> ! {
     let mut rx = [0u8; PACKET];

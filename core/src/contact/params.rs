@@ -5,7 +5,50 @@ use crate::contact::decompose::Method;
 use crate::contact::state::{StateParams, Tolerances};
 /// The shared parameter error, kept at its old path.
 pub use crate::validate::ParamError;
-use crate::validate::{at_most, non_negative, positive};
+use crate::validate::{at_most, non_negative, positive, Checked};
+
+/// The material of a contact: what a local model carries and what can change without restarting
+/// the contact ([`ContactParams::validate_material`] checks it). SI units, as in [`ContactParams`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Material {
+    /// Normal stiffness, N/m.
+    pub normal_stiffness: f32,
+    /// Normal damping, N·s/m.
+    pub normal_damping: f32,
+    /// Static friction coefficient.
+    pub mu_s: f32,
+    /// Kinetic friction coefficient (≤ μ_s).
+    pub mu_k: f32,
+    /// Spin stiffness k_z, N·m/rad.
+    pub spin_stiffness: f32,
+}
+
+impl Material {
+    /// `self` moved by `k` (0..=1) towards `to`, field by field. Each field stays between its two
+    /// ends, so in range, and μ_k ≤ μ_s at both ends holds in between (kept exactly by a min).
+    pub fn lerp(&self, to: &Material, k: f32) -> Material {
+        let l = |a: f32, b: f32| a + (b - a) * k;
+        let mu_s = l(self.mu_s, to.mu_s);
+        Material {
+            normal_stiffness: l(self.normal_stiffness, to.normal_stiffness),
+            normal_damping: l(self.normal_damping, to.normal_damping),
+            mu_s,
+            mu_k: l(self.mu_k, to.mu_k).min(mu_s),
+            spin_stiffness: l(self.spin_stiffness, to.spin_stiffness),
+        }
+    }
+}
+
+/// How new contact parameters took effect in a contact stage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ParamsChange {
+    /// The contact restarted (broken, its history forgotten): the caller ramps the force in again.
+    Restarted,
+    /// Only the material changed: it blends in and the contact carries on.
+    Blended,
+}
 
 /// Everything the contact model needs. SI units.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -111,14 +154,7 @@ impl ContactParams {
             self.fingertip_radius_m,
             m.fingertip_radius_m,
         )?;
-        non_negative("normal_stiffness", self.normal_stiffness)?;
-        at_most(
-            "normal_stiffness",
-            self.normal_stiffness,
-            m.normal_stiffness,
-        )?;
-        non_negative("normal_damping", self.normal_damping)?;
-        at_most("normal_damping", self.normal_damping, m.normal_damping)?;
+        self.validate_material()?;
         non_negative("tangential_stiffness", self.tangential_stiffness)?;
         at_most(
             "tangential_stiffness",
@@ -131,14 +167,6 @@ impl ContactParams {
             self.tangential_damping,
             m.tangential_damping,
         )?;
-        positive("mu_s", self.mu_s)?;
-        at_most("mu_s", self.mu_s, m.mu_s)?;
-        positive("mu_k", self.mu_k)?;
-        if self.mu_k > self.mu_s {
-            return Err(ParamError::KineticAboveStatic);
-        }
-        non_negative("spin_stiffness", self.spin_stiffness)?;
-        at_most("spin_stiffness", self.spin_stiffness, m.spin_stiffness)?;
         non_negative("patch_radius_m", self.patch_radius_m)?;
         at_most("patch_radius_m", self.patch_radius_m, m.patch_radius_m)?;
         positive("patch_ref_force_n", self.patch_ref_force_n)?;
@@ -157,6 +185,69 @@ impl ContactParams {
         }
         at_most("max_force_n", self.max_force_n, m.max_force_n)?;
         self.tolerances.validate()
+    }
+
+    /// Check the material alone (normal stiffness and damping, μ_s, μ_k, spin stiffness: what a
+    /// local model carries), as [`Self::validate`] does.
+    pub fn validate_material(&self) -> Result<(), ParamError> {
+        let m = &Self::MAX;
+        non_negative("normal_stiffness", self.normal_stiffness)?;
+        at_most(
+            "normal_stiffness",
+            self.normal_stiffness,
+            m.normal_stiffness,
+        )?;
+        non_negative("normal_damping", self.normal_damping)?;
+        at_most("normal_damping", self.normal_damping, m.normal_damping)?;
+        positive("mu_s", self.mu_s)?;
+        at_most("mu_s", self.mu_s, m.mu_s)?;
+        positive("mu_k", self.mu_k)?;
+        if self.mu_k > self.mu_s {
+            return Err(ParamError::KineticAboveStatic);
+        }
+        non_negative("spin_stiffness", self.spin_stiffness)?;
+        at_most("spin_stiffness", self.spin_stiffness, m.spin_stiffness)?;
+        Ok(())
+    }
+
+    /// `self` after [`Self::validate`] passed, as [`Checked`] parameters.
+    pub fn checked(self) -> Result<Checked<ContactParams>, ParamError> {
+        self.validate()?;
+        Ok(Checked::assume_checked(self))
+    }
+
+    /// The material of these parameters.
+    pub fn material(&self) -> Material {
+        Material {
+            normal_stiffness: self.normal_stiffness,
+            normal_damping: self.normal_damping,
+            mu_s: self.mu_s,
+            mu_k: self.mu_k,
+            spin_stiffness: self.spin_stiffness,
+        }
+    }
+
+    /// `self` with the material `m`.
+    pub fn with_material(&self, m: &Material) -> ContactParams {
+        ContactParams {
+            normal_stiffness: m.normal_stiffness,
+            normal_damping: m.normal_damping,
+            mu_s: m.mu_s,
+            mu_k: m.mu_k,
+            spin_stiffness: m.spin_stiffness,
+            ..*self
+        }
+    }
+
+    /// `self` with the material of `other` (see [`Self::validate_material`]).
+    pub fn with_material_of(&self, other: &ContactParams) -> ContactParams {
+        self.with_material(&other.material())
+    }
+
+    /// True when `self` and `other` differ at most in their material: a contact can then carry
+    /// on from one to the other (same fingertip, coupling, patch, limits and tolerances).
+    pub fn same_but_material(&self, other: &ContactParams) -> bool {
+        self.with_material_of(other) == *other
     }
 
     /// The state machine's view of these parameters.
@@ -181,6 +272,65 @@ impl Default for ContactParams {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Only the five material fields count as material: each of them changed alone keeps
+    /// `same_but_material`, any other field changed alone breaks it.
+    #[test]
+    fn same_but_material_names_exactly_the_material() {
+        let d = ContactParams::DEFAULT;
+        let material: [fn(&mut ContactParams); 5] = [
+            |p| p.normal_stiffness *= 0.5,
+            |p| p.normal_damping += 1.0,
+            |p| p.mu_s += 0.1,
+            |p| p.mu_k *= 0.5,
+            |p| p.spin_stiffness *= 2.0,
+        ];
+        for change in material {
+            let mut p = d;
+            change(&mut p);
+            assert_ne!(p, d);
+            assert!(p.same_but_material(&d) && d.same_but_material(&p), "{p:?}");
+            assert_eq!(d.with_material_of(&p), p);
+        }
+        let other: [fn(&mut ContactParams); 4] = [
+            |p| p.fingertip_radius_m *= 1.5,
+            |p| p.tangential_stiffness *= 0.5,
+            |p| p.max_force_n = 30.0,
+            |p| p.k_tau *= 0.5,
+        ];
+        for change in other {
+            let mut p = d;
+            change(&mut p);
+            assert!(!p.same_but_material(&d), "{p:?}");
+        }
+    }
+
+    /// A blend's material stays valid on every step: each field between its ends, μ_k ≤ μ_s
+    /// even where μ_k's end is μ_s's (0.5 → 0.6 and 0.5 → 0.6 in a different order).
+    #[test]
+    fn a_material_blend_stays_valid() {
+        let a = Material {
+            mu_s: 0.5,
+            mu_k: 0.5,
+            ..ContactParams::DEFAULT.material()
+        };
+        let b = Material {
+            normal_stiffness: 1.0,
+            mu_s: 0.9,
+            mu_k: 0.9,
+            ..a
+        };
+        for i in 0..=100 {
+            let k = i as f32 / 100.0;
+            let m = a.lerp(&b, k);
+            let p = ContactParams::DEFAULT.with_material(&m);
+            assert_eq!(p.validate_material(), Ok(()), "{k}: {m:?}");
+            assert!(m.mu_k <= m.mu_s);
+            assert!(m.normal_stiffness <= a.normal_stiffness && m.normal_stiffness >= 1.0);
+        }
+        assert_eq!(a.lerp(&b, 0.0), a);
+        assert_eq!(a.lerp(&b, 1.0), b);
+    }
 
     #[test]
     fn defaults_are_valid() {

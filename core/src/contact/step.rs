@@ -14,7 +14,7 @@
 
 use crate::contact::decompose::Angles;
 use crate::contact::limit_surface::{patch_radius, project};
-use crate::contact::params::ContactParams;
+use crate::contact::params::{ContactParams, Material};
 use crate::contact::parts::{Full, Parts};
 use crate::contact::rolling::{RollStep, Rolling};
 use crate::contact::spin::{fast_test_applies, torsion_limit, SpinSpring};
@@ -24,7 +24,7 @@ use crate::flags::Flags;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
-use crate::validate::ParamError;
+use crate::validate::{Checked, ParamError};
 use core::marker::PhantomData;
 
 /// Shortest accepted step, s (1 MHz): 1/dt and the finite differences stay finite.
@@ -116,11 +116,21 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
         q0: Quat,
         dt_s: f32,
     ) -> Result<Self, ParamError> {
-        params.validate()?;
+        Self::with_checked_parts(&params.checked()?, surface, q0, dt_s)
+    }
+
+    /// [`Self::with_parts`] with parameters already checked: only the step period is.
+    pub fn with_checked_parts(
+        params: &Checked<ContactParams>,
+        surface: S,
+        q0: Quat,
+        dt_s: f32,
+    ) -> Result<Self, ParamError> {
         crate::validate::positive("dt_s", dt_s)?;
         if !(MIN_DT_S..=MAX_DT_S).contains(&dt_s) {
             return Err(ParamError::OutOfRange("dt_s"));
         }
+        let params = **params;
         let (q0, _) = q0.normalized_checked::<M>();
         Ok(ContactModel {
             params,
@@ -140,6 +150,25 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
             spin_fast_ok: fast_test_applies(params.spin_stiffness, 0.0),
             _m: PhantomData,
         })
+    }
+
+    /// Take the material `m` without a restart: the contact state, its points and the torsion
+    /// spring's twist carry on, and the next step uses the new material (a blend calls this every
+    /// tick of its ramp). `m` must pass [`ContactParams::validate_material`] (a blend between two
+    /// that do does).
+    pub(crate) fn take_material(&mut self, m: &Material) {
+        let p = &mut self.params;
+        p.normal_stiffness = m.normal_stiffness;
+        p.normal_damping = m.normal_damping;
+        p.mu_s = m.mu_s;
+        p.mu_k = m.mu_k;
+        p.spin_stiffness = m.spin_stiffness;
+        // What the state machine reads of the material (`ContactParams::state_params`).
+        self.state_params.mu_s = m.mu_s;
+        self.state_params.mu_k = m.mu_k;
+        // The patch's torsion limit depends on μ_s and its fast test on k_z: evaluate both again
+        // at the next step (NaN never equals the key).
+        self.patch_key_n = f32::NAN;
     }
 
     /// Current contact state.

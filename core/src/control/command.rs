@@ -4,7 +4,7 @@
 
 use crate::contact::params::ContactParams;
 use crate::control::local_model::{LocalModelSpec, ModelError};
-use crate::validate::ParamError;
+use crate::validate::{Checked, ParamError};
 
 /// An operator command, applied at a tick boundary by [`crate::control::pipeline::Pipeline::command`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,6 +32,121 @@ pub enum Command {
         /// Timeout, s.
         timeout_s: f32,
     },
+}
+
+/// A [`Command`] whose arguments passed every check that needs nothing but the command
+/// ([`Command::check`], the only maker of the checked variants): contact parameters validated, a
+/// local model's pose, size, age and material checked. What is left for the tick that applies it
+/// ([`crate::control::pipeline::Pipeline::apply`]) depends on the pipeline's state: the mode, a
+/// model's sequence number and fit. The firmware checks a host's command in thread mode, where it
+/// arrives, so the control interrupt only applies it, by reference (a command is 92 bytes: each
+/// copy of it costs the tick about 90 instructions).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CheckedCommand {
+    /// [`Command::Home`].
+    Home,
+    /// [`Command::Arm`].
+    Arm,
+    /// [`Command::Disarm`].
+    Disarm,
+    /// [`Command::ClearFaults`].
+    ClearFaults,
+    /// [`Command::SetContactParams`], validated.
+    SetContactParams(Checked<ContactParams>),
+    /// [`Command::SetLocalModel`], checked.
+    SetLocalModel(Checked<LocalModelSpec>),
+    /// [`Command::SetWatchdog`] (its range is the stage's check: a few instructions).
+    SetWatchdog {
+        /// Timeout, s.
+        timeout_s: f32,
+    },
+}
+
+impl CheckedCommand {
+    /// The command, unchecked again (for a log or an acknowledgement).
+    pub fn command(&self) -> Command {
+        match self {
+            CheckedCommand::Home => Command::Home,
+            CheckedCommand::Arm => Command::Arm,
+            CheckedCommand::Disarm => Command::Disarm,
+            CheckedCommand::ClearFaults => Command::ClearFaults,
+            CheckedCommand::SetContactParams(p) => Command::SetContactParams(**p),
+            CheckedCommand::SetLocalModel(m) => Command::SetLocalModel(**m),
+            CheckedCommand::SetWatchdog { timeout_s } => Command::SetWatchdog {
+                timeout_s: *timeout_s,
+            },
+        }
+    }
+}
+
+impl Command {
+    /// Check the arguments (see [`CheckedCommand`]); a refusal names what and why.
+    pub fn check(self) -> Result<CheckedCommand, CommandError> {
+        Ok(match self {
+            Command::Home => CheckedCommand::Home,
+            Command::Arm => CheckedCommand::Arm,
+            Command::Disarm => CheckedCommand::Disarm,
+            Command::ClearFaults => CheckedCommand::ClearFaults,
+            Command::SetContactParams(p) => {
+                CheckedCommand::SetContactParams(p.checked().map_err(CommandError::InvalidParams)?)
+            }
+            Command::SetLocalModel(m) => {
+                CheckedCommand::SetLocalModel(m.checked().map_err(CommandError::InvalidModel)?)
+            }
+            Command::SetWatchdog { timeout_s } => CheckedCommand::SetWatchdog { timeout_s },
+        })
+    }
+}
+
+/// A command by its kind (a local model with its sequence number): 8 bytes where a command
+/// is 92, so a tick reports what it applied without copying the command.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CommandKey {
+    /// [`Command::Home`].
+    Home,
+    /// [`Command::Arm`].
+    Arm,
+    /// [`Command::Disarm`].
+    Disarm,
+    /// [`Command::ClearFaults`].
+    ClearFaults,
+    /// [`Command::SetContactParams`].
+    SetContactParams,
+    /// [`Command::SetLocalModel`] of this sequence number.
+    SetLocalModel(u32),
+    /// [`Command::SetWatchdog`].
+    SetWatchdog,
+}
+
+impl Command {
+    /// The command's [`CommandKey`].
+    pub fn key(&self) -> CommandKey {
+        match self {
+            Command::Home => CommandKey::Home,
+            Command::Arm => CommandKey::Arm,
+            Command::Disarm => CommandKey::Disarm,
+            Command::ClearFaults => CommandKey::ClearFaults,
+            Command::SetContactParams(_) => CommandKey::SetContactParams,
+            Command::SetLocalModel(m) => CommandKey::SetLocalModel(m.seq),
+            Command::SetWatchdog { .. } => CommandKey::SetWatchdog,
+        }
+    }
+}
+
+impl CheckedCommand {
+    /// The command's [`CommandKey`].
+    pub fn key(&self) -> CommandKey {
+        match self {
+            CheckedCommand::Home => CommandKey::Home,
+            CheckedCommand::Arm => CommandKey::Arm,
+            CheckedCommand::Disarm => CommandKey::Disarm,
+            CheckedCommand::ClearFaults => CommandKey::ClearFaults,
+            CheckedCommand::SetContactParams(_) => CommandKey::SetContactParams,
+            CheckedCommand::SetLocalModel(m) => CommandKey::SetLocalModel(m.seq),
+            CheckedCommand::SetWatchdog { .. } => CommandKey::SetWatchdog,
+        }
+    }
 }
 
 /// Logged by name (a local model by its sequence number): the firmware's flash holds no
@@ -105,6 +220,47 @@ impl core::error::Error for CommandError {}
 mod tests {
     use super::*;
     use std::string::ToString;
+
+    /// The checks a command gets where it arrives: bad contact parameters and a bad model are
+    /// refused naming why; a good one keeps its arguments and its key.
+    #[test]
+    fn check_refuses_bad_arguments_and_keeps_good_ones() {
+        use crate::control::local_model::ModelPose;
+        let bad = ContactParams {
+            mu_s: f32::NAN,
+            ..ContactParams::DEFAULT
+        };
+        assert_eq!(
+            Command::SetContactParams(bad).check(),
+            Err(CommandError::InvalidParams(ParamError::NotFinite("mu_s")))
+        );
+        let model = LocalModelSpec::plane(7, ModelPose::IDENTITY, &ContactParams::DEFAULT);
+        let far = LocalModelSpec {
+            max_age_s: -1.0,
+            ..model
+        };
+        assert_eq!(
+            Command::SetLocalModel(far).check(),
+            Err(CommandError::InvalidModel(ModelError::BadAge))
+        );
+        for c in [
+            Command::Home,
+            Command::Arm,
+            Command::Disarm,
+            Command::ClearFaults,
+            Command::SetContactParams(ContactParams::DEFAULT),
+            Command::SetLocalModel(model),
+            Command::SetWatchdog { timeout_s: 0.5 },
+        ] {
+            let checked = c.check().unwrap();
+            assert_eq!(checked.command(), c);
+            assert_eq!(checked.key(), c.key());
+        }
+        assert_eq!(
+            Command::SetLocalModel(model).key(),
+            CommandKey::SetLocalModel(7)
+        );
+    }
 
     /// The message says why, and carries the rejected parameter's name.
     #[test]

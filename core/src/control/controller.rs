@@ -15,7 +15,7 @@
 //! from that tick on, until [`Controller::clear_faults`]. The latching set and the thresholds are
 //! defined once, in [`crate::control::output_guard`] and [`Limits`].
 
-use crate::contact::params::ContactParams;
+use crate::contact::params::{ContactParams, ParamsChange};
 use crate::contact::surface::Plane;
 use crate::contact::{ContactInput, ContactOutput};
 use crate::control::controller::passivity::{Passivity, PassivityConfig};
@@ -27,6 +27,7 @@ use crate::flags::Flags;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
+use crate::validate::Checked;
 pub use crate::validate::ParamError;
 
 pub mod config;
@@ -185,21 +186,32 @@ impl<M: Math, S: Environment> Controller<M, S> {
         };
     }
 
-    /// Change the contact parameters at run time. Invalid values are rejected (the old ones stay)
-    /// and [`Flags::PARAM_REJECTED`] is raised on the next tick. A valid change restarts the contact.
-    pub fn set_contact_params(&mut self, p: ContactParams) -> Result<(), ParamError> {
+    /// Change the contact parameters at run time (checked where they arrived: [`ContactParams::checked`]).
+    /// A refusal keeps the old ones and raises [`Flags::PARAM_REJECTED`] on the next tick. A
+    /// change restarts the contact, or blends the material in when nothing else changed (the
+    /// stage's [`ParamsChange`]).
+    pub fn set_contact_params(
+        &mut self,
+        p: &Checked<ContactParams>,
+    ) -> Result<ParamsChange, ParamError> {
         match self.contact.set_contact_params(p) {
-            Ok(()) => {
-                self.config.contact = p;
-                self.passivity.set_contact(stored_spring(&p), p.max_force_n);
+            Ok(change) => {
+                self.config.contact = **p;
+                self.passivity.set_contact(stored_spring(p), p.max_force_n);
                 self.passivity.restart();
-                Ok(())
+                Ok(change)
             }
             Err(e) => {
-                self.pending |= Flags::PARAM_REJECTED;
+                self.params_refused();
                 Err(e)
             }
         }
+    }
+
+    /// Contact parameters were refused where they arrived: [`Flags::PARAM_REJECTED`] on the next
+    /// tick, as for a refusal here.
+    pub fn params_refused(&mut self) {
+        self.pending |= Flags::PARAM_REJECTED;
     }
 
     /// One control tick through the controller's guard. Never panics; any fault gives zero duties

@@ -603,7 +603,14 @@ fn run_tick<M: Math, S: Surface>(b: &mut Bytes, surface: S) -> Result<Summary, S
             }
             216..=231 => {
                 let p = contact_params(b);
-                let ok = ctrl.set_contact_params(p).is_ok();
+                // Checked where it arrives, as the pipeline does; a refusal raises the flag.
+                let ok = match p.checked() {
+                    Ok(c) => ctrl.set_contact_params(&c).is_ok(),
+                    Err(_) => {
+                        ctrl.params_refused();
+                        false
+                    }
+                };
                 if ok != contact_params_valid(&p) {
                     return Err(format!("set_contact_params({p:?}) returned ok={ok}"));
                 }

@@ -23,16 +23,16 @@
 
 use defmt::{info, warn};
 use embassy_time::Timer;
+use heapless::spsc::Producer;
 use softfinger_core::control::operator::ButtonRules;
 use softfinger_core::control::pipeline::Command;
 
 use crate::board::OperatorButton;
 use crate::config;
-use crate::link::session::CommandSink;
 use crate::tick::published_mode;
 
 /// Serve the button forever (the board binary spawns this as a task).
-pub async fn run(mut button: impl OperatorButton, mut commands: impl CommandSink) {
+pub async fn run(mut button: impl OperatorButton, mut commands: Producer<'static, Command>) {
     let mut rules = ButtonRules::new(
         config::BUTTON_TIMING,
         config::BUTTON_SAMPLE_MS as f32 * 1e-3,
@@ -56,7 +56,7 @@ pub async fn run(mut button: impl OperatorButton, mut commands: impl CommandSink
             continue;
         }
         info!("button: while {}: {}", mode, command);
-        if !commands.try_submit(command) {
+        if commands.enqueue(command).is_err() {
             warn!("operator command dropped: queue full (tick not running?)");
         }
     }

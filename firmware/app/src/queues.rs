@@ -2,7 +2,7 @@
 //! start-up and split into the tick's ends and the tasks' ends (the same on every board).
 
 use heapless::spsc::{Consumer, Producer, Queue};
-use softfinger_core::control::pipeline::{Command, PipelineRecord, TimingSummary};
+use softfinger_core::control::pipeline::{CheckedCommand, Command, PipelineRecord, TimingSummary};
 
 use crate::config;
 use crate::stream::StreamSink;
@@ -11,7 +11,7 @@ use crate::tick::{CommandOutcome, TickQueues};
 /// The tick's ends of the queues, all but the state stream's (the board's to choose).
 pub struct TickEnds {
     commands: Consumer<'static, Command>,
-    link_commands: Consumer<'static, Command>,
+    link_commands: Consumer<'static, CheckedCommand>,
     outcomes: Producer<'static, CommandOutcome>,
     records: Producer<'static, PipelineRecord>,
     summaries: Producer<'static, TimingSummary>,
@@ -35,8 +35,9 @@ impl TickEnds {
 pub struct TaskEnds {
     /// Commands to the tick from the operator (the button, the emulated board's plant).
     pub commands: Producer<'static, Command>,
-    /// Commands to the tick from the host link (`Pipeline::link_command`'s rules apply).
-    pub link_commands: Producer<'static, Command>,
+    /// Commands to the tick from the host link, checked where they arrived (`Command::check`;
+    /// `Pipeline::link_apply`'s rules apply).
+    pub link_commands: Producer<'static, CheckedCommand>,
     /// The tick's outcome of each command (the supervisor).
     pub outcomes: Consumer<'static, CommandOutcome>,
     /// Decimated telemetry records (the logger).
@@ -50,7 +51,7 @@ pub fn take() -> Option<(TickEnds, TaskEnds)> {
     let commands =
         cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())?;
     let link_commands =
-        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())?;
+        cortex_m::singleton!(: Queue<CheckedCommand, {config::COMMAND_QUEUE_LEN}> = Queue::new())?;
     let outcomes =
         cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new())?;
     let records = cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new())?;

@@ -17,7 +17,8 @@ use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 use heapless::spsc::{Consumer, Producer};
 use softfinger_core::control::pipeline::liveness::{ThreadWatch, THREAD_STALE_S};
 use softfinger_core::control::pipeline::{
-    Command, CommandError, Mode, Pipeline, PipelineOutput, PipelineRecord, RawInput, TimingSummary,
+    CheckedCommand, Command, CommandError, CommandKey, Mode, Pipeline, PipelineOutput,
+    PipelineRecord, RawInput, TimingSummary,
 };
 use softfinger_core::Fast;
 
@@ -61,10 +62,32 @@ pub fn thread_heartbeat() {
     THREAD_HEARTBEAT.fetch_add(1, Ordering::Relaxed);
 }
 
-/// An operator command and what the pipeline made of it, for the log.
+/// What the tick applied: an operator's command whole (rare; the host link learns the contact
+/// parameters a button preset set from it), a host link's by its key (1 kHz local models: the
+/// link holds the command it queued, and a copy of a 92-byte command costs the tick about 90
+/// instructions).
+#[derive(Clone, Copy, Debug)]
+pub enum Applied {
+    /// From the operator's queue.
+    Operator(Command),
+    /// From the host link's queue.
+    Link(CommandKey),
+}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for Applied {
+    fn format(&self, f: defmt::Formatter) {
+        match self {
+            Applied::Operator(c) => defmt::write!(f, "{}", c),
+            Applied::Link(k) => defmt::write!(f, "host {}", k),
+        }
+    }
+}
+
+/// A command and what the pipeline made of it, for the log and the host link's acknowledgement.
 #[derive(Clone, Copy, Debug)]
 pub struct CommandOutcome {
-    pub command: Command,
+    pub command: Applied,
     pub result: Result<(), CommandError>,
 }
 
@@ -103,8 +126,8 @@ pub static STATUS: TickStatus = TickStatus {
 pub struct TickQueues<K: StreamSink> {
     /// From the operator (`Pipeline::command`).
     pub commands: Consumer<'static, Command>,
-    /// From the host link (`Pipeline::link_command`).
-    pub link_commands: Consumer<'static, Command>,
+    /// From the host link, checked where they arrived (`Pipeline::link_apply`).
+    pub link_commands: Consumer<'static, CheckedCommand>,
     pub outcomes: Producer<'static, CommandOutcome>,
     pub records: Producer<'static, PipelineRecord>,
     pub summaries: Producer<'static, TimingSummary>,
@@ -227,17 +250,20 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
         while let Some(command) = self.queues.commands.dequeue() {
             let result = self.pipeline.command(command);
             // Outcomes are for the log only; a full queue loses the report, not the command.
-            let _ = self
-                .queues
-                .outcomes
-                .enqueue(CommandOutcome { command, result });
+            let _ = self.queues.outcomes.enqueue(CommandOutcome {
+                command: Applied::Operator(command),
+                result,
+            });
         }
-        while let Some(command) = self.queues.link_commands.dequeue() {
-            let result = self.pipeline.link_command(command);
-            let _ = self
-                .queues
-                .outcomes
-                .enqueue(CommandOutcome { command, result });
+        // Applied where it waits in the queue, by reference, then dropped: a command is 92
+        // bytes, and every copy of it costs about 90 instructions.
+        while let Some(command) = self.queues.link_commands.peek() {
+            let result = self.pipeline.link_apply(command);
+            let _ = self.queues.outcomes.enqueue(CommandOutcome {
+                command: Applied::Link(command.key()),
+                result,
+            });
+            let _ = self.queues.link_commands.dequeue();
         }
     }
 

@@ -12,7 +12,12 @@
 //! the far stops, the arms moved up the mechanism's range to the reference stops and stalled
 //! there, the arms moved to the park angle, Disarmed, Arm (the force ramping in), then the arms
 //! moved down until the probe touches the plane, Armed in contact, then pressed on and stroked
-//! sideways back and forth until it slides (the dearest contact path), Armed sliding.
+//! sideways back and forth until it slides (the dearest contact path), Armed sliding. Between
+//! contact and sliding, still pressing: the application session of `scripts/pil --app-session`
+//! (`softfinger_app::scripted_app`, 2 s, every tick timed alone), then a host link's local model
+//! on every tick (a new pose; a new pose and material) and new contact parameters on every tick,
+//! each checked in thread mode as the link task checks it; a model's tick must cost at most 1.2x
+//! the ordinary tick measured the same way, or the run fails.
 //!
 //! Not included (no instructions, or not the app's): exception entry/exit (hardware stacking, 12
 //! cycles each way on the M4), wait states.
@@ -31,7 +36,11 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use heapless::spsc::{Consumer, Producer, Queue};
 use softfinger_core::contact::state::ContactState;
-use softfinger_core::control::pipeline::{Command, Mode, PipelineRecord, TimingSummary};
+use softfinger_core::control::local_model::{LocalModelSpec, ModelPose};
+use softfinger_core::control::pipeline::{
+    CheckedCommand, Command, Mode, PipelineRecord, TimingSummary,
+};
+use softfinger_core::Vec3;
 
 use softfinger_app::{config, stream, tick};
 
@@ -92,6 +101,8 @@ fn isr() {
 
 struct Queues {
     commands: Producer<'static, Command>,
+    /// The host link's end: commands checked where they arrive, as the link task checks them.
+    link: Producer<'static, CheckedCommand>,
     outcomes: Consumer<'static, CommandOutcome>,
     records: Consumer<'static, PipelineRecord>,
     summaries: Consumer<'static, TimingSummary>,
@@ -193,7 +204,7 @@ fn main() -> ! {
     };
     let (Some(cq), Some(lq), Some(oq), Some(rq), Some(sq)) = (
         cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
-        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
+        cortex_m::singleton!(: Queue<CheckedCommand, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
         cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
         cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new()),
         cortex_m::singleton!(: Queue<TimingSummary, {config::SUMMARY_QUEUE_LEN}> = Queue::new()),
@@ -201,8 +212,8 @@ fn main() -> ! {
         fail("queues")
     };
     let (ctx, crx) = cq.split();
-    // The host link's queue: empty here (the operator's commands drive the phases).
-    let (_ltx, lrx) = lq.split();
+    // The host link's queue: the model updates' phases (the operator's commands drive the rest).
+    let (ltx, lrx) = lq.split();
     let (otx, orx) = oq.split();
     let (rtx, rrx) = rq.split();
     let (stx, srx) = sq.split();
@@ -229,6 +240,7 @@ fn main() -> ! {
     }
     let mut q = Queues {
         commands: ctx,
+        link: ltx,
         outcomes: orx,
         records: rrx,
         summaries: srx,
@@ -292,6 +304,8 @@ fn run_phases(q: &mut Queues) {
     );
     q.drain();
     print_record("in contact", &q.last_record);
+    app_session(q);
+    model_updates(q);
     slide(q);
     report(
         "armed_sliding",
@@ -508,4 +522,150 @@ fn exit(ok: bool) -> ! {
     loop {
         cortex_m::asm::wfi();
     }
+}
+
+/// Instructions of the tick alone, per tick: the SysTick read just before and just after each
+/// call, less the same pair of reads around nothing; `before` runs untimed before each tick.
+fn measure_each(q: &mut Queues, before: &mut impl FnMut(&mut Queues, u32)) -> u32 {
+    let mut overhead = 0u32;
+    for _ in 0..N {
+        let t0 = now();
+        black_box(());
+        let t1 = now();
+        overhead += t0.wrapping_sub(t1) & 0x00FF_FFFF;
+    }
+    let mut total = 0u32;
+    for k in 0..N {
+        before(q, k);
+        let t0 = now();
+        isr();
+        let t1 = now();
+        total += t0.wrapping_sub(t1) & 0x00FF_FFFF;
+        if k % 64 == 63 {
+            q.drain();
+        }
+    }
+    total.saturating_sub(overhead) * INSTRUCTIONS_PER_COUNT / N
+}
+
+/// Sequence numbers of the phases' models: after the initial model's 0 and the application
+/// session's (one per update, from 1).
+static MODEL_SEQ: AtomicU32 = AtomicU32::new(1 << 20);
+
+/// Print `RATIO name a/b` with three decimals.
+fn ratio(name: &str, a: u32, b: u32) {
+    let b = b.max(1);
+    hprintln!("RATIO {} {}.{:03}", name, a / b, (a % b) * 1000 / b);
+}
+
+/// The host link's local-model updates while armed in contact, one on every tick, checked
+/// where they arrive (thread mode, untimed) and applied by the tick: a new pose (the plane up
+/// and down by 10 µm: the surface slews), then a new material as well (its stiffness alternating
+/// with 0.8 of it: blended in the one contact model), then new contact parameters (the same
+/// stiffness change through `SetContactParams`). Each is reported against the ordinary tick of
+/// the same contact, measured the same way; a model's tick must cost at most 1.2x an ordinary
+/// one (fails otherwise). The initial plane and parameters are restored at the end.
+fn model_updates(q: &mut Queues) {
+    let base = config::pipeline_config().contact;
+    let plane = |n: u32, dz: f32, stiffness: f32| {
+        let material = softfinger_core::contact::params::ContactParams {
+            normal_stiffness: stiffness,
+            ..base
+        };
+        let top = config::INITIAL_PLANE_TOP_M + Vec3::new(0.0, 0.0, dz);
+        Command::SetLocalModel(LocalModelSpec::plane(n, ModelPose::at(top), &material))
+    };
+    let submit = |q: &mut Queues, c: Command| {
+        let Ok(c) = c.check() else {
+            fail("a phase's command was refused by its check")
+        };
+        if q.link.enqueue(c).is_err() {
+            fail("link queue full");
+        }
+    };
+    let ordinary = measure_each(q, &mut |_, _| {});
+    report("armed_contact_each", ordinary);
+    let k = base.normal_stiffness;
+    let pose = measure_each(q, &mut |q, i| {
+        let n = MODEL_SEQ.fetch_add(1, Relaxed);
+        submit(q, plane(n, (i % 2) as f32 * 1e-5, k));
+    });
+    report("armed_model_pose", pose);
+    let material = measure_each(q, &mut |q, i| {
+        let n = MODEL_SEQ.fetch_add(1, Relaxed);
+        let s = if i % 2 == 0 { 0.8 * k } else { k };
+        submit(q, plane(n, (i % 2) as f32 * 1e-5, s));
+    });
+    report("armed_model_material", material);
+    let params = measure_each(q, &mut |q, i| {
+        let s = if i % 2 == 0 { 0.8 * k } else { k };
+        let p = softfinger_core::contact::params::ContactParams {
+            normal_stiffness: s,
+            ..base
+        };
+        submit(q, Command::SetContactParams(p));
+    });
+    report("armed_contact_params", params);
+    let worst = pose.max(material);
+    ratio("model_update", worst, ordinary);
+    ratio("contact_params", params, ordinary);
+    check(
+        worst * 10 <= ordinary * 12,
+        "a tick applying a local model costs more than 1.2x an ordinary one",
+    );
+    let n = MODEL_SEQ.fetch_add(1, Relaxed);
+    submit(q, Command::SetContactParams(base));
+    submit(q, plane(n, 0.0, k));
+    ticks(q, 100);
+    check(
+        published_mode() == Mode::Armed,
+        "left Armed applying models",
+    );
+}
+
+/// The scripted application session of `scripts/pil --app-session`
+/// (`softfinger_app::scripted_app`: a local model every 1 ms, contact parameters every 100 ms)
+/// for 2 s against the held probe: every tick timed alone (to the SysTick's 40 instructions);
+/// the longest, the longest of the ticks that applied nothing, and the update of the longest.
+fn app_session(q: &mut Queues) {
+    use softfinger_app::scripted_app::ScriptedApp;
+    let mut app = ScriptedApp::new(config::pipeline_config().contact);
+    let period = ScriptedApp::update_period_ticks(config::CONTROL_RATE_HZ);
+    let mut worst = (0u32, 0u32, false);
+    let mut ordinary_worst = 0u32;
+    for k in 0..20_000u32 {
+        let applies = k % period == 0;
+        if applies {
+            let Ok(c) = app.next_command().check() else {
+                fail("a session command was refused by its check")
+            };
+            let _ = q.link.enqueue(c);
+        }
+        let t0 = now();
+        isr();
+        let t1 = now();
+        let n = (t0.wrapping_sub(t1) & 0x00FF_FFFF) * INSTRUCTIONS_PER_COUNT;
+        if n > worst.0 {
+            worst = (n, k, applies);
+        }
+        if !applies {
+            ordinary_worst = ordinary_worst.max(n);
+        }
+        if k % 64 == 63 {
+            q.drain();
+        }
+    }
+    report("session_longest", worst.0);
+    report("session_longest_applying_nothing", ordinary_worst);
+    hprintln!(
+        "session: the longest tick is tick {} of {} ({})",
+        worst.1,
+        20_000,
+        if worst.2 {
+            "it applied an update"
+        } else {
+            "it applied nothing"
+        }
+    );
+    check(published_mode() == Mode::Armed, "left Armed in the session");
 }

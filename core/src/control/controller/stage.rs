@@ -12,7 +12,7 @@
 //! the configuration's `object_origin_m`) and returns its force, torque and contact point in that
 //! frame.
 
-use crate::contact::params::ContactParams;
+use crate::contact::params::{ContactParams, ParamsChange};
 use crate::contact::parts::Parts;
 use crate::contact::state::ContactState;
 use crate::contact::surface::Surface;
@@ -22,7 +22,7 @@ use crate::control::local_model::LocalModelSpec;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
-use crate::validate::ParamError;
+use crate::validate::{Checked, ParamError};
 
 /// A contact stage: one step per control tick, plus the commands it understands. The commands
 /// about the local model and the link answer [`CommandError::Unsupported`] on a fixed surface.
@@ -32,8 +32,13 @@ pub trait ContactStage: Copy + core::fmt::Debug {
     /// Break the contact and forget the motion history (after a fault or a re-homing); the
     /// surface (or the local model in force) stays.
     fn restart(&mut self);
-    /// New contact parameters: validated, the contact restarts; invalid ones change nothing.
-    fn set_contact_params(&mut self, p: ContactParams) -> Result<(), ParamError>;
+    /// New contact parameters (checked where they arrived): the contact restarts, or carries on
+    /// when only the material changed and the stage blends it ([`ParamsChange`]); refused ones
+    /// change nothing.
+    fn set_contact_params(
+        &mut self,
+        p: &Checked<ContactParams>,
+    ) -> Result<ParamsChange, ParamError>;
     /// The contact parameters in force.
     fn params(&self) -> &ContactParams;
     /// Contact state after the last step.
@@ -45,11 +50,15 @@ pub trait ContactStage: Copy + core::fmt::Debug {
     fn model_seq(&self) -> u32 {
         0
     }
-    /// Queue a new local model for the next tick boundary.
+    /// Queue a new local model (checked where it arrived) for the next tick boundary.
     #[inline]
-    fn set_local_model(&mut self, _spec: LocalModelSpec) -> Result<(), CommandError> {
+    fn set_local_model(&mut self, _spec: &Checked<LocalModelSpec>) -> Result<(), CommandError> {
         Err(CommandError::Unsupported)
     }
+    /// A local model was refused before it reached the stage (its own checks): the stage's
+    /// refusal flag, as if it had refused it.
+    #[inline]
+    fn local_model_refused(&mut self) {}
     /// Set the communication watchdog's timeout, s (0: off).
     #[inline]
     fn set_watchdog(&mut self, _timeout_s: f32) -> Result<(), CommandError> {
@@ -146,9 +155,13 @@ impl<M: Math, S: Surface, P: Parts> ContactStage for ContactModel<M, S, P> {
             *self = c;
         }
     }
-    fn set_contact_params(&mut self, p: ContactParams) -> Result<(), ParamError> {
-        *self = ContactModel::with_parts(p, self.rolling.surface, Quat::IDENTITY, self.dt_s())?;
-        Ok(())
+    fn set_contact_params(
+        &mut self,
+        p: &Checked<ContactParams>,
+    ) -> Result<ParamsChange, ParamError> {
+        *self =
+            ContactModel::with_checked_parts(p, self.rolling.surface, Quat::IDENTITY, self.dt_s())?;
+        Ok(ParamsChange::Restarted)
     }
     #[inline]
     fn params(&self) -> &ContactParams {

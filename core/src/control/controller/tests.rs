@@ -202,10 +202,9 @@ fn invalid_parameter_changes_are_rejected_and_flagged_once() {
         mu_s: f32::NAN,
         ..ContactParams::DEFAULT
     };
-    assert_eq!(
-        c.set_contact_params(bad),
-        Err(ParamError::NotFinite("mu_s"))
-    );
+    // Refused where it arrives (the pipeline's `Command::check`); the controller flags it.
+    assert_eq!(bad.checked().err(), Some(ParamError::NotFinite("mu_s")));
+    c.params_refused();
     assert_eq!(c.config().contact, ContactParams::DEFAULT);
     let out = c.tick(&input(counts));
     assert!(out.flags.contains(Flags::PARAM_REJECTED) && out.enable);
@@ -216,7 +215,10 @@ fn invalid_parameter_changes_are_rejected_and_flagged_once() {
         normal_stiffness: 4000.0,
         ..ContactParams::DEFAULT
     };
-    assert_eq!(c.set_contact_params(stiff), Ok(()));
+    assert_eq!(
+        c.set_contact_params(&stiff.checked().unwrap()),
+        Ok(ParamsChange::Restarted)
+    );
     let mut out = TickOutput::default();
     for _ in 0..3 {
         out = c.tick(&input(counts));

@@ -1,15 +1,20 @@
 //! [`LocalModelRenderer`]: renders the local model in force and switches to a new one at a tick
 //! boundary without a force step.
 //!
-//! - **Accepting** ([`LocalModelRenderer::accept`], from the link task): a model newer than the
-//!   last accepted one and valid is queued (the latest wins); anything else is refused with a
-//!   [`ModelError`] and [`Flags::MODEL_REJECTED`] on the next tick. Nothing changes mid-tick.
+//! - **Accepting** ([`LocalModelRenderer::accept`]): a model newer than the last accepted one and
+//!   valid is queued (the latest wins); anything else is refused with a [`ModelError`] and
+//!   [`Flags::MODEL_REJECTED`] on the next tick. Nothing changes mid-tick. The checks that need
+//!   only the model run where it arrives ([`LocalModelSpec::checked`]; the firmware's link task,
+//!   in thread mode); [`LocalModelRenderer::accept_checked`], in the tick, checks the rest: the
+//!   sequence number and the fit ([`LocalModelSpec::fits`]).
 //! - **Switching** (at the start of [`LocalModelRenderer::step`]):
-//!   - same surface and material, new pose (a moving object, the usual 100 Hz–1 kHz stream): the
-//!     surface *slews* from where it is now to the new pose over `blend_s` (positions linear,
-//!     orientations by normalised lerp). The contact model, its contact state and contact points
-//!     carry on: the state is consistent by construction.
-//!   - another kind, size or material: a second contact model starts on the new surface and the
+//!   - same surface (kind and size), new pose (a moving object, the usual 100 Hz–1 kHz stream):
+//!     the surface *slews* from where it is now to the new pose over `blend_s` (positions linear,
+//!     orientations by normalised lerp). A new material (stiffness, damping, friction, spin
+//!     stiffness) *blends* over the same time, field by field, in the same contact model. The
+//!     contact model, its contact state and contact points carry on: the state is consistent by
+//!     construction, and the tick steps one contact model.
+//!   - another kind or size: a second contact model starts on the new surface and the
 //!     force *cross-fades* from the old to the new over `blend_s`. The reported contact state and
 //!     point are the old model's until the new one's weight reaches ½. Further different models
 //!     wait (the latest wins) until the cross-fade ends; pose updates of the incoming model slew.
@@ -22,7 +27,7 @@
 //! The object may move, but the damping acts on the probe's velocity (relative to the base, not to
 //! the moving surface): a 1 kHz stream gives no surface velocity to difference.
 
-use crate::contact::params::ContactParams;
+use crate::contact::params::{ContactParams, Material};
 use crate::contact::state::ContactState;
 use crate::contact::{ContactInput, ContactModel, ContactOutput, Full, Parts};
 use crate::control::local_model::pose::{ModelPose, ProbeSample};
@@ -33,7 +38,9 @@ use crate::flags::Flags;
 use crate::math::quat::Quat;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
-use crate::validate::ParamError;
+use crate::validate::{Checked, ParamError};
+
+pub use crate::contact::params::ParamsChange;
 
 /// Timing of the renderer.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -87,13 +94,18 @@ pub struct RenderOutput {
     pub flags: Flags,
 }
 
-/// One model being rendered: its spec, its surface's current pose and its contact model.
+/// One model being rendered: its spec, its surface's current pose and material, and its contact
+/// model.
 #[derive(Clone, Copy, Debug)]
 struct Slot<M: Math, P: Parts> {
     spec: LocalModelSpec,
     pose: ModelPose,
     slew_from: ModelPose,
     slew: Ramp,
+    /// The material the contact model renders now, and where a material blend started.
+    material: Material,
+    blend_from: Material,
+    blend: Ramp,
     contact: ContactModel<M, ModelSurface, P>,
 }
 
@@ -106,32 +118,47 @@ struct SlotOutput {
 }
 
 impl<M: Math, P: Parts> Slot<M, P> {
+    /// A slot rendering `spec` (checked, and fitting `base`: [`LocalModelSpec::validate`]) on
+    /// `base` (valid) at the renderer's rate (validated with its configuration).
     fn new(
-        spec: LocalModelSpec,
+        spec: &Checked<LocalModelSpec>,
         base: &ContactParams,
         cfg: &RendererConfig,
     ) -> Result<Self, ModelError> {
-        let contact = ContactModel::with_parts(
-            spec.contact_params(base),
+        let material = spec.material();
+        // Valid: a valid base with a checked material.
+        let params = Checked::assume_checked(spec.contact_params(base));
+        let contact = ContactModel::with_checked_parts(
+            &params,
             ModelSurface::of(spec.kind),
             Quat::IDENTITY,
             1.0 / cfg.rate_hz,
         )
         .map_err(ModelError::Params)?;
         Ok(Slot {
-            spec,
+            spec: **spec,
             pose: spec.pose,
             slew_from: spec.pose,
             slew: Ramp::new(1.0, cfg.blend_s, cfg.rate_hz),
+            material,
+            blend_from: material,
+            blend: Ramp::new(1.0, cfg.blend_s, cfg.rate_hz),
             contact,
         })
     }
 
-    /// Same surface, new pose: slew from where the surface is now.
+    /// Same surface, new pose and perhaps material: slew from where the surface is now, blend
+    /// from the material rendered now.
     fn retarget(&mut self, spec: LocalModelSpec) {
-        self.slew_from = self.pose;
+        if spec.pose != self.spec.pose {
+            self.slew_from = self.pose;
+            self.slew.set(0.0);
+        }
+        if !spec.same_material_as(&self.spec) {
+            self.blend_from = self.material;
+            self.blend.set(0.0);
+        }
         self.spec = spec;
-        self.slew.set(0.0);
     }
 
     fn step(&mut self, s: &ProbeSample) -> SlotOutput {
@@ -140,6 +167,16 @@ impl<M: Math, P: Parts> Slot<M, P> {
             self.pose = self.slew_from.interpolate::<M>(&self.spec.pose, k);
         } else {
             self.pose = self.spec.pose;
+        }
+        if self.blend.value() < 1.0 {
+            let k = self.blend.advance(1.0);
+            let to = self.spec.material();
+            self.material = if k >= 1.0 {
+                to
+            } else {
+                self.blend_from.lerp(&to, k)
+            };
+            self.contact.take_material(&self.material);
         }
         let pose = self.pose;
         let out = self.contact.contact_step(&ContactInput {
@@ -164,7 +201,7 @@ pub struct LocalModelRenderer<M: Math, P: Parts = Full> {
     active: Slot<M, P>,
     incoming: Option<Slot<M, P>>,
     weight: Ramp,
-    pending: Option<LocalModelSpec>,
+    pending: Option<Checked<LocalModelSpec>>,
     latest_seq: u32,
     age_ticks: u32,
     max_age_ticks: u32,
@@ -195,11 +232,13 @@ impl<M: Math, P: Parts> LocalModelRenderer<M, P> {
         initial: LocalModelSpec,
     ) -> Result<Self, ModelError> {
         config.validate().map_err(ModelError::Params)?;
-        initial.validate(&base)?;
+        base.validate().map_err(ModelError::Params)?;
+        let initial = initial.checked()?;
+        initial.fits(&base)?;
         Ok(LocalModelRenderer {
             config,
             base,
-            active: Slot::new(initial, &base, &config)?,
+            active: Slot::new(&initial, &base, &config)?,
             incoming: None,
             weight: Ramp::new(0.0, config.blend_s, config.rate_hz),
             pending: None,
@@ -222,30 +261,52 @@ impl<M: Math, P: Parts> LocalModelRenderer<M, P> {
     }
 
     /// Replace the parameters models are completed with; the model in force takes their material
-    /// (stiffness, damping, friction, spin stiffness) too and restarts (its contact state too), so
-    /// callers do this only while no force is rendered.
-    pub fn set_base_params(&mut self, base: ContactParams) -> Result<(), ModelError> {
-        let spec = LocalModelSpec {
+    /// (stiffness, damping, friction, spin stiffness) too.
+    ///
+    /// - Only the material differs from the parameters in force: the material blends in over
+    ///   `blend_s` in the contact model in force, whose contact state carries on
+    ///   ([`ParamsChange::Blended`]), as for a model with another material.
+    /// - Anything else differs (fingertip, coupling, patch, limits, tolerances): the model in
+    ///   force restarts, its contact state too ([`ParamsChange::Restarted`]), so callers ramp
+    ///   the force in again.
+    pub fn set_base_params(
+        &mut self,
+        base: &Checked<ContactParams>,
+    ) -> Result<ParamsChange, ModelError> {
+        let base: &ContactParams = base;
+        let with_base = |spec: &LocalModelSpec| LocalModelSpec {
             stiffness_n_per_m: base.normal_stiffness,
             damping_n_s_per_m: base.normal_damping,
             mu_s: base.mu_s,
             mu_k: base.mu_k,
             spin_stiffness_nm_per_rad: base.spin_stiffness,
-            ..self.active.spec
+            ..*spec
         };
-        spec.validate(&base)?;
-        let slot = Slot::new(spec, &base, &self.config)?;
-        self.base = base;
+        let spec = with_base(&self.active.spec);
+        // The material is the checked base's, the rest was checked when the model was accepted.
+        spec.fits(base)?;
+        if base.same_but_material(&self.base) {
+            self.base = *base;
+            self.active.retarget(spec);
+            if let Some(inc) = &mut self.incoming {
+                let s = with_base(&inc.spec);
+                inc.retarget(s);
+            }
+            return Ok(ParamsChange::Blended);
+        }
+        let slot = Slot::new(&Checked::assume_checked(spec), base, &self.config)?;
+        self.base = *base;
         self.active = slot;
         self.incoming = None;
-        Ok(())
+        Ok(ParamsChange::Restarted)
     }
 
     /// Break the contact: the model in force starts again untouched (a queued model stays queued,
     /// a cross-fade in progress is completed at once, the age and staleness carry on).
     pub fn restart(&mut self) {
-        let spec = *self.model();
-        if let Ok(slot) = Slot::new(spec, &self.base, &self.config) {
+        // Every model in force was checked when it was accepted.
+        let spec = Checked::assume_checked(*self.model());
+        if let Ok(slot) = Slot::new(&spec, &self.base, &self.config) {
             self.active = slot;
             self.incoming = None;
         }
@@ -264,37 +325,51 @@ impl<M: Math, P: Parts> LocalModelRenderer<M, P> {
         }
     }
 
-    /// Queue a model for the next tick boundary (see the module doc).
+    /// Queue a model for the next tick boundary (see the module doc): [`LocalModelSpec::checked`]
+    /// then [`Self::accept_checked`].
     pub fn accept(&mut self, spec: LocalModelSpec) -> Result<(), ModelError> {
-        let checked = if is_newer(spec.seq, self.latest_seq) {
-            spec.validate(&self.base)
-        } else {
-            Err(ModelError::StaleSequence)
-        };
-        if let Err(e) = checked {
-            self.pending_flags |= Flags::MODEL_REJECTED;
-            return Err(e);
+        match spec.checked() {
+            Ok(spec) => self.accept_checked(&spec),
+            Err(e) => Err(self.rejected(e)),
         }
-        self.pending = Some(spec);
+    }
+
+    /// Queue a checked model: what is left of its validation is the tick's share, its sequence
+    /// number and [`LocalModelSpec::fits`].
+    pub fn accept_checked(&mut self, spec: &Checked<LocalModelSpec>) -> Result<(), ModelError> {
+        if !is_newer(spec.seq, self.latest_seq) {
+            return Err(self.rejected(ModelError::StaleSequence));
+        }
+        if let Err(e) = spec.fits(&self.base) {
+            return Err(self.rejected(e));
+        }
         self.latest_seq = spec.seq;
         self.age_ticks = 0;
         self.max_age_ticks = ticks_of(spec.max_age_s, self.config.rate_hz);
+        self.pending = Some(*spec);
         Ok(())
+    }
+
+    /// A model was refused (here or where it arrived): [`Flags::MODEL_REJECTED`] on the next
+    /// tick. Returns `e`.
+    pub fn rejected(&mut self, e: ModelError) -> ModelError {
+        self.pending_flags |= Flags::MODEL_REJECTED;
+        e
     }
 
     /// Start rendering the queued model, if it can start now.
     fn apply_pending(&mut self) {
         let Some(spec) = self.pending else { return };
         match &mut self.incoming {
-            Some(inc) if spec.same_surface_as(&inc.spec) => inc.retarget(spec),
+            Some(inc) if spec.same_surface_as(&inc.spec) => inc.retarget(*spec),
             Some(_) => return, // a cross-fade is running: wait for its end
-            None if spec.same_surface_as(&self.active.spec) => self.active.retarget(spec),
-            None => match Slot::new(spec, &self.base, &self.config) {
+            None if spec.same_surface_as(&self.active.spec) => self.active.retarget(*spec),
+            None => match Slot::new(&spec, &self.base, &self.config) {
                 Ok(slot) => {
                     self.incoming = Some(slot);
                     self.weight.set(0.0);
                 }
-                // Validated on acceptance; kept for safety: the model in force stays.
+                // Checked on acceptance; kept for safety: the model in force stays.
                 Err(_) => self.pending_flags |= Flags::MODEL_REJECTED,
             },
         }

@@ -1,10 +1,10 @@
 //! The local model an application sends, and its validation.
 
-use crate::contact::params::ContactParams;
+use crate::contact::params::{ContactParams, Material};
 use crate::contact::MAX_PROBE_M;
 use crate::control::local_model::pose::ModelPose;
 use crate::math::quat::{Quat, UNIT_TOLERANCE};
-use crate::validate::ParamError;
+use crate::validate::{Checked, ParamError};
 
 /// The kind of surface and its size, in the model's object frame.
 ///
@@ -130,21 +130,34 @@ impl LocalModelSpec {
         }
     }
 
-    /// `base` with this model's material.
-    pub fn contact_params(&self, base: &ContactParams) -> ContactParams {
-        ContactParams {
+    /// This model's material.
+    pub fn material(&self) -> Material {
+        Material {
             normal_stiffness: self.stiffness_n_per_m,
             normal_damping: self.damping_n_s_per_m,
             mu_s: self.mu_s,
             mu_k: self.mu_k,
             spin_stiffness: self.spin_stiffness_nm_per_rad,
-            ..*base
         }
     }
 
+    /// `base` with this model's material.
+    pub fn contact_params(&self, base: &ContactParams) -> ContactParams {
+        base.with_material(&self.material())
+    }
+
     /// Check everything but the sequence number; `base` supplies the parameters a model does not
-    /// carry (fingertip radius, tangential coupling, force limit, state tolerances).
+    /// carry (fingertip radius, tangential coupling, force limit, state tolerances) and must be
+    /// valid. The same as [`Self::check`] then [`Self::fits`].
     pub fn validate(&self, base: &ContactParams) -> Result<(), ModelError> {
+        self.check()?;
+        self.fits(base)
+    }
+
+    /// Every check that needs nothing but the model: pose, size, age and material (the
+    /// sequence number and [`Self::fits`] depend on the renderer's state). Thread-mode work on
+    /// the firmware: [`Self::checked`] where a host's model arrives.
+    pub fn check(&self) -> Result<(), ModelError> {
         let p = self.pose;
         let q: Quat = p.orientation;
         let n2 = q.norm_squared();
@@ -159,29 +172,43 @@ impl LocalModelSpec {
             if !(MIN_SPHERE_RADIUS_M..=MAX_SPHERE_RADIUS_M).contains(&radius_m) {
                 return Err(ModelError::BadSize);
             }
-            // The fingertip must fit inside a bowl.
-            let bowl = matches!(self.kind, ModelKind::Bowl { .. });
-            if bowl && radius_m <= base.fingertip_radius_m {
-                return Err(ModelError::BadSize);
-            }
         }
         if !(0.0..=MAX_AGE_S).contains(&self.max_age_s) {
             return Err(ModelError::BadAge);
         }
-        self.contact_params(base)
-            .validate()
+        // The material's checks read only the material's fields.
+        self.contact_params(&ContactParams::DEFAULT)
+            .validate_material()
             .map_err(ModelError::Params)
     }
 
-    /// True when `self` differs from `other` only in pose, sequence and age: the switch can then
-    /// move the surface (slew) instead of cross-fading two contact models.
+    /// A checked model fits the fingertip of `base`: a bowl must be wider than it (one compare:
+    /// the tick's share of the validation).
+    #[inline]
+    pub fn fits(&self, base: &ContactParams) -> Result<(), ModelError> {
+        match self.kind {
+            ModelKind::Bowl { radius_m } if radius_m <= base.fingertip_radius_m => {
+                Err(ModelError::BadSize)
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// `self` after [`Self::check`] passed, as a [`Checked`] model.
+    pub fn checked(self) -> Result<Checked<LocalModelSpec>, ModelError> {
+        self.check()?;
+        Ok(Checked::assume_checked(self))
+    }
+
+    /// True when `self` has the kind and size of `other`: the switch can then move the surface
+    /// (slew) and blend the material in the one contact model, instead of cross-fading two.
     pub fn same_surface_as(&self, other: &LocalModelSpec) -> bool {
         self.kind == other.kind
-            && self.stiffness_n_per_m == other.stiffness_n_per_m
-            && self.damping_n_s_per_m == other.damping_n_s_per_m
-            && self.mu_s == other.mu_s
-            && self.mu_k == other.mu_k
-            && self.spin_stiffness_nm_per_rad == other.spin_stiffness_nm_per_rad
+    }
+
+    /// True when `self` has the material of `other`.
+    pub fn same_material_as(&self, other: &LocalModelSpec) -> bool {
+        self.material() == other.material()
     }
 }
 
@@ -273,6 +300,30 @@ mod tests {
         };
         assert_eq!(
             mu.validate(&b),
+            Err(ModelError::Params(ParamError::KineticAboveStatic))
+        );
+    }
+
+    /// The split of the validation: a bowl no wider than the fingertip passes the model's own
+    /// check (it needs the fingertip to fail) and is refused by `fits`, just above it fits.
+    #[test]
+    fn check_and_fits_split_the_validation() {
+        let b = ContactParams::DEFAULT;
+        let rho = b.fingertip_radius_m;
+        let bowl = |r| LocalModelSpec {
+            kind: ModelKind::Bowl { radius_m: r },
+            ..spec()
+        };
+        assert_eq!(bowl(rho).check(), Ok(()));
+        assert_eq!(bowl(rho).fits(&b), Err(ModelError::BadSize));
+        assert_eq!(bowl(rho * 1.001).fits(&b), Ok(()));
+        assert!(bowl(rho).checked().is_ok());
+        let soft = LocalModelSpec {
+            mu_k: 0.9,
+            ..spec()
+        };
+        assert_eq!(
+            soft.check(),
             Err(ModelError::Params(ParamError::KineticAboveStatic))
         );
     }

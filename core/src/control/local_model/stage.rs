@@ -13,7 +13,7 @@
 //! Frames: the model poses are in the pipeline's object frame (the base frame translated by the
 //! configuration's `object_origin_m`; zero makes it the base frame).
 
-use crate::contact::params::ContactParams;
+use crate::contact::params::{ContactParams, ParamsChange};
 use crate::contact::state::ContactState;
 use crate::contact::{ContactInput, ContactOutput, Full, Parts};
 use crate::control::command::CommandError;
@@ -24,7 +24,7 @@ use crate::control::local_model::spec::{LocalModelSpec, ModelError, MAX_AGE_S};
 use crate::control::local_model::watchdog::CommWatchdog;
 use crate::math::vec3::Vec3;
 use crate::math::Math;
-use crate::validate::ParamError;
+use crate::validate::{Checked, ParamError};
 use core::marker::PhantomData;
 
 /// The local-model environment: the initial model, the timing of blends, fades and the watchdog, and
@@ -157,13 +157,18 @@ impl<M: Math, P: Parts> ContactStage for LocalModelStage<M, P> {
         self.state = ContactState::Broken;
     }
 
-    fn set_contact_params(&mut self, p: ContactParams) -> Result<(), ParamError> {
-        self.renderer.set_base_params(p).map_err(|e| match e {
+    fn set_contact_params(
+        &mut self,
+        p: &Checked<ContactParams>,
+    ) -> Result<ParamsChange, ParamError> {
+        let change = self.renderer.set_base_params(p).map_err(|e| match e {
             ModelError::Params(p) => p,
             _ => ParamError::OutOfRange("contact params"),
         })?;
-        self.state = ContactState::Broken;
-        Ok(())
+        if change == ParamsChange::Restarted {
+            self.state = ContactState::Broken;
+        }
+        Ok(change)
     }
 
     fn params(&self) -> &ContactParams {
@@ -182,10 +187,14 @@ impl<M: Math, P: Parts> ContactStage for LocalModelStage<M, P> {
         self.seq
     }
 
-    fn set_local_model(&mut self, spec: LocalModelSpec) -> Result<(), CommandError> {
+    fn set_local_model(&mut self, spec: &Checked<LocalModelSpec>) -> Result<(), CommandError> {
         self.renderer
-            .accept(spec)
+            .accept_checked(spec)
             .map_err(CommandError::InvalidModel)
+    }
+
+    fn local_model_refused(&mut self) {
+        let _ = self.renderer.rejected(ModelError::BadPose);
     }
 
     fn set_watchdog(&mut self, timeout_s: f32) -> Result<(), CommandError> {

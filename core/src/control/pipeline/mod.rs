@@ -39,7 +39,8 @@ pub mod ramp;
 pub mod record;
 pub mod timing;
 
-pub use crate::control::command::{Command, CommandError};
+use crate::contact::params::ParamsChange;
+pub use crate::control::command::{CheckedCommand, Command, CommandError, CommandKey};
 pub use board::{BoardTiming, TimingError};
 pub use bridge::{BridgeCommands, BridgeMapper};
 pub use config::{PipelineConfig, PipelineError};
@@ -273,10 +274,23 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
     /// ([`Self::host_watchdog_s`], [`HOST_WATCHDOG_S`] by default) when it is off and makes the link hold the force; while it does,
     /// `SetWatchdog` cannot turn the watchdog off ([`CommandError::WatchdogRequired`]).
     pub fn link_command(&mut self, command: Command) -> Result<(), CommandError> {
+        match command.check() {
+            Ok(c) => self.link_apply(&c),
+            Err(e) => {
+                self.note_link_activity();
+                self.refused(&command);
+                Err(e)
+            }
+        }
+    }
+
+    /// [`Self::link_command`] for a command checked where it arrived ([`Command::check`]): the
+    /// firmware's tick applies a host's commands this way.
+    pub fn link_apply(&mut self, command: &CheckedCommand) -> Result<(), CommandError> {
         self.note_link_activity();
-        match command {
-            Command::Arm => {
-                self.command(Command::Arm)?;
+        match *command {
+            CheckedCommand::Arm => {
+                self.apply(command)?;
                 self.link.armed_by_host();
                 if self.controller.contact().watchdog_s() == 0.0 {
                     // A fixed surface has no watchdog (Unsupported): the link-loss rule still holds.
@@ -287,14 +301,24 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
                 }
                 Ok(())
             }
-            Command::SetWatchdog { timeout_s }
+            CheckedCommand::SetWatchdog { timeout_s }
                 if self.link.host_armed()
                     && self.mode == Mode::Armed
                     && (timeout_s.is_nan() || timeout_s <= 0.0) =>
             {
                 Err(CommandError::WatchdogRequired)
             }
-            c => self.command(c),
+            _ => self.apply(command),
+        }
+    }
+
+    /// `command` was refused by its own checks ([`Command::check`]): the refusal flag the stage
+    /// would have raised ([`Flags::PARAM_REJECTED`], [`Flags::MODEL_REJECTED`]) on the next tick.
+    pub fn refused(&mut self, command: &Command) {
+        match command {
+            Command::SetContactParams(_) => self.controller.params_refused(),
+            Command::SetLocalModel(_) => self.controller.contact_mut().local_model_refused(),
+            _ => {}
         }
     }
 
@@ -318,10 +342,21 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
         self.link.host_armed() && self.mode == Mode::Armed
     }
 
-    /// Apply an operator command at a tick boundary. See [`Mode`] for the transitions.
+    /// Apply an operator command at a tick boundary: [`Command::check`], then [`Self::apply`].
     pub fn command(&mut self, command: Command) -> Result<(), CommandError> {
+        match command.check() {
+            Ok(c) => self.apply(&c),
+            Err(e) => {
+                self.refused(&command);
+                Err(e)
+            }
+        }
+    }
+
+    /// Apply a checked command at a tick boundary. See [`Mode`] for the transitions.
+    pub fn apply(&mut self, command: &CheckedCommand) -> Result<(), CommandError> {
         match command {
-            Command::Home => match self.mode {
+            CheckedCommand::Home => match self.mode {
                 Mode::Unhomed | Mode::Disarmed => {
                     // The handle is in the wrist calibration pose now: that is the wrist zero.
                     for i in WRIST {
@@ -337,7 +372,7 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
                 Mode::Armed => Err(CommandError::Armed),
                 Mode::Faulted => Err(CommandError::Faulted),
             },
-            Command::Arm => match self.mode {
+            CheckedCommand::Arm => match self.mode {
                 Mode::Disarmed if self.inside => Err(CommandError::InsideSurface),
                 Mode::Disarmed => {
                     self.link.armed_locally();
@@ -357,7 +392,7 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
                 Mode::Homing => Err(CommandError::Homing),
                 Mode::Faulted => Err(CommandError::Faulted),
             },
-            Command::Disarm => {
+            CheckedCommand::Disarm => {
                 match self.mode {
                     Mode::Armed => self.mode = Mode::Disarmed,
                     Mode::Homing => {
@@ -370,7 +405,7 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
                 self.link.released();
                 Ok(())
             }
-            Command::ClearFaults => {
+            CheckedCommand::ClearFaults => {
                 if self.mode == Mode::Faulted {
                     self.guard.clear();
                     self.controller.restart();
@@ -384,17 +419,23 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
                 }
                 Ok(())
             }
-            Command::SetContactParams(p) => {
-                self.controller
+            CheckedCommand::SetContactParams(p) => {
+                let change = self
+                    .controller
                     .set_contact_params(p)
                     .map_err(CommandError::InvalidParams)?;
-                // A new contact starts from zero force; ramp it in again when armed.
-                self.ramp.restart();
+                // A restarted contact starts from zero force: ramp it in again when armed. A
+                // blended material carries the contact on.
+                if change == ParamsChange::Restarted {
+                    self.ramp.restart();
+                }
                 Ok(())
             }
-            Command::SetLocalModel(spec) => self.controller.contact_mut().set_local_model(spec),
-            Command::SetWatchdog { timeout_s } => {
-                self.controller.contact_mut().set_watchdog(timeout_s)
+            CheckedCommand::SetLocalModel(spec) => {
+                self.controller.contact_mut().set_local_model(spec)
+            }
+            CheckedCommand::SetWatchdog { timeout_s } => {
+                self.controller.contact_mut().set_watchdog(*timeout_s)
             }
         }
     }

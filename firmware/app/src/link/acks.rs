@@ -1,14 +1,13 @@
 //! Requests waiting for the tick: a command goes through the tick's command queue and its outcome
-//! comes back through the outcome queue, in order. The link keeps the sequence numbers of the
-//! commands it queued, oldest first, and answers each when the tick reports that command's
-//! outcome.
+//! comes back through the outcome queue, in order, by its key (`CommandKey`: the tick does not
+//! copy the command back). The link keeps the sequence numbers and commands it queued, oldest
+//! first, and answers each when the tick reports that command's outcome.
 //!
 //! The tick's outcome queue also carries commands from elsewhere (the operator's button on the
-//! STM32, the plant's operator on the emulated board). An outcome answers the oldest waiting
-//! request only when it is the same command; other outcomes answer nothing.
+//! STM32, the plant's operator on the emulated board): those answer nothing.
 
 use heapless::Deque;
-use softfinger_core::control::pipeline::{Command, CommandError};
+use softfinger_core::control::pipeline::{Command, CommandError, CommandKey};
 use softfinger_protocol::AckResult;
 
 /// Commands the link may have in flight (the tick's command queue holds as many).
@@ -38,17 +37,17 @@ impl PendingAcks {
         self.waiting.push_back((seq, command)).is_ok()
     }
 
-    /// The tick applied (or refused) `command`: the request it answers, with its result, if it is
-    /// the oldest waiting one.
+    /// The tick applied (or refused) the link's command of key `key`: the request it answers
+    /// (its sequence number and command), with its result, if it is the oldest waiting one.
     pub fn resolve(
         &mut self,
-        command: &Command,
+        key: CommandKey,
         result: Result<(), CommandError>,
-    ) -> Option<(u16, AckResult)> {
+    ) -> Option<(u16, Command, AckResult)> {
         match self.waiting.front() {
-            Some((_, c)) if c == command => {
-                let (seq, _) = self.waiting.pop_front()?;
-                Some((seq, AckResult::from(result)))
+            Some((_, c)) if c.key() == key => {
+                let (seq, command) = self.waiting.pop_front()?;
+                Some((seq, command, AckResult::from(result)))
             }
             _ => None,
         }

@@ -5,7 +5,7 @@
 
 use heapless::spsc::Producer;
 use softfinger_core::contact::params::ContactParams;
-use softfinger_core::control::pipeline::{Command, CommandError};
+use softfinger_core::control::pipeline::{CheckedCommand, Command, CommandError};
 use softfinger_protocol::{
     AckResult, ContactParamsWire, DeviceEndpoint, DeviceMsg, ErrorCode, LinkCounters, Request,
     StateSample,
@@ -18,17 +18,17 @@ use super::state::StateBuilder;
 use super::tx::TxRing;
 use crate::persist::{NoStore, Persistence, ARM_REFUSED};
 use crate::stream_point::StreamPoint;
-use crate::tick::published_mode;
+use crate::tick::{published_mode, Applied};
 use softfinger_core::control::pipeline::Mode;
 
-/// Where the link's pipeline commands go: the tick's command queue, never waiting.
+/// Where the link's pipeline commands go, checked: the tick's command queue, never waiting.
 pub trait CommandSink {
     /// Queue `command` for the tick; false when the queue is full (nothing queued).
-    fn try_submit(&mut self, command: Command) -> bool;
+    fn try_submit(&mut self, command: CheckedCommand) -> bool;
 }
 
-impl CommandSink for Producer<'_, Command> {
-    fn try_submit(&mut self, command: Command) -> bool {
+impl CommandSink for Producer<'_, CheckedCommand> {
+    fn try_submit(&mut self, command: CheckedCommand) -> bool {
         self.enqueue(command).is_ok()
     }
 }
@@ -142,16 +142,21 @@ impl<const TX: usize, S: Persistence> LinkSession<TX, S> {
             return;
         }
         match route(req, &self.contact) {
-            Route::Pipeline(command) => {
-                let queued = self.acks.has_room() && sink.try_submit(command);
-                if queued {
-                    // Cannot fail: room was checked.
-                    let _ = self.acks.push(seq, command);
-                } else {
-                    self.endpoint
-                        .reply(seq, AckResult::Err(ErrorCode::Busy), &mut send);
+            // Checked here, in thread mode: the tick only applies it. A refusal is answered at
+            // once, naming why, and never reaches the tick.
+            Route::Pipeline(command) => match command.check() {
+                Err(e) => self.endpoint.reply(seq, AckResult::from(Err(e)), &mut send),
+                Ok(checked) => {
+                    let queued = self.acks.has_room() && sink.try_submit(checked);
+                    if queued {
+                        // Cannot fail: room was checked.
+                        let _ = self.acks.push(seq, command);
+                    } else {
+                        self.endpoint
+                            .reply(seq, AckResult::Err(ErrorCode::Busy), &mut send);
+                    }
                 }
-            }
+            },
             Route::Info => {
                 let mut info = device_info(
                     &InfoSource {
@@ -177,9 +182,25 @@ impl<const TX: usize, S: Persistence> LinkSession<TX, S> {
         }
     }
 
-    /// The tick applied (or refused) `command`: acknowledge the request it came from, if it came
-    /// from this link, and keep the contact parameters and the watchdog in force up to date.
-    pub fn outcome(&mut self, command: &Command, result: Result<(), CommandError>) {
+    /// The tick applied (or refused) a command: acknowledge the request a host command came
+    /// from, and keep the contact parameters and the watchdog in force up to date (an operator's
+    /// command comes whole, a host's is the one this link queued).
+    pub fn outcome(&mut self, applied: &Applied, result: Result<(), CommandError>) {
+        match applied {
+            Applied::Operator(command) => self.applied(command, result),
+            Applied::Link(key) => {
+                if let Some((seq, command, ack)) = self.acks.resolve(*key, result) {
+                    self.applied(&command, result);
+                    let tx = &mut self.tx;
+                    self.endpoint
+                        .reply(seq, ack, &mut |f: &[u8]| tx.push_frame(f));
+                }
+            }
+        }
+    }
+
+    /// What an applied `command` changes in what this link reports.
+    fn applied(&mut self, command: &Command, result: Result<(), CommandError>) {
         match (command, result) {
             (Command::SetContactParams(p), Ok(())) => self.contact = *p,
             (Command::SetWatchdog { timeout_s }, Ok(())) => {
@@ -187,11 +208,6 @@ impl<const TX: usize, S: Persistence> LinkSession<TX, S> {
                 self.info.watchdog_ms = (timeout_s * 1000.0 + 0.5) as u16;
             }
             _ => {}
-        }
-        if let Some((seq, ack)) = self.acks.resolve(command, result) {
-            let tx = &mut self.tx;
-            self.endpoint
-                .reply(seq, ack, &mut |f: &[u8]| tx.push_frame(f));
         }
     }
 

@@ -13,7 +13,7 @@ use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 use cortex_m::peripheral::NVIC;
 use heapless::spsc::{Consumer, Producer};
-use softfinger_core::control::pipeline::{BridgeCommands, Command};
+use softfinger_core::control::pipeline::{BridgeCommands, CheckedCommand, Command};
 
 use super::cmsdk::{FreeRunning, Irq, Watchdog, PCLK_HZ, TICK_TIMER};
 use super::defmt_sink::READER_STALLED;
@@ -77,8 +77,8 @@ pub static OVERRUNS: AtomicU32 = AtomicU32::new(0);
 /// application's side), moved to the tick's link command queue on the plant's
 /// [`link::APP_STEP`] (as a host link's request arrives: served at the end of that tick).
 pub struct AppFeed {
-    pub ready: Consumer<'static, Command>,
-    pub link_commands: Producer<'static, Command>,
+    pub ready: Consumer<'static, CheckedCommand>,
+    pub link_commands: Producer<'static, CheckedCommand>,
 }
 
 /// Everything the control interrupt touches on this board.
@@ -90,6 +90,8 @@ pub struct Mps2Control {
     fault: Injected,
     /// With the scripted application session.
     app: Option<AppFeed>,
+    /// This tick's sample asked for the session's next update.
+    app_step: bool,
 }
 
 impl Mps2Control {
@@ -104,6 +106,7 @@ impl Mps2Control {
             commands,
             fault,
             app,
+            app_step: false,
         }
     }
 }
@@ -154,13 +157,10 @@ impl ControlHw for Mps2Control {
             // Served at the end of this tick, in effect from the next (as a button press would be).
             let _ = self.commands.enqueue(c);
         } else if s.command == link::APP_STEP {
-            if let Some(app) = &mut self.app {
-                // None ready (the application's task starved): the update is missed, and the
-                // comparison with the in-process run shows it.
-                if let Some(c) = app.ready.dequeue() {
-                    let _ = app.link_commands.enqueue(c);
-                }
-            }
+            // Moved to the tick's queue after the compare writes (`write_bridges`): the move is
+            // this board's, not the firmware's (on the STM32 the host link's task queues a
+            // request in thread mode), so it does not delay the outputs.
+            self.app_step = self.app.is_some();
         }
         RawSample {
             counts: s.counts,
@@ -171,6 +171,15 @@ impl ControlHw for Mps2Control {
     #[inline(always)]
     fn write_bridges(&mut self, cmd: &BridgeCommands) {
         link::drive(cmd);
+        if core::mem::take(&mut self.app_step) {
+            if let Some(app) = &mut self.app {
+                // None ready (the application's task starved): the update is missed, and the
+                // comparison with the in-process run shows it. Served at the end of this tick.
+                if let Some(c) = app.ready.dequeue() {
+                    let _ = app.link_commands.enqueue(c);
+                }
+            }
+        }
     }
 
     #[inline(always)]

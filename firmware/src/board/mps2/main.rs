@@ -34,7 +34,7 @@ use defmt::{error, info, warn};
 use embassy_executor::Spawner;
 use embassy_time::Timer;
 use heapless::spsc::{Consumer, Producer, Queue};
-use softfinger_core::control::pipeline::{BoardTiming, Command, PipelineConfig};
+use softfinger_core::control::pipeline::{BoardTiming, CheckedCommand, Command, PipelineConfig};
 
 use cmsdk::{FreeRunning, Irq, PCLK_HZ};
 use softfinger_app::link::info::{min_stream_divisor, InfoSource};
@@ -65,7 +65,7 @@ const LINK_POLL_US: u64 = 200;
 #[embassy_executor::task]
 async fn host_link_task(
     config: LinkConfig,
-    commands: Producer<'static, Command>,
+    commands: Producer<'static, CheckedCommand>,
     queues: LinkQueues,
 ) {
     // The settings store and the update's slots on the emulated flash, as the STM32 build has
@@ -91,13 +91,18 @@ const APP_READY_LEN: usize = 4;
 async fn scripted_app_task(
     rate_hz: u32,
     mut app: ScriptedApp,
-    mut ready: Producer<'static, Command>,
+    mut ready: Producer<'static, CheckedCommand>,
     mut stream: Consumer<'static, stream::StreamPoint>,
 ) {
     stream::set_divisor(ScriptedApp::stream_divisor(rate_hz));
     loop {
         while ready.ready() {
-            let _ = ready.enqueue(app.next_command());
+            // Checked here, as a host link checks a request where it arrives (the session's
+            // commands are all valid: one refused would be missing, and the comparison with the
+            // in-process run would show it).
+            if let Ok(c) = app.next_command().check() {
+                let _ = ready.enqueue(c);
+            }
         }
         while stream.dequeue().is_some() {}
         Timer::after_micros(LINK_POLL_US).await;
@@ -230,7 +235,7 @@ fn spawn_command_side(
     run: &link::RunConfig,
     config: &PipelineConfig<config::TickEnvironment>,
     command_tx: Producer<'static, Command>,
-    link_command_tx: Producer<'static, Command>,
+    link_command_tx: Producer<'static, CheckedCommand>,
     outcome_rx: Consumer<'static, CommandOutcome>,
 ) -> (
     Producer<'static, Command>,
@@ -270,7 +275,7 @@ fn spawn_command_side(
         return (command_tx, stream_tx, None);
     }
     let (Some(ready), Some(points)) = (
-        cortex_m::singleton!(: Queue<Command, APP_READY_LEN> = Queue::new()),
+        cortex_m::singleton!(: Queue<CheckedCommand, APP_READY_LEN> = Queue::new()),
         cortex_m::singleton!(: Queue<stream::StreamPoint, { stream::QUEUE_LEN }> = Queue::new()),
     ) else {
         exit(false)

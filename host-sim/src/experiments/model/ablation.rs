@@ -8,7 +8,7 @@ use crate::experiments::model::yardstick::{
 };
 use crate::sim::closed_loop::{self, prepare, simulate, SetupError};
 use crate::sim::scene::{Scene, SurfaceSpec};
-use softfinger_core::contact::params::{ContactParams, ParamError};
+use softfinger_core::contact::params::{ContactParams, ParamError, ParamsChange};
 use softfinger_core::contact::state::ContactState;
 use softfinger_core::contact::surface::Surface;
 use softfinger_core::contact::{
@@ -16,6 +16,7 @@ use softfinger_core::contact::{
 };
 use softfinger_core::control::controller::{ContactStage, Environment};
 use softfinger_core::control::pipeline::{Pipeline, PipelineConfig};
+use softfinger_core::validate::Checked;
 use softfinger_core::{Fast, Math, Quat, Vec3};
 use std::marker::PhantomData;
 use std::time::Instant;
@@ -38,7 +39,10 @@ impl<M: Math, S: Surface, P: Parts> ContactStage for Recorded<M, S, P> {
     fn restart(&mut self) {
         self.model.restart();
     }
-    fn set_contact_params(&mut self, p: ContactParams) -> Result<(), ParamError> {
+    fn set_contact_params(
+        &mut self,
+        p: &Checked<ContactParams>,
+    ) -> Result<ParamsChange, ParamError> {
         self.model.set_contact_params(p)
     }
     fn params(&self) -> &ContactParams {
