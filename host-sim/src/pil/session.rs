@@ -104,6 +104,10 @@ struct Lockstep<'a> {
     s: &'a Settings,
     /// Set by another thread to end the run (the host-link check when it is done).
     stop: &'a AtomicBool,
+    /// The host link owns the board's commands: the run ends on `stop` alone, never on the
+    /// plant operator's scene length or homing wait (the host homes when its conversation gets
+    /// there, and how much board time that takes depends on the host machine's speed).
+    host_link: bool,
     op: Operator,
     /// Plant steps done = the current period.
     period: u64,
@@ -182,12 +186,11 @@ impl Lockstep<'_> {
         let fault_tick = self.s.fault_tick(start);
         self.s.fault.edit_sample(k, fault_tick, &mut raw);
         let mut control = 0;
-        if self.s.finished(k, start)
-            || self.op.homing_timed_out(k)
-            || self.stop.load(Ordering::Relaxed)
-        {
+        let plant_ends =
+            !self.host_link && (self.s.finished(k, start) || self.op.homing_timed_out(k));
+        if plant_ends || self.stop.load(Ordering::Relaxed) {
             control |= wire::CONTROL_STOP;
-            self.trace.homing_timed_out = self.op.homing_timed_out(k);
+            self.trace.homing_timed_out = !self.host_link && self.op.homing_timed_out(k);
         }
         if self.s.fault == Fault::LogStall && fault_tick.is_some_and(|f| k >= f) {
             control |= wire::CONTROL_LOG_STALL;
@@ -223,6 +226,7 @@ pub fn run_with_link(
         plant,
         s,
         stop,
+        host_link,
         op: Operator::for_settings(s),
         period: 0,
         next_tick: 0,
