@@ -363,9 +363,10 @@ pub fn main(args: &Args) -> Result<(), PilError> {
             &plant,
             reference::firmware_config(config.timing, contact),
             &s,
+            &trace.prev_write_done,
         )?
     } else {
-        reference::run(&plant, config, &s)?
+        reference::run(&plant, config, &s, &trace.prev_write_done)?
     };
     let log = telemetry::decode(&read(&args.elf)?, &raw)?;
     let rows = telemetry::telemetry_rows(&log);
@@ -441,6 +442,7 @@ fn summarize(
         identical_ticks: identical,
         max_duty_diff: max_diff,
         first_difference_tick: first,
+        board_late_writes: trace.late_writes_seen(s.timing.pwm_period_counts()),
         defmt_frames: figure("defmt_frames"),
         defmt_drops: figure("defmt_drops"),
         defmt_malformed: log.malformed,

@@ -68,10 +68,15 @@ pub fn firmware_config(
 }
 
 /// Run until the scene's end. Mirrors the session's timing: one idle period, then tick k.
+/// `prev_write_done` (index = tick, as the board's trace records it): the previous tick's write
+/// time each of the board's ticks was told, given to the same tick here, so that a write the
+/// board finished late (in emulated time) has the same effect on both (a direction reversal held
+/// one tick longer); ticks beyond it are told 0, on time.
 pub fn run<S: Environment>(
     plant: &Plant,
     config: PipelineConfig<S>,
     s: &Settings,
+    prev_write_done: &[u32],
 ) -> Result<RefRun, PilError> {
     let mut plant = plant.clone();
     let timing = config.timing;
@@ -94,6 +99,11 @@ pub fn run<S: Environment>(
         let command = op.before_sample(k, prev_mode, &mut plant);
         let mut raw = RawInput {
             counts: plant.raw_counts(),
+            prev_write_done_counts: usize::try_from(k)
+                .ok()
+                .and_then(|i| prev_write_done.get(i))
+                .copied()
+                .unwrap_or(0),
             ..RawInput::default()
         };
         if s.fault.mirrored_in_reference() {

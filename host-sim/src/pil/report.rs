@@ -45,6 +45,10 @@ pub struct Summary {
     /// Largest |duty difference| (signed compare / full scale) over the compared ticks.
     pub max_duty_diff: f64,
     pub first_difference_tick: Option<u64>,
+    /// Ticks whose pipeline was told that the previous tick's writes ended after its first PWM
+    /// period, in emulated time (`instructions_per_second`; the in-process run is told the same):
+    /// such a tick holds a direction reversal one tick longer. On the STM32 see `output`.
+    pub board_late_writes: usize,
     pub defmt_frames: u32,
     pub defmt_drops: u32,
     pub defmt_malformed: usize,
@@ -250,6 +254,10 @@ impl Summary {
             self.max_duty_diff,
             self.first_difference_tick
                 .map_or(String::new(), |t| format!(", first difference at tick {t}"))
+        );
+        println!(
+            "  late writes in emulated time (told to the in-process run too): {} ticks",
+            self.board_late_writes
         );
         println!(
             "  defmt: {} frames, {} dropped, {} malformed; {} telemetry records ({} dropped)",

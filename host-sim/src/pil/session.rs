@@ -53,6 +53,21 @@ pub struct Trace {
     /// Largest sample and write instants, instructions after the tick event.
     pub max_sample_instructions: u64,
     pub max_write_instructions: u64,
+    /// Per tick (index = tick): the previous tick's write time as the board's pipeline got it
+    /// (`RawInput::prev_write_done_counts`, 170 MHz counts; `u32::MAX`: ran into the next
+    /// period). The in-process reference is fed the same.
+    pub prev_write_done: Vec<u32>,
+}
+
+impl Trace {
+    /// Ticks whose pipeline was told the previous tick's writes finished after its first PWM
+    /// period (`pwm_counts`, 170 MHz timer counts): in emulated time, the board's late writes.
+    pub fn late_writes_seen(&self, pwm_counts: u32) -> usize {
+        self.prev_write_done
+            .iter()
+            .filter(|&&c| c >= pwm_counts)
+            .count()
+    }
 }
 
 /// The run's settings.
@@ -168,8 +183,13 @@ impl Lockstep<'_> {
         }
     }
 
-    fn sense_reply(&mut self, mode: Mode) -> [u8; wire::REPLY_LEN] {
+    fn sense_reply(&mut self, mode: Mode, prev_write_done: u32) -> [u8; wire::REPLY_LEN] {
         let k = self.period.saturating_sub(1);
+        let at = k as usize;
+        if at >= self.trace.prev_write_done.len() {
+            self.trace.prev_write_done.resize(at + 1, 0);
+        }
+        self.trace.prev_write_done[at] = prev_write_done;
         let mut command = None;
         let mut app_step = false;
         if k >= self.next_tick {
@@ -261,9 +281,12 @@ pub fn run_with_link(
         l.advance_to((l.base + st.time_counts) / period_counts(s.rate_hz()));
         match st.message {
             Message::Hello { .. } => {}
-            Message::Sense { mode } => {
+            Message::Sense {
+                mode,
+                prev_write_done,
+            } => {
                 l.sampled = Some(l.instant(l.base + st.time_counts));
-                let r = l.sense_reply(mode);
+                let r = l.sense_reply(mode, prev_write_done);
                 emu.reply(&r)?;
             }
             Message::Drive(b) => l.drive(b, l.base + st.time_counts),

@@ -102,6 +102,7 @@ fn summary(max_tick: u32, latency: u32) -> Summary {
         identical_ticks: 10,
         max_duty_diff: 0.0,
         first_difference_tick: None,
+        board_late_writes: 0,
         defmt_frames: 1,
         defmt_drops: 0,
         defmt_malformed: 0,
@@ -247,4 +248,65 @@ fn the_firmware_runs_the_model_the_default_scene_names() {
     let plane = closed_loop::plane_config(&scene, contact).unwrap();
     let lm = super::reference::firmware_config(plane.timing, contact);
     assert_eq!(parts_name(&lm.surface), scene.model().unwrap().name());
+}
+
+/// The board's late writes are counted from what its pipeline was told: a write ending one count
+/// before the first PWM period's end is on time, one ending on it (or an overrun) is late.
+#[test]
+fn late_writes_are_counted_from_the_first_pwm_period_on() {
+    let pwm = 4_250;
+    let trace = Trace {
+        prev_write_done: vec![0, pwm - 1, pwm, u32::MAX, 3_000],
+        ..Trace::default()
+    };
+    assert_eq!(trace.late_writes_seen(pwm), 2);
+    assert_eq!(trace.late_writes_seen(pwm + 1), 1);
+}
+
+/// The in-process reference gets the board's timing input: told that every write ended on the
+/// first PWM period's last count it runs exactly as told nothing; told that every write ended one
+/// count later (late, not an overrun), it holds each direction reversal one more tick and its
+/// bridge commands differ (or, holding them every tick, it never finishes homing).
+#[test]
+fn the_reference_is_told_the_boards_write_times() {
+    use super::session::Settings;
+    use crate::sim::closed_loop;
+    use crate::sim::scene::Scene;
+    let scene = Scene::load("finger-on-plane").unwrap();
+    let contact = closed_loop::contact_params(&scene).unwrap();
+    let rate_hz: u32 = 2_000;
+    let scene = Scene {
+        rate_hz: f64::from(rate_hz),
+        ..scene
+    };
+    let plane = closed_loop::plane_config(&scene, contact).unwrap();
+    let plant = closed_loop::plant(&scene, &contact).unwrap();
+    let s = Settings {
+        timing: plane.timing,
+        scene_ticks: u64::from(rate_hz),
+        fault: Fault::None,
+        fault_offset: 0,
+        app_session: false,
+    };
+    let pwm = plane.timing.pwm_period_counts();
+    let run = |told: u32| {
+        let told = vec![told; 20_000];
+        super::reference::run(
+            &plant,
+            super::reference::firmware_config(plane.timing, contact),
+            &s,
+            &told,
+        )
+        .map(|r| r.ticks.iter().map(|t| t.bridges).collect::<Vec<_>>())
+    };
+    let untold = super::reference::run(
+        &plant,
+        super::reference::firmware_config(plane.timing, contact),
+        &s,
+        &[],
+    )
+    .unwrap();
+    let untold: Vec<_> = untold.ticks.iter().map(|t| t.bridges).collect();
+    assert_eq!(run(pwm - 1).unwrap(), untold);
+    assert!(run(pwm).map_or(true, |late| late != untold));
 }

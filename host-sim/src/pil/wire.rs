@@ -60,9 +60,12 @@ pub enum Message {
     Hello {
         reset_cause: u32,
     },
-    /// Sample the inputs; the pipeline's mode after the previous tick.
+    /// Sample the inputs; the pipeline's mode after the previous tick, and the previous tick's
+    /// write time as this tick's pipeline gets it (`RawInput::prev_write_done_counts`: 170 MHz
+    /// timer counts, `u32::MAX` when the writes ran into the next period).
     Sense {
         mode: Mode,
+        prev_write_done: u32,
     },
     Drive(BridgeCommands),
     Report {
@@ -99,7 +102,10 @@ pub fn decode(m: &[u8; MSG_LEN]) -> Result<Stamped, PilError> {
     let a = u32_at(m, 12);
     let message = match m[0] {
         1 => Message::Hello { reset_cause: a },
-        2 => Message::Sense { mode: mode_of(key) },
+        2 => Message::Sense {
+            mode: mode_of(key),
+            prev_write_done: a,
+        },
         3 => Message::Drive(BridgeCommands {
             phase_forward: [bits & 1 != 0, bits & 2 != 0, bits & 4 != 0],
             compare: [u16_at(m, 4), u16_at(m, 6), u16_at(m, 8)],
@@ -198,9 +204,13 @@ mod tests {
         assert_eq!(signed_compare(&asleep), [0; 3]);
         m[0] = 2;
         m[2] = 3;
+        m[12..16].copy_from_slice(&4_321u32.to_le_bytes());
         assert_eq!(
             decode(&m).unwrap().message,
-            Message::Sense { mode: Mode::Armed }
+            Message::Sense {
+                mode: Mode::Armed,
+                prev_write_done: 4_321
+            }
         );
         m[0] = 9;
         assert!(decode(&m).unwrap_err().to_string().contains("kind 9"));

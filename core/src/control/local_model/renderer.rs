@@ -351,9 +351,14 @@ impl<M: Math, P: Parts> LocalModelRenderer<M, P> {
     }
 
     /// A model was refused (here or where it arrived): [`Flags::MODEL_REJECTED`] on the next
-    /// tick. Returns `e`.
-    pub fn rejected(&mut self, e: ModelError) -> ModelError {
+    /// tick.
+    pub fn refused(&mut self) {
         self.pending_flags |= Flags::MODEL_REJECTED;
+    }
+
+    /// [`Self::refused`], returning `e`.
+    pub fn rejected(&mut self, e: ModelError) -> ModelError {
+        self.refused();
         e
     }
 

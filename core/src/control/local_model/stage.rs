@@ -194,7 +194,7 @@ impl<M: Math, P: Parts> ContactStage for LocalModelStage<M, P> {
     }
 
     fn local_model_refused(&mut self) {
-        let _ = self.renderer.rejected(ModelError::BadPose);
+        self.renderer.refused();
     }
 
     fn set_watchdog(&mut self, timeout_s: f32) -> Result<(), CommandError> {

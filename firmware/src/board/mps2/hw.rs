@@ -92,6 +92,8 @@ pub struct Mps2Control {
     app: Option<AppFeed>,
     /// This tick's sample asked for the session's next update.
     app_step: bool,
+    /// The previous tick's write time as the pipeline gets it, sent with the sample request.
+    prev_write_done: u32,
 }
 
 impl Mps2Control {
@@ -107,6 +109,7 @@ impl Mps2Control {
             fault,
             app,
             app_step: false,
+            prev_write_done: 0,
         }
     }
 }
@@ -133,7 +136,7 @@ impl ControlHw for Mps2Control {
 
     #[inline(always)]
     fn read_inputs(&mut self) -> RawSample {
-        let Some(s) = link::sense(STATUS.mode.load(Ordering::Relaxed)) else {
+        let Some(s) = link::sense(STATUS.mode.load(Ordering::Relaxed), self.prev_write_done) else {
             // The plant is gone: stop, and report a driver fault so this tick drives nothing.
             STOP_REQUESTED.store(true, Ordering::Relaxed);
             return RawSample {
@@ -185,6 +188,11 @@ impl ControlHw for Mps2Control {
     #[inline(always)]
     fn pet_watchdog(&mut self) {
         Watchdog::pet();
+    }
+
+    #[inline(always)]
+    fn prev_write_done(&mut self, counts: u32) {
+        self.prev_write_done = counts;
     }
 }
 

@@ -39,7 +39,9 @@ pub enum Kind {
     /// The board booted: a = reset cause (`faults::CAUSE_*`). The reply configures the run.
     Hello = 1,
     /// Sample the inputs now; key = the pipeline's mode after the previous tick (the operator's
-    /// view of the status LED). Reply: encoder counts, nFAULT, control bits, operator command.
+    /// view of the status LED); a = the previous tick's write time as this tick's pipeline gets it
+    /// (`RawInput::prev_write_done_counts`). Reply: encoder counts, nFAULT, control bits,
+    /// operator command.
     Sense = 2,
     /// The bridge outputs change now (bits: phase 0..2, bit 3 PWM enable, bit 4 nSLEEP high).
     Drive = 3,
@@ -183,10 +185,17 @@ pub fn hello(reset_cause: u32) -> Option<RunConfig> {
     })
 }
 
-/// Sample the inputs (the encoder timers and the nFAULT pin).
+/// Sample the inputs (the encoder timers and the nFAULT pin), telling the plant the previous
+/// tick's write time as this tick's pipeline gets it.
 #[inline(always)]
-pub fn sense(mode_code: u8) -> Option<Sensed> {
-    send(Kind::Sense, 0, u16::from(mode_code), [0; 3], [0; 3]);
+pub fn sense(mode_code: u8, prev_write_done: u32) -> Option<Sensed> {
+    send(
+        Kind::Sense,
+        0,
+        u16::from(mode_code),
+        [0; 3],
+        [prev_write_done, 0, 0],
+    );
     let r = receive()?;
     let mut counts = [0u16; 6];
     for (i, c) in counts.iter_mut().enumerate() {
