@@ -36,12 +36,12 @@ pub trait ControlHw {
     fn write_bridges(&mut self, cmd: &BridgeCommands);
     /// Proof of life for the independent watchdog.
     fn pet_watchdog(&mut self);
-    /// The previous tick's write time as this tick's pipeline gets it
+    /// This tick's write time as the next tick's pipeline gets it
     /// (`RawInput::prev_write_done_counts`: tick-timer counts, `u32::MAX` when the writes ran into
-    /// the next period), told before this tick's [`ControlHw::read_inputs`]. Nothing by default;
-    /// the emulated board sends it to its plant with the sample request, so that the in-process
-    /// reference it is compared with gets the same timing input (a late write holds a direction
-    /// reversal one more tick, see `softfinger_core::control::pipeline::bridge`).
+    /// the next period), told after the writes. Nothing by default; the emulated board sends it
+    /// to its plant with the next sample request, so that the in-process reference it is compared
+    /// with gets the same timing input (a late write holds a direction reversal one more tick, see
+    /// `softfinger_core::control::pipeline::bridge`).
     #[inline(always)]
     fn prev_write_done(&mut self, _counts: u32) {}
 }

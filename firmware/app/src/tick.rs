@@ -172,7 +172,6 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
     pub fn run(&mut self, entry_count: u32) {
         // Sample first: the sample-to-output delay runs from here to the PWM period boundary
         // after the compare writes below (`softfinger_core::control::pipeline::output_timing`).
-        self.hw.prev_write_done(self.prev_write_done);
         let sample = self.hw.read_inputs();
         self.hw.ack_tick();
         let raw = RawInput {
@@ -199,6 +198,7 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
         } else {
             done
         };
+        self.hw.prev_write_done(self.prev_write_done);
         if thread_alive {
             self.hw.pet_watchdog();
         }
