@@ -107,8 +107,10 @@ impl Quat {
     #[must_use]
     pub fn normalized_checked<M: Math>(self) -> (Quat, Flags) {
         let n2 = self.norm_squared();
-        // n2 also overflows to inf for huge finite components; treat those like non-finite.
-        if !self.is_finite() || !n2.is_finite() {
+        // One test covers every bad component: a NaN or infinite one makes n2 NaN or +inf (a sum
+        // of squares has no cancelling term), and n2 also overflows to +inf for huge finite
+        // components, treated like non-finite.
+        if !n2.is_finite() {
             return (Quat::IDENTITY, Flags::NON_FINITE_INPUT);
         }
         if n2 < 1.0e-30 {

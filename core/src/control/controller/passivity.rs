@@ -183,8 +183,10 @@ impl Passivity {
             energy = 0.0;
         }
         self.energy_j = energy;
-        let v2 = velocity.norm_squared();
-        let (out, alpha) = if self.config.enabled && energy > e_q && v2 > 0.0 {
+        // |v|² only when it decides (most ticks store no energy above the quantum).
+        let damps = self.config.enabled && energy > e_q;
+        let v2 = if damps { velocity.norm_squared() } else { 0.0 };
+        let (out, alpha) = if damps && v2 > 0.0 {
             let alpha = (energy / (self.dt_s * v2)).min(self.config.max_damping_n_s_per_m);
             let damped = self.limited(force - velocity * alpha);
             if damped.is_finite() {

@@ -465,6 +465,8 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
             events |= Flags::DRIVER_FAULT;
         }
         let counts = self.homed_counts();
+        // Only homing moves the offsets within a tick (`HomingStep::Done`).
+        let was_homing = self.mode == Mode::Homing;
         let (out, drive, gain) = self.control(counts, ready);
         let g = self
             .guard
@@ -488,7 +490,11 @@ impl<M: Math, S: Environment> Pipeline<M, S> {
             latched: self.guard.latched(),
             control,
             // After the mode's work: on the tick homing ends these are already the homed counts.
-            counts: self.homed_counts(),
+            counts: if was_homing {
+                self.homed_counts()
+            } else {
+                counts
+            },
             ramp_gain: if self.mode == Mode::Armed { gain } else { 0.0 },
             telemetry: None,
             summary: None,

@@ -149,6 +149,8 @@ fn home<S: Environment>(p: &mut Pipeline<Libm, S>, arms: &mut Arms) -> u32 {
             "{out:?}"
         );
         if out.mode == Mode::Disarmed {
+            // The tick homing ends reports the counts from the new zero already.
+            assert_eq!(out.counts, p.homed_counts());
             // One disarmed tick looks at the contact (Arm is refused until one has).
             let _ = tick(p, arms, |_| {});
             return k;

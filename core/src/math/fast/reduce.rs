@@ -24,6 +24,9 @@ const C2: f32 = 4.844_665_5e-4;
 const C3: f32 = -6.397_578_4e-7;
 /// Bit pattern of 2^16: below it the Cody-Waite path is exact (`|k| ≤ 41 722 < 2^16`).
 const CODY_WAITE_LIMIT_BITS: u32 = 0x4780_0000;
+/// Bit pattern of π/4 rounded to f32 (0.785 398 2, just above π/4): for every smaller |x|,
+/// x·2/π rounds to at most 1/2, and so k to 0 (a tie rounds to even).
+const QUARTER_PI_BITS: u32 = 0x3f49_0fdb;
 /// Bit pattern of +∞ (also the smallest absolute bit pattern of a NaN).
 const INF_BITS: u32 = 0x7f80_0000;
 
@@ -35,16 +38,27 @@ const INF_BITS: u32 = 0x7f80_0000;
 #[inline(always)]
 pub(super) fn reduce_pio2(x: f32) -> Option<(f32, u32)> {
     let ix = x.to_bits() & 0x7fff_ffff;
-    if ix < CODY_WAITE_LIMIT_BITS {
-        let kf = x * FRAC_2_PI + SHIFTER;
-        let q = kf.to_bits() & 3;
-        let k = kf - SHIFTER;
-        Some((((x - k * C1) - k * C2) - k * C3, q))
+    if ix < QUARTER_PI_BITS {
+        // k = 0: the Cody-Waite path below gives exactly (x + 0, 0) here (x·2/π rounds to 0; its
+        // last term, 0·C3, is -0 since C3 < 0, which turns -0 into +0), at a third of the
+        // instructions.
+        Some((x + 0.0, 0))
+    } else if ix < CODY_WAITE_LIMIT_BITS {
+        Some(cody_waite(x))
     } else if ix < INF_BITS {
         Some(reduce_large(x))
     } else {
         None
     }
+}
+
+/// Three-part Cody-Waite reduction, for |x| < 2^16 (see the module doc).
+#[inline(always)]
+fn cody_waite(x: f32) -> (f32, u32) {
+    let kf = x * FRAC_2_PI + SHIFTER;
+    let q = kf.to_bits() & 3;
+    let k = kf - SHIFTER;
+    (((x - k * C1) - k * C2) - k * C3, q)
 }
 
 /// The bits of 2/π after the binary point, preceded by `PAD` zero bits, as big-endian 32-bit words:
@@ -130,6 +144,26 @@ mod tests {
     /// or ±cos(r) as selected by `q`. With `r` exact to about 1 ulp (≤ 6e-8 for |r| ≤ π/4), the
     /// reconstructed value may differ from sin(x) by at most |Δr| ≤ 1e-7 (an ulp argument, not a
     /// margin: measured 5.67e-8 over the inputs of `reduction_matches_host_sin_over_all_exponents`).
+    /// The k = 0 shortcut is the Cody-Waite path bit for bit: every 97th bit pattern below the
+    /// limit and the 100 000 just below it, both signs (the shortcut's one threshold, just below;
+    /// the first pattern at it takes the Cody-Waite path, k = 0 there too, and then k = 1).
+    #[test]
+    fn small_angles_reduce_exactly_as_cody_waite_does() {
+        let below = (0..QUARTER_PI_BITS)
+            .step_by(97)
+            .chain(QUARTER_PI_BITS - 100_000..QUARTER_PI_BITS);
+        for bits in below {
+            for x in [f32::from_bits(bits), -f32::from_bits(bits)] {
+                let (r, q) = reduce_pio2(x).unwrap();
+                let (rc, qc) = cody_waite(x);
+                assert_eq!((r.to_bits(), q), (rc.to_bits(), qc), "x = {x:e}");
+            }
+        }
+        assert_eq!(cody_waite(f32::from_bits(QUARTER_PI_BITS)).1, 0);
+        let just_over = f32::from_bits(QUARTER_PI_BITS) * 1.001;
+        assert_eq!(reduce_pio2(just_over).unwrap().1, 1);
+    }
+
     fn check(x: f32) {
         let Some((r, q)) = reduce_pio2(x) else {
             panic!("finite {x} rejected")
