@@ -190,9 +190,13 @@ impl<S: Surface> Rolling<S> {
     pub fn step_parts<M: Math, const ROLL: bool>(&mut self, q: Quat) -> RollStep {
         // The exact method's log map is scale-free: a near-unit sample is used as it is (see
         // `Quat::unit_checked`). The Euler methods build a rotation matrix, which is not.
-        let (q, qflags) = match self.method {
-            Method::Exact => q.unit_checked::<M>(),
-            Method::Rpy | Method::PaperVerbatim => q.normalized_checked::<M>(),
+        // The near-unit sample of the exact method is the common path: it stays in registers,
+        // and only the rescaling path goes through `normalized_checked`'s result in memory.
+        let (q, qflags) = if self.method == Method::Exact && q.is_near_unit() {
+            (q, Flags::NONE)
+        } else {
+            let (n, f) = q.normalized_checked::<M>();
+            (Quat::new(n.w, n.x, n.y, n.z), f)
         };
         if qflags.intersects(Flags::NON_FINITE_INPUT | Flags::ZERO_AXIS) {
             return RollStep {

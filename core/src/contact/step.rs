@@ -222,10 +222,10 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
         s.contact_point() + s.along_normal(self.params.fingertip_radius_m)
     }
 
-    /// Move the contact under the probe and restart rolling from orientation `q`.
-    fn restart_at(&mut self, probe: Vec3, q: Quat) {
+    /// Move the contact under the probe; rolling restarts from the orientation of this step's
+    /// sample (already the rolling state's `q_prev`).
+    fn restart_at(&mut self, probe: Vec3) {
         self.rolling.surface.place_under::<M>(probe);
-        self.rolling.restart(q);
         self.prev_anchor = self.anchor();
     }
 
@@ -236,14 +236,7 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
     /// line: the common path is rolling.
     #[cold]
     #[inline(never)]
-    fn slide(
-        &mut self,
-        probe: Vec3,
-        q_now: Quat,
-        dphi: f32,
-        f_n: f32,
-        patch: f32,
-    ) -> (Vec3, f32, bool) {
+    fn slide(&mut self, probe: Vec3, dphi: f32, f_n: f32, patch: f32) -> (Vec3, f32, bool) {
         let p = self.params;
         let (k_t, k_z) = (p.tangential_stiffness, p.spin_stiffness);
         let surface = self.rolling.surface;
@@ -269,7 +262,7 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
         } else {
             (tau, sat)
         };
-        self.restart_at(probe + e_t, q_now);
+        self.restart_at(probe + e_t);
         (surface.along_normal(f_n) + e_t * k_t, tau, slipped)
     }
 
@@ -313,14 +306,13 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
         {
             return self.output(roll.flags);
         }
-        let q_now = self.rolling.q_prev;
         let mut flags = roll.flags;
 
         // 2.–3. Normal force, rolling coupling and the state machine's inputs.
         let sensed = self.sense(probe, input.probe_vel, &roll);
 
         // 4. State transition and entry actions.
-        let (state, reason) = self.transition(&sensed.inputs, probe, q_now);
+        let (state, reason) = self.transition(&sensed.inputs, probe);
 
         // 5. Force and spin torque for the new state.
         let p = self.params;
@@ -361,9 +353,13 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
                         self.spin_fast_ok,
                     )
                 };
-                (s.normal * s.f_n + f_t, tau, sat)
+                let force = self
+                    .rolling
+                    .surface
+                    .normal_plus_tangential(s.normal, s.f_n, f_t);
+                (force, tau, sat)
             }
-            ContactState::Sliding => self.slide(probe, q_now, dphi, s.f_n, s.patch),
+            ContactState::Sliding => self.slide(probe, dphi, s.f_n, s.patch),
         };
         if saturated && sensed.f_n > p.tolerances.force_eps_n {
             flags |= Flags::SPIN_SATURATED;
@@ -502,14 +498,9 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
     }
 
     /// Stage 4: the state transition and its entry actions (a new rolling contact restarts
-    /// under the probe at orientation `q_now`; a broken one drops the spin).
+    /// under the probe at this step's orientation; a broken one drops the spin).
     #[inline(always)]
-    fn transition(
-        &mut self,
-        inputs: &StateInputs,
-        probe: Vec3,
-        q_now: Quat,
-    ) -> (ContactState, Reason) {
+    fn transition(&mut self, inputs: &StateInputs, probe: Vec3) -> (ContactState, Reason) {
         let (state, reason) = next_state(self.state, inputs, &self.state_params);
         if state == self.state {
             // Saturates (f32 stops growing past 2^24 ticks of 1e-4 s), which is harmless.
@@ -517,7 +508,7 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
         } else {
             self.time_in_state_s = 0.0;
             match state {
-                ContactState::Rolling => self.restart_at(probe, q_now),
+                ContactState::Rolling => self.restart_at(probe),
                 ContactState::Broken => self.spin.reset(),
                 ContactState::Sliding => {}
             }

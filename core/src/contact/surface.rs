@@ -61,6 +61,13 @@ pub trait Surface: Copy + core::fmt::Debug {
         let vn = v.dot(n);
         (vn, v - n * vn)
     }
+    /// The force `f_n`·`normal` + `f_t` (N, object frame) for a tangential `f_t` (one of
+    /// [`Surface::split`]'s tangential parts) and the unit `normal` this surface had when both
+    /// were taken (a restart may have moved the contact since).
+    #[inline]
+    fn normal_plus_tangential(&self, normal: Vec3, f_n: f32, f_t: Vec3) -> Vec3 {
+        normal * f_n + f_t
+    }
     /// The object-frame vector of length `s` along the normal.
     #[inline]
     fn along_normal(&self, s: f32) -> Vec3 {
@@ -142,5 +149,11 @@ impl Surface for Plane {
     #[inline]
     fn along_normal(&self, s: f32) -> Vec3 {
         Vec3::new(0.0, 0.0, s)
+    }
+    /// The normal is always +z and a tangential part has z = 0: (f_t.x, f_t.y, f_n), with no
+    /// products with 0 and 1 and no sums with 0 (a zero component of `f_t` keeps its sign).
+    #[inline]
+    fn normal_plus_tangential(&self, _normal: Vec3, f_n: f32, f_t: Vec3) -> Vec3 {
+        Vec3::new(f_t.x, f_t.y, f_n)
     }
 }
