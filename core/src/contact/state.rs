@@ -206,16 +206,50 @@ pub struct StateParams {
     pub tol: Tolerances,
 }
 
+/// What [`next_state`] derives from its [`StateParams`] (the fields it does not share with the
+/// material, so a material change leaves it valid): computed once by the contact model rather
+/// than on every step. Each is the same single operation `next_state` would do, so the answer is
+/// the same bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Derived {
+    /// 1 + h.
+    one_plus_h: f32,
+    /// k_τ·r, N·m·s.
+    kr: f32,
+}
+
+impl Derived {
+    /// The derived values of `p`.
+    pub(crate) fn of(p: &StateParams) -> Derived {
+        Derived {
+            one_plus_h: 1.0 + p.tol.hysteresis,
+            kr: p.k_tau * p.radius_m,
+        }
+    }
+}
+
 /// The state after one step, and why. Pure function: no state of its own.
+#[inline(always)]
+pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (ContactState, Reason) {
+    next_state_derived(state, i, p, &Derived::of(p))
+}
+
+/// [`next_state`] with `d` = [`Derived::of`]`(p)`.
 ///
 /// Inlined into the contact step so the inputs only its rare branches read (accelerations, slip
 /// velocity, rolling displacement) are computed only when those branches run.
 #[inline(always)]
-pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (ContactState, Reason) {
+pub(crate) fn next_state_derived(
+    state: ContactState,
+    i: &StateInputs,
+    p: &StateParams,
+    d: &Derived,
+) -> (ContactState, Reason) {
     let f_n = i.normal_force_n;
-    let separated =
-        f_n <= p.tol.force_eps_n && (i.normal_accel > p.tol.accel_eps || i.gap_m > p.tol.gap_eps_m);
-    let normal_steady = i.normal_accel.abs() <= p.tol.normal_accel_tol;
+    // Separated: no normal force and the probe leaving or away. Asked only when f_N ≤ ε, so the
+    // common path (pressed) makes one comparison.
+    let leaving = || i.normal_accel > p.tol.accel_eps || i.gap_m > p.tol.gap_eps_m;
+    let normal_steady = || i.normal_accel.abs() <= p.tol.normal_accel_tol;
     let ft2 = i.tangential_force_n.norm_squared();
     match state {
         ContactState::Broken => {
@@ -226,11 +260,12 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             }
         }
         ContactState::Rolling => {
-            if separated {
-                return (ContactState::Broken, Reason::Separated);
-            }
             if f_n <= p.tol.force_eps_n {
-                return (ContactState::Rolling, Reason::Kept);
+                return if leaving() {
+                    (ContactState::Broken, Reason::Separated)
+                } else {
+                    (ContactState::Rolling, Reason::Kept)
+                };
             }
             // Predicates are evaluated lazily, cheapest and most often false first: on the
             // common path (inside the cone) only |f_T|² is computed.
@@ -240,7 +275,7 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             let cone = p.mu_s * f_n;
             let has_torsion = i.torsion_limit_nm > 0.0;
             let outside = if i.spin_torque_nm == 0.0 || !has_torsion {
-                let c = cone * (1.0 + p.tol.hysteresis);
+                let c = cone * d.one_plus_h;
                 ft2 > c * c
             } else {
                 crate::contact::limit_surface::outside(
@@ -248,10 +283,10 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
                     i.spin_torque_nm,
                     cone,
                     i.torsion_limit_nm,
-                    1.0 + p.tol.hysteresis,
+                    d.one_plus_h,
                 )
             };
-            if normal_steady && outside {
+            if outside && normal_steady() {
                 let moving = i.tangential_accel.norm_squared() > p.tol.accel_eps * p.tol.accel_eps
                     || i.tangential_velocity.norm_squared() > p.tol.stick_speed * p.tol.stick_speed;
                 let agrees = i.roll_disp_m.norm_squared() <= p.roll_eps_m * p.roll_eps_m
@@ -262,7 +297,7 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             }
             // Δθ > f_N·μ_s/(k_τ·r)  ⇔  Δθ²·(k_τ·r)² > (f_N·μ_s)² (both sides ≥ 0; no division or
             // square root).
-            let kr = p.k_tau * p.radius_m;
+            let kr = d.kr;
             let fm = f_n * p.mu_s;
             if i.tilt_rate_sq * kr * kr > fm * fm {
                 return (ContactState::Sliding, Reason::TwistExceeded);
@@ -270,7 +305,7 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
             (ContactState::Rolling, Reason::Kept)
         }
         ContactState::Sliding => {
-            if separated {
+            if f_n <= p.tol.force_eps_n && leaving() {
                 return (ContactState::Broken, Reason::Separated);
             }
             let kinetic = p.mu_k * f_n;
@@ -278,7 +313,7 @@ pub fn next_state(state: ContactState, i: &StateInputs, p: &StateParams) -> (Con
                 i.tangential_velocity.norm_squared() <= p.tol.stick_speed * p.tol.stick_speed;
             let dwelt = i.time_in_state_s >= p.tol.min_slide_s;
             if f_n > p.tol.force_eps_n
-                && normal_steady
+                && normal_steady()
                 && ft2 <= kinetic * kinetic
                 && stopped
                 && dwelt

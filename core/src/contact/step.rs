@@ -18,7 +18,9 @@ use crate::contact::params::{ContactParams, Material};
 use crate::contact::parts::{Full, Parts};
 use crate::contact::rolling::{RollStep, Rolling};
 use crate::contact::spin::{fast_test_applies, torsion_limit, SpinSpring};
-use crate::contact::state::{next_state, ContactState, Reason, StateInputs, StateParams};
+use crate::contact::state::{
+    next_state_derived, ContactState, Derived, Reason, StateInputs, StateParams,
+};
 use crate::contact::surface::Surface;
 use crate::flags::Flags;
 use crate::math::quat::Quat;
@@ -79,6 +81,8 @@ pub struct ContactOutput {
 pub struct ContactModel<M: Math, S: Surface, P: Parts = Full> {
     params: ContactParams,
     state_params: StateParams,
+    /// What the state machine derives from `state_params` (fixed: the material does not change it).
+    state_derived: Derived,
     /// Rolling kinematics (contact points, previous orientation).
     pub(crate) rolling: Rolling<S>,
     /// Torsion spring of the soft finger.
@@ -135,6 +139,7 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
         Ok(ContactModel {
             params,
             state_params: params.state_params(),
+            state_derived: Derived::of(&params.state_params()),
             rolling: Rolling::new(surface, params.fingertip_radius_m, q0, params.method),
             spin: SpinSpring::default(),
             state: ContactState::Broken,
@@ -331,14 +336,17 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
             }
             ContactState::Broken => (Vec3::ZERO, 0.0, false),
             ContactState::Rolling => {
-                let f_t = if reason == Reason::MadeContact || reason == Reason::Stuck {
-                    Vec3::ZERO // anchor just placed under the probe
+                let placed = reason == Reason::MadeContact || reason == Reason::Stuck;
+                // The anchor just placed under the probe: no tangential force.
+                let (f_t, ft2) = if placed {
+                    (Vec3::ZERO, 0.0)
                 } else {
-                    s.f_couple
+                    (s.f_couple, s.f_couple.norm_squared())
                 };
                 // The torsion spring gets what the tangential load leaves of the static limit
-                // surface: τ ≤ τ_max·√(1 − (|f_t|/(μ_s·f_N))²).
-                let f_max = p.mu_s * s.f_n;
+                // surface: τ ≤ τ_max·√(1 − (|f_t|/(μ_s·f_N))²). μ_s as the state machine read
+                // it (the same value, `take_material` sets both), so its cone is reused.
+                let f_max = self.state_params.mu_s * s.f_n;
                 let (tau, sat) = if !P::SPIN {
                     (0.0, false)
                 } else if !P::LIMIT_SURFACE {
@@ -348,7 +356,7 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
                         dphi,
                         k_z,
                         s.tau_max_s,
-                        f_t.norm_squared(),
+                        ft2,
                         f_max * f_max,
                         self.spin_fast_ok,
                     )
@@ -501,7 +509,8 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
     /// under the probe at this step's orientation; a broken one drops the spin).
     #[inline(always)]
     fn transition(&mut self, inputs: &StateInputs, probe: Vec3) -> (ContactState, Reason) {
-        let (state, reason) = next_state(self.state, inputs, &self.state_params);
+        let (state, reason) =
+            next_state_derived(self.state, inputs, &self.state_params, &self.state_derived);
         if state == self.state {
             // Saturates (f32 stops growing past 2^24 ticks of 1e-4 s), which is harmless.
             self.time_in_state_s += self.dt_s;
