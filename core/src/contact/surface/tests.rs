@@ -179,6 +179,35 @@ fn plane_roll_is_rho_times_wy_minus_wx() {
     assert_eq!(p.point.z, 0.0);
 }
 
+/// Every surface's force f_N·n + f_t equals the general formula for a tangential f_t (one of
+/// `split`'s tangential parts); the plane's own version is the same value without its products
+/// with 0 and 1, and keeps the sign of a zero tangential component.
+#[test]
+fn normal_plus_tangential_is_the_normal_force_plus_the_tangential_one() {
+    fn check<S: Surface>(s: S) {
+        let n = s.normal();
+        for (f_n, v) in [
+            (2.0, Vec3::new(0.3, -0.7, 0.2)),
+            (0.0, Vec3::new(-1.5, 0.25, 4.0)),
+            (7.5, Vec3::ZERO),
+        ] {
+            let (_, f_t) = s.split(v);
+            let got = s.normal_plus_tangential(n, f_n, f_t);
+            let want = n * f_n + f_t;
+            assert!((got - want).norm_squared() <= 1e-12 * (1.0 + want.norm_squared()));
+        }
+    }
+    check(Plane::at(Vec3::new(0.01, -0.02, 0.0)));
+    check(Sphere::new(0.05));
+    check(Bowl::new(0.05));
+    check(Cylinder::new(0.05));
+    let p = Plane::default();
+    let f = p.normal_plus_tangential(p.normal(), 3.0, Vec3::new(0.5, -0.25, 0.0));
+    assert_eq!(f, Vec3::new(0.5, -0.25, 3.0));
+    let z = p.normal_plus_tangential(p.normal(), 3.0, Vec3::new(-0.0, 0.0, 0.0));
+    assert!(z.x.is_sign_negative() && z.y.is_sign_positive() && z.z == 3.0);
+}
+
 /// Rolled forward by a sequence of rotation vectors and back by their exact negatives in reverse
 /// order, the plane and the cylinder return bit for bit; the sphere and the bowl return bit for
 /// bit from a one-step dither and within f32 rounding from a long excursion.
