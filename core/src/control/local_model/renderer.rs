@@ -149,7 +149,7 @@ impl<M: Math, P: Parts> Slot<M, P> {
 
     /// Same surface, new pose and perhaps material: slew from where the surface is now, blend
     /// from the material rendered now.
-    fn retarget(&mut self, spec: LocalModelSpec) {
+    fn retarget(&mut self, spec: &LocalModelSpec) {
         if spec.pose != self.spec.pose {
             self.slew_from = self.pose;
             self.slew.set(0.0);
@@ -158,7 +158,7 @@ impl<M: Math, P: Parts> Slot<M, P> {
             self.blend_from = self.material;
             self.blend.set(0.0);
         }
-        self.spec = spec;
+        self.spec = *spec;
     }
 
     fn step(&mut self, s: &ProbeSample) -> SlotOutput {
@@ -287,10 +287,10 @@ impl<M: Math, P: Parts> LocalModelRenderer<M, P> {
         spec.fits(base)?;
         if base.same_but_material(&self.base) {
             self.base = *base;
-            self.active.retarget(spec);
+            self.active.retarget(&spec);
             if let Some(inc) = &mut self.incoming {
                 let s = with_base(&inc.spec);
-                inc.retarget(s);
+                inc.retarget(&s);
             }
             return Ok(ParamsChange::Blended);
         }
@@ -364,12 +364,13 @@ impl<M: Math, P: Parts> LocalModelRenderer<M, P> {
 
     /// Start rendering the queued model, if it can start now.
     fn apply_pending(&mut self) {
-        let Some(spec) = self.pending else { return };
+        // Borrowed, not copied: the spec is copied once, into the slot that renders it.
+        let Some(spec) = &self.pending else { return };
         match &mut self.incoming {
-            Some(inc) if spec.same_surface_as(&inc.spec) => inc.retarget(*spec),
+            Some(inc) if spec.same_surface_as(&inc.spec) => inc.retarget(spec),
             Some(_) => return, // a cross-fade is running: wait for its end
-            None if spec.same_surface_as(&self.active.spec) => self.active.retarget(*spec),
-            None => match Slot::new(&spec, &self.base, &self.config) {
+            None if spec.same_surface_as(&self.active.spec) => self.active.retarget(spec),
+            None => match Slot::new(spec, &self.base, &self.config) {
                 Ok(slot) => {
                     self.incoming = Some(slot);
                     self.weight.set(0.0);
