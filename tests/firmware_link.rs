@@ -2,6 +2,7 @@
 //! app, `firmware/app`) compiled for the host: real frames in, the device's frames out, the
 //! command queue and the tick's outcomes played by the test.
 
+use softfinger_app::board::SampledFrom;
 use softfinger_app::persist::{DeviceStore, Persistence};
 use softfinger_app::tick::Applied;
 use softfinger_app::{link, stream, stream_point};
@@ -11,7 +12,7 @@ use link::session::{CommandSink, LinkConfig, LinkSession};
 use link::state::{StateBuilder, TickExtender};
 use link::tx::TxRing;
 use softfinger_core::contact::params::ContactParams;
-use softfinger_core::control::pipeline::{CheckedCommand, Command, CommandError};
+use softfinger_core::control::pipeline::{CheckedCommand, Command, CommandError, CommandKey};
 use softfinger_core::omega_like::OMEGA_LIKE;
 use softfinger_core::{Flags, Vec3};
 use softfinger_protocol::frame::encode_frame_with_version;
@@ -239,7 +240,7 @@ fn another_sources_outcome_answers_nothing() {
     let (mut s, mut q) = (session::<1024>(), queue());
     feed(&mut s, &mut q, &request(5, Request::Disarm));
     // The operator's button pressed Home meanwhile.
-    s.outcome(&Applied::Operator(Command::Home), Ok(()));
+    s.outcome(&Applied::Operator(CommandKey::Home), Ok(()));
     assert!(sent(&mut s).is_empty());
     s.outcome(&host(Command::Disarm), Ok(()));
     assert_eq!(
@@ -441,6 +442,61 @@ fn contact_parameters_change_only_when_the_tick_accepts_them() {
         seq: 1,
         result: AckResult::Ok
     }));
+}
+
+#[test]
+fn the_tick_reports_a_command_by_its_key_and_an_operator_preset_whole() {
+    let checked = |c: Command| c.check().unwrap_or(CheckedCommand::Home);
+    let preset = ContactParams {
+        normal_stiffness: 5000.0,
+        ..ContactParams::DEFAULT
+    };
+    let params = checked(Command::SetContactParams(preset));
+    assert!(matches!(
+        Applied::of(SampledFrom::Operator, &params),
+        Applied::OperatorParams(p) if p == preset
+    ));
+    assert!(matches!(
+        Applied::of(SampledFrom::Host, &params),
+        Applied::Link(CommandKey::SetContactParams)
+    ));
+    assert!(matches!(
+        Applied::of(SampledFrom::Operator, &CheckedCommand::Arm),
+        Applied::Operator(CommandKey::Arm)
+    ));
+    assert!(matches!(
+        Applied::of(SampledFrom::Host, &CheckedCommand::Disarm),
+        Applied::Link(CommandKey::Disarm)
+    ));
+}
+
+#[test]
+fn an_operator_preset_changes_the_reported_parameters_only_when_the_tick_accepts_it() {
+    let (mut s, mut q) = (session::<1024>(), queue());
+    let preset = ContactParams {
+        normal_stiffness: 5000.0,
+        ..ContactParams::DEFAULT
+    };
+    s.outcome(
+        &Applied::OperatorParams(preset),
+        Err(CommandError::InvalidParams(
+            softfinger_core::contact::params::ParamError::NotFinite("mu_s"),
+        )),
+    );
+    feed(&mut s, &mut q, &request(1, Request::GetContactParams));
+    s.outcome(&Applied::OperatorParams(preset), Ok(()));
+    feed(&mut s, &mut q, &request(2, Request::GetContactParams));
+    let stiffness: Vec<f32> = sent(&mut s)
+        .iter()
+        .filter_map(|m| match m {
+            DeviceMsg::ContactParams { params, .. } => Some(params.normal_stiffness),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        stiffness,
+        vec![ContactParams::DEFAULT.normal_stiffness, 5000.0]
+    );
 }
 
 #[test]

@@ -37,12 +37,12 @@ use softfinger_app::reset_cause::ResetCause;
 use softfinger_app::tap::Tap;
 use softfinger_app::tick::{self, CommandOutcome, ControlLoop};
 use softfinger_app::{config, failsafe, link, logger, operator, queues, stream, supervisor};
-use softfinger_core::control::pipeline::{CheckedCommand, Command};
+use softfinger_core::control::pipeline::CheckedCommand;
 use softfinger_update::layout::G474;
 use softfinger_update::{BootState, SelfTest};
 
 /// The operator's end of the tick's command queue (the link has a queue of its own).
-pub type CommandTx = Producer<'static, Command>;
+pub type CommandTx = Producer<'static, CheckedCommand>;
 
 type OutcomeTap = Producer<'static, CommandOutcome>;
 

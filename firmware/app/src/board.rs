@@ -13,6 +13,17 @@ pub struct RawSample {
 }
 
 pub use softfinger_core::control::pipeline::BridgeCommands;
+use softfinger_core::control::pipeline::CheckedCommand;
+
+/// Who gave a command that a board hands the tick with its sample
+/// ([`ControlHw::sampled_command`]): the tick applies it by that source's rules.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SampledFrom {
+    /// The operator (`Pipeline::apply`), as from the operator's queue.
+    Operator,
+    /// A host application (`Pipeline::link_apply`), as from the host link's queue.
+    Host,
+}
 
 /// The hardware the control interrupt owns.
 ///
@@ -44,6 +55,20 @@ pub trait ControlHw {
     /// `softfinger_core::control::pipeline::bridge`).
     #[inline(always)]
     fn prev_write_done(&mut self, _counts: u32) {}
+    /// A command that came with this tick's sample, applied where it lies at the end of this
+    /// tick, then let go with [`ControlHw::sampled_command_done`]. None by default: the STM32
+    /// board's commands come from thread mode, through the tick's queues. The emulated board's
+    /// plant plays the operator and the scripted application in lock step with the samples, so
+    /// their commands arrive inside the tick; lent by reference, they cost the tick what a
+    /// queued command costs it (a 92-byte copy into a queue costs about 110 instructions, and on
+    /// the STM32 that copy is the thread-mode sender's).
+    #[inline(always)]
+    fn sampled_command(&self) -> Option<(SampledFrom, &CheckedCommand)> {
+        None
+    }
+    /// The tick applied [`ControlHw::sampled_command`]'s command: the board lets it go.
+    #[inline(always)]
+    fn sampled_command_done(&mut self) {}
 }
 
 /// A status LED.

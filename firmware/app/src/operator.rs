@@ -18,21 +18,22 @@
 //! every [`config::BUTTON_SAMPLE_MS`]. (A task that sampled every 1 ms all the time made 45
 //! compare loads late at 20 kHz in the processor-in-the-loop run; this one costs nothing at rest.)
 //!
-//! Commands reach the tick through a lock-free SPSC queue; the supervisor logs their outcomes.
+//! Commands, checked here (`Command::check`), reach the tick through a lock-free SPSC queue; the
+//! supervisor logs their outcomes.
 //! A full queue drops the command (logged).
 
 use defmt::{info, warn};
 use embassy_time::Timer;
 use heapless::spsc::Producer;
 use softfinger_core::control::operator::ButtonRules;
-use softfinger_core::control::pipeline::Command;
+use softfinger_core::control::pipeline::{CheckedCommand, Command};
 
 use crate::board::OperatorButton;
 use crate::config;
 use crate::tick::published_mode;
 
 /// Serve the button forever (the board binary spawns this as a task).
-pub async fn run(mut button: impl OperatorButton, mut commands: Producer<'static, Command>) {
+pub async fn run(mut button: impl OperatorButton, mut commands: Producer<'static, CheckedCommand>) {
     let mut rules = ButtonRules::new(
         config::BUTTON_TIMING,
         config::BUTTON_SAMPLE_MS as f32 * 1e-3,
@@ -56,6 +57,15 @@ pub async fn run(mut button: impl OperatorButton, mut commands: Producer<'static
             continue;
         }
         info!("button: while {}: {}", mode, command);
+        // Checked here, so the tick only applies it (a preset's parameters are constants that
+        // pass; a refusal is logged and nothing is sent).
+        let command = match command.check() {
+            Ok(c) => c,
+            Err(e) => {
+                warn!("button: {} refused: {}", command, e);
+                continue;
+            }
+        };
         if commands.enqueue(command).is_err() {
             warn!("operator command dropped: queue full (tick not running?)");
         }

@@ -2,7 +2,7 @@
 //! start-up and split into the tick's ends and the tasks' ends (the same on every board).
 
 use heapless::spsc::{Consumer, Producer, Queue};
-use softfinger_core::control::pipeline::{CheckedCommand, Command, PipelineRecord, TimingSummary};
+use softfinger_core::control::pipeline::{CheckedCommand, PipelineRecord, TimingSummary};
 
 use crate::config;
 use crate::stream::StreamSink;
@@ -10,7 +10,7 @@ use crate::tick::{CommandOutcome, TickQueues};
 
 /// The tick's ends of the queues, all but the state stream's (the board's to choose).
 pub struct TickEnds {
-    commands: Consumer<'static, Command>,
+    commands: Consumer<'static, CheckedCommand>,
     link_commands: Consumer<'static, CheckedCommand>,
     outcomes: Producer<'static, CommandOutcome>,
     records: Producer<'static, PipelineRecord>,
@@ -33,8 +33,9 @@ impl TickEnds {
 
 /// The tasks' ends of the queues.
 pub struct TaskEnds {
-    /// Commands to the tick from the operator (the button, the emulated board's plant).
-    pub commands: Producer<'static, Command>,
+    /// Commands to the tick from the operator (the button), checked where they were given
+    /// (`Command::check`).
+    pub commands: Producer<'static, CheckedCommand>,
     /// Commands to the tick from the host link, checked where they arrived (`Command::check`;
     /// `Pipeline::link_apply`'s rules apply).
     pub link_commands: Producer<'static, CheckedCommand>,
@@ -49,7 +50,7 @@ pub struct TaskEnds {
 /// The queues, created and split; `None` on a second call (each is a `cortex_m::singleton!`).
 pub fn take() -> Option<(TickEnds, TaskEnds)> {
     let commands =
-        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())?;
+        cortex_m::singleton!(: Queue<CheckedCommand, {config::COMMAND_QUEUE_LEN}> = Queue::new())?;
     let link_commands =
         cortex_m::singleton!(: Queue<CheckedCommand, {config::COMMAND_QUEUE_LEN}> = Queue::new())?;
     let outcomes =

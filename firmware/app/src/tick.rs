@@ -15,16 +15,17 @@
 use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 
 use heapless::spsc::{Consumer, Producer};
+use softfinger_core::contact::params::ContactParams;
 use softfinger_core::control::pipeline::liveness::{ThreadWatch, THREAD_STALE_S};
 use softfinger_core::control::pipeline::{
-    CheckedCommand, Command, CommandError, CommandKey, Mode, Pipeline, PipelineOutput,
-    PipelineRecord, RawInput, TimingSummary,
+    CheckedCommand, CommandError, CommandKey, Mode, Pipeline, PipelineOutput, PipelineRecord,
+    RawInput, TimingSummary,
 };
 use softfinger_core::Fast;
 
 use softfinger_protocol::RenderedTick;
 
-use crate::board::ControlHw;
+use crate::board::{ControlHw, SampledFrom};
 use crate::stream::{StreamPoint, StreamSink, StreamTap};
 
 /// The pipeline the tick runs: the tick's fast math, the configuration's scene (the application's
@@ -62,23 +63,39 @@ pub fn thread_heartbeat() {
     THREAD_HEARTBEAT.fetch_add(1, Ordering::Relaxed);
 }
 
-/// What the tick applied: an operator's command whole (rare; the host link learns the contact
-/// parameters a button preset set from it), a host link's by its key (1 kHz local models: the
-/// link holds the command it queued, and a copy of a 92-byte command costs the tick about 90
-/// instructions).
+/// What the tick applied, by its key (a command is 92 bytes, and a copy of it costs the tick about
+/// 90 instructions), except an operator's contact parameters (a button preset, rare), whole: the
+/// host link learns the parameters in force from them.
 #[derive(Clone, Copy, Debug)]
 pub enum Applied {
-    /// From the operator's queue.
-    Operator(Command),
-    /// From the host link's queue.
+    /// From the operator.
+    Operator(CommandKey),
+    /// The operator's contact parameters.
+    OperatorParams(ContactParams),
+    /// From a host application.
     Link(CommandKey),
+}
+
+impl Applied {
+    /// What the tick reports of `command` from `from`.
+    #[inline(always)]
+    pub fn of(from: SampledFrom, command: &CheckedCommand) -> Applied {
+        match (from, command) {
+            (SampledFrom::Operator, CheckedCommand::SetContactParams(p)) => {
+                Applied::OperatorParams(**p)
+            }
+            (SampledFrom::Operator, c) => Applied::Operator(c.key()),
+            (SampledFrom::Host, c) => Applied::Link(c.key()),
+        }
+    }
 }
 
 #[cfg(feature = "defmt")]
 impl defmt::Format for Applied {
     fn format(&self, f: defmt::Formatter) {
         match self {
-            Applied::Operator(c) => defmt::write!(f, "{}", c),
+            Applied::Operator(k) => defmt::write!(f, "{}", k),
+            Applied::OperatorParams(p) => defmt::write!(f, "SetContactParams({})", p),
             Applied::Link(k) => defmt::write!(f, "host {}", k),
         }
     }
@@ -124,8 +141,8 @@ pub static STATUS: TickStatus = TickStatus {
 /// The queue ends the tick holds; `K`: where the host link's state stream goes
 /// ([`crate::stream::NoStream`] without a link).
 pub struct TickQueues<K: StreamSink> {
-    /// From the operator (`Pipeline::command`).
-    pub commands: Consumer<'static, Command>,
+    /// From the operator, checked where they were given (`Pipeline::apply`).
+    pub commands: Consumer<'static, CheckedCommand>,
     /// From the host link, checked where they arrived (`Pipeline::link_apply`).
     pub link_commands: Consumer<'static, CheckedCommand>,
     pub outcomes: Producer<'static, CommandOutcome>,
@@ -248,20 +265,33 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
             LINK_LOST.store(false, Ordering::Relaxed);
             self.pipeline.link_lost();
         }
-        while let Some(command) = self.queues.commands.dequeue() {
-            let result = self.pipeline.command(command);
-            // Outcomes are for the log only; a full queue loses the report, not the command.
+        // Each applied where it waits, by reference, then dropped: a command is 92 bytes, and
+        // every copy of it costs about 90 instructions.
+        while let Some(command) = self.queues.commands.peek() {
+            let result = self.pipeline.apply(command);
+            let applied = Applied::of(SampledFrom::Operator, command);
             let _ = self.queues.outcomes.enqueue(CommandOutcome {
-                command: Applied::Operator(command),
+                command: applied,
                 result,
             });
+            let _ = self.queues.commands.dequeue();
         }
-        // Applied where it waits in the queue, by reference, then dropped: a command is 92
-        // bytes, and every copy of it costs about 90 instructions.
+        if let Some((from, command)) = self.hw.sampled_command() {
+            let result = match from {
+                SampledFrom::Operator => self.pipeline.apply(command),
+                SampledFrom::Host => self.pipeline.link_apply(command),
+            };
+            let applied = Applied::of(from, command);
+            let _ = self.queues.outcomes.enqueue(CommandOutcome {
+                command: applied,
+                result,
+            });
+            self.hw.sampled_command_done();
+        }
         while let Some(command) = self.queues.link_commands.peek() {
             let result = self.pipeline.link_apply(command);
             let _ = self.queues.outcomes.enqueue(CommandOutcome {
-                command: Applied::Link(command.key()),
+                command: Applied::of(SampledFrom::Host, command),
                 result,
             });
             let _ = self.queues.link_commands.dequeue();

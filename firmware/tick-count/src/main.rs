@@ -100,7 +100,8 @@ fn isr() {
 }
 
 struct Queues {
-    commands: Producer<'static, Command>,
+    /// The operator's end: commands checked where they are given, as the button task checks them.
+    commands: Producer<'static, CheckedCommand>,
     /// The host link's end: commands checked where they arrive, as the link task checks them.
     link: Producer<'static, CheckedCommand>,
     outcomes: Consumer<'static, CommandOutcome>,
@@ -184,6 +185,9 @@ fn move_motors_of(counters: &[AtomicU32; 6], step: i32) {
 }
 
 fn command(q: &mut Queues, c: Command) {
+    let Ok(c) = c.check() else {
+        fail("an operator command was refused by its check")
+    };
     if q.commands.enqueue(c).is_err() {
         fail("command queue full");
     }
@@ -203,7 +207,7 @@ fn main() -> ! {
         fail("pipeline configuration")
     };
     let (Some(cq), Some(lq), Some(oq), Some(rq), Some(sq)) = (
-        cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
+        cortex_m::singleton!(: Queue<CheckedCommand, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
         cortex_m::singleton!(: Queue<CheckedCommand, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
         cortex_m::singleton!(: Queue<CommandOutcome, {config::COMMAND_QUEUE_LEN}> = Queue::new()),
         cortex_m::singleton!(: Queue<PipelineRecord, {config::TELEMETRY_QUEUE_LEN}> = Queue::new()),

@@ -81,7 +81,7 @@ pub struct Args {
     pub local_model: bool,
     /// Play the scripted application session (`softfinger_app::scripted_app`): a state stream at
     /// 2 kHz from power-up, once armed a local model every 1 ms and a contact-parameter change
-    /// every 100 ms, through the tick's link command queue on the board and
+    /// every 100 ms, applied by the tick as a host link's commands are on the board and through
     /// `Pipeline::link_command` in the in-process run, at the same ticks.
     #[arg(long)]
     pub app_session: bool,

@@ -41,12 +41,11 @@ pub struct PipelineRecord {
 /// `x` to a saturated i16 (NaN → 0).
 #[inline]
 pub fn sat_i16(x: f32) -> i16 {
-    if x.is_nan() {
-        0
-    } else {
-        // `as` saturates and rounds toward zero; add half away from zero first.
-        (x + 0.5f32.copysign(x)) as i16
-    }
+    // Half away from zero first; then `as i32` saturates, rounds toward zero and takes NaN to 0
+    // (one VCVT on the M4F, where `as i16` adds its own range and NaN checks), and the clamp
+    // saturates to i16 (one SSAT).
+    let rounded = (x + 0.5f32.copysign(x)) as i32;
+    rounded.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16
 }
 
 /// `x` to a saturated u16.
@@ -76,6 +75,16 @@ mod tests {
             [1234, -1, i16::MAX]
         );
         assert_eq!(force_mn(Vec3::new(f32::NAN, -40.0, 0.0)), [0, i16::MIN, 0]);
+        // Just inside and just outside the i16 range, both signs; infinities saturate.
+        assert_eq!(sat_i16(32_766.4), 32_766);
+        assert_eq!(sat_i16(32_766.6), i16::MAX);
+        assert_eq!(sat_i16(40_000.0), i16::MAX);
+        assert_eq!(sat_i16(-32_767.4), -32_767);
+        assert_eq!(sat_i16(-32_767.6), i16::MIN);
+        assert_eq!(sat_i16(-32_769.0), i16::MIN);
+        assert_eq!(sat_i16(f32::INFINITY), i16::MAX);
+        assert_eq!(sat_i16(f32::NEG_INFINITY), i16::MIN);
+        assert_eq!((sat_i16(0.49), sat_i16(-0.5), sat_i16(2.5)), (0, -1, 3));
         assert_eq!(sat_u16(70_000), u16::MAX);
         assert_eq!(sat_u16(65_535), 65_535);
         assert!(core::mem::size_of::<PipelineRecord>() <= 48);

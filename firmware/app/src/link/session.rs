@@ -184,10 +184,15 @@ impl<const TX: usize, S: Persistence> LinkSession<TX, S> {
 
     /// The tick applied (or refused) a command: acknowledge the request a host command came
     /// from, and keep the contact parameters and the watchdog in force up to date (an operator's
-    /// command comes whole, a host's is the one this link queued).
+    /// parameters come whole, a host's command is the one this link queued).
     pub fn outcome(&mut self, applied: &Applied, result: Result<(), CommandError>) {
         match applied {
-            Applied::Operator(command) => self.applied(command, result),
+            Applied::Operator(_) => {}
+            Applied::OperatorParams(p) => {
+                if result.is_ok() {
+                    self.contact = *p;
+                }
+            }
             Applied::Link(key) => {
                 if let Some((seq, command, ack)) = self.acks.resolve(*key, result) {
                     self.applied(&command, result);

@@ -12,13 +12,13 @@
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 use cortex_m::peripheral::NVIC;
-use heapless::spsc::{Consumer, Producer};
-use softfinger_core::control::pipeline::{BridgeCommands, CheckedCommand, Command};
+use heapless::spsc::Consumer;
+use softfinger_core::control::pipeline::{BridgeCommands, CheckedCommand};
 
 use super::cmsdk::{FreeRunning, Irq, Watchdog, PCLK_HZ, TICK_TIMER};
 use super::defmt_sink::READER_STALLED;
 use super::link::{self, CONTROL_INJECT, CONTROL_LOG_STALL, CONTROL_STOP};
-use softfinger_app::board::{ControlHw, Indicator, RawSample};
+use softfinger_app::board::{ControlHw, Indicator, RawSample, SampledFrom};
 use softfinger_app::isr_cell::IsrCell;
 use softfinger_app::tick::{ControlLoop, STATUS};
 
@@ -73,20 +73,23 @@ pub static MAX_TICK: AtomicU32 = AtomicU32::new(0);
 pub static TICKS: AtomicU32 = AtomicU32::new(0);
 pub static OVERRUNS: AtomicU32 = AtomicU32::new(0);
 
-/// The scripted application's updates on their way to the tick: prepared in thread mode (the
-/// application's side), moved to the tick's link command queue on the plant's
-/// [`link::APP_STEP`] (as a host link's request arrives: served at the end of that tick).
+/// The scripted application's updates on their way to the tick: prepared and checked in thread
+/// mode (the application's side, as a host link checks a request where it arrives), applied
+/// where they wait on the plant's [`link::APP_STEP`] (as a host link's request arrives: served at
+/// the end of that tick).
 pub struct AppFeed {
     pub ready: Consumer<'static, CheckedCommand>,
-    pub link_commands: Producer<'static, CheckedCommand>,
 }
 
 /// Everything the control interrupt touches on this board.
 pub struct Mps2Control {
     /// Tick period in 170 MHz timer counts.
     period_counts: u32,
-    /// Operator commands from the plant's operator, into the tick's command queue.
-    commands: Producer<'static, Command>,
+    /// The plant's operator commands count (false while the host link owns the commands).
+    plant_operator: bool,
+    /// The plant operator's command that came with this tick's sample (unit variants only: set
+    /// by a tag store, never a 92-byte copy).
+    operator: Option<CheckedCommand>,
     fault: Injected,
     /// With the scripted application session.
     app: Option<AppFeed>,
@@ -99,18 +102,31 @@ pub struct Mps2Control {
 impl Mps2Control {
     pub fn new(
         period_counts: u32,
-        commands: Producer<'static, Command>,
+        plant_operator: bool,
         fault: Injected,
         app: Option<AppFeed>,
     ) -> Self {
         Mps2Control {
             period_counts,
-            commands,
+            plant_operator,
+            operator: None,
             fault,
             app,
             app_step: false,
             prev_write_done: 0,
         }
+    }
+
+    /// Take the plant's operator command of a reply's byte 14 ([`link::HOME`] ..= [`link::CLEAR_FAULTS`]).
+    #[inline(always)]
+    fn take_operator_command(&mut self, code: u8) {
+        self.operator = match code {
+            link::HOME => Some(CheckedCommand::Home),
+            link::ARM => Some(CheckedCommand::Arm),
+            link::DISARM => Some(CheckedCommand::Disarm),
+            link::CLEAR_FAULTS => Some(CheckedCommand::ClearFaults),
+            _ => None,
+        };
     }
 }
 
@@ -156,14 +172,10 @@ impl ControlHw for Mps2Control {
                 Injected::Hang => loop {},
             }
         }
-        if let Some(c) = link::command(s.command) {
-            // Served at the end of this tick, in effect from the next (as a button press would be).
-            let _ = self.commands.enqueue(c);
-        } else if s.command == link::APP_STEP {
-            // Moved to the tick's queue after the compare writes (`write_bridges`): the move is
-            // this board's, not the firmware's (on the STM32 the host link's task queues a
-            // request in thread mode), so it does not delay the outputs.
-            self.app_step = self.app.is_some();
+        // Served at the end of this tick, in effect from the next (as a button press would be).
+        self.app_step = s.command == link::APP_STEP && self.app.is_some();
+        if self.plant_operator {
+            self.take_operator_command(s.command);
         }
         RawSample {
             counts: s.counts,
@@ -174,13 +186,30 @@ impl ControlHw for Mps2Control {
     #[inline(always)]
     fn write_bridges(&mut self, cmd: &BridgeCommands) {
         link::drive(cmd);
+    }
+
+    #[inline(always)]
+    fn sampled_command(&self) -> Option<(SampledFrom, &CheckedCommand)> {
+        if let Some(c) = &self.operator {
+            return Some((SampledFrom::Operator, c));
+        }
+        if !self.app_step {
+            return None;
+        }
+        // None ready (the application's task starved): the update is missed, and the
+        // comparison with the in-process run shows it.
+        let c = self.app.as_ref()?.ready.peek()?;
+        Some((SampledFrom::Host, c))
+    }
+
+    #[inline(always)]
+    fn sampled_command_done(&mut self) {
+        if self.operator.take().is_some() {
+            return;
+        }
         if core::mem::take(&mut self.app_step) {
             if let Some(app) = &mut self.app {
-                // None ready (the application's task starved): the update is missed, and the
-                // comparison with the in-process run shows it. Served at the end of this tick.
-                if let Some(c) = app.ready.dequeue() {
-                    let _ = app.link_commands.enqueue(c);
-                }
+                let _ = app.ready.dequeue();
             }
         }
     }

@@ -12,9 +12,10 @@
 //! `[20..24]` c (u32), `[24..32]` board time in 25 MHz counts since the time base started (u64).
 //! Reply (plant -> board): `[0..12]` raw encoder counts\[6\] (u16), `[12]` bit 0 nFAULT asserted,
 //! `[13]` control bits ([`CONTROL_STOP`], [`CONTROL_LOG_STALL`], [`CONTROL_INJECT`]), `[14]` an
-//! operator command ([`command`]); to `Hello`: `[0..4]` control rate (Hz), `[4..8]` the fault the
-//! test hook injects when asked, `[8]` bit 0: the host link on UART0 owns the command queue
-//! ([`HELLO_HOST_LINK`]; the plant's operator commands are then ignored), bit 1: the scripted
+//! operator command ([`HOME`], [`ARM`], [`DISARM`], [`CLEAR_FAULTS`]) or [`APP_STEP`]; to
+//! `Hello`: `[0..4]` control rate (Hz), `[4..8]` the fault the test hook injects when asked,
+//! `[8]` bit 0: the host link on UART0 owns the command queue ([`HELLO_HOST_LINK`]; the plant's
+//! operator commands are then ignored), bit 1: the scripted
 //! application session runs ([`HELLO_APP_SESSION`]; byte 14 = [`APP_STEP`] then gives its next
 //! update).
 //! The host side is host-sim/src/pil/wire.rs; both sides must change together.
@@ -23,7 +24,7 @@
 use core::sync::atomic::{AtomicUsize, Ordering};
 use cortex_m_semihosting::{nr, syscall};
 
-use softfinger_core::control::pipeline::{BridgeCommands, Command};
+use softfinger_core::control::pipeline::BridgeCommands;
 
 use super::cmsdk::FreeRunning;
 
@@ -64,16 +65,14 @@ pub const CONTROL_INJECT: u8 = 1 << 2;
 /// (`softfinger_app::scripted_app`; `host-sim pil --app-session`).
 pub const APP_STEP: u8 = 5;
 
-/// The operator command of a reply's byte 14 (0: none).
-pub fn command(code: u8) -> Option<Command> {
-    match code {
-        1 => Some(Command::Home),
-        2 => Some(Command::Arm),
-        3 => Some(Command::Disarm),
-        4 => Some(Command::ClearFaults),
-        _ => None,
-    }
-}
+/// A reply's byte 14: the plant's operator gives `Home` (0: no command).
+pub const HOME: u8 = 1;
+/// A reply's byte 14: `Arm`.
+pub const ARM: u8 = 2;
+/// A reply's byte 14: `Disarm`.
+pub const DISARM: u8 = 3;
+/// A reply's byte 14: `ClearFaults`.
+pub const CLEAR_FAULTS: u8 = 4;
 
 /// What the plant's inputs read at one sample.
 #[derive(Clone, Copy, Debug, Default)]

@@ -34,7 +34,7 @@ use defmt::{error, info, warn};
 use embassy_executor::Spawner;
 use embassy_time::Timer;
 use heapless::spsc::{Consumer, Producer, Queue};
-use softfinger_core::control::pipeline::{BoardTiming, CheckedCommand, Command, PipelineConfig};
+use softfinger_core::control::pipeline::{BoardTiming, CheckedCommand, PipelineConfig};
 
 use cmsdk::{FreeRunning, Irq, PCLK_HZ};
 use softfinger_app::link::info::{min_stream_divisor, InfoSource};
@@ -86,7 +86,7 @@ const APP_READY_LEN: usize = 4;
 
 /// The scripted application (`softfinger_app::scripted_app`): its state stream on from the
 /// start (drained here, as a host link would take it), its next updates kept ready for the tick
-/// to take on the plant's `APP_STEP`.
+/// to apply on the plant's `APP_STEP`.
 #[embassy_executor::task]
 async fn scripted_app_task(
     rate_hz: u32,
@@ -228,20 +228,15 @@ fn open_board(reset_cause: u32) -> link::RunConfig {
 
 /// With the host link, its task takes the commands, their outcomes and the tick's stream
 /// points; the plant's operator and the supervisor stand aside. Without it, nothing streams.
-/// Returns where the plant operator's commands go and the tick's stream; any failure ends the
+/// Returns the tick's stream and the scripted application's feed; any failure ends the
 /// emulation.
 fn spawn_command_side(
     spawner: Spawner,
     run: &link::RunConfig,
     config: &PipelineConfig<config::TickEnvironment>,
-    command_tx: Producer<'static, Command>,
     link_command_tx: Producer<'static, CheckedCommand>,
     outcome_rx: Consumer<'static, CommandOutcome>,
-) -> (
-    Producer<'static, Command>,
-    hw::StreamTx,
-    Option<hw::AppFeed>,
-) {
+) -> (hw::StreamTx, Option<hw::AppFeed>) {
     if run.host_link {
         let Some((queues, stream_tx)) = link_queues(outcome_rx) else {
             error!("the host link needs the local-model build (as the STM32's USB build)");
@@ -255,14 +250,7 @@ fn spawn_command_side(
             Ok(t) => spawner.spawn(t),
             Err(e) => error!("host link task not spawned: {}", e),
         }
-        // The plant operator's commands go to a queue nobody reads (the tick's code stays the
-        // scene runs' code).
-        let Some(discarded) =
-            cortex_m::singleton!(: Queue<Command, {config::COMMAND_QUEUE_LEN}> = Queue::new())
-        else {
-            exit(false)
-        };
-        return (discarded.split().0, stream_tx, None);
+        return (stream_tx, None);
     }
     match supervisor_task(outcome_rx) {
         Ok(t) => spawner.spawn(t),
@@ -272,7 +260,7 @@ fn spawn_command_side(
         let Some(stream_tx) = hw::idle_stream() else {
             exit(false)
         };
-        return (command_tx, stream_tx, None);
+        return (stream_tx, None);
     }
     let (Some(ready), Some(points)) = (
         cortex_m::singleton!(: Queue<CheckedCommand, APP_READY_LEN> = Queue::new()),
@@ -287,11 +275,7 @@ fn spawn_command_side(
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("scripted application task not spawned: {}", e),
     }
-    let feed = hw::AppFeed {
-        ready: ready_rx,
-        link_commands: link_command_tx,
-    };
-    (command_tx, stream_tx, Some(feed))
+    (stream_tx, Some(hw::AppFeed { ready: ready_rx }))
 }
 
 #[embassy_executor::main]
@@ -320,14 +304,10 @@ async fn main(spawner: Spawner) {
         Ok(t) => spawner.spawn(t),
         Err(e) => error!("logger task not spawned: {}", e),
     }
-    let (command_tx, stream_tx, app) = spawn_command_side(
-        spawner,
-        &run,
-        &config,
-        tasks.commands,
-        tasks.link_commands,
-        tasks.outcomes,
-    );
+    // No button task: the plant's operator gives its commands with the samples
+    // (`hw::Mps2Control`), so the operator's queue stays empty.
+    let (stream_tx, app) =
+        spawn_command_side(spawner, &run, &config, tasks.link_commands, tasks.outcomes);
     let fault = hw::Injected::from_code(fault_code);
     if fault != hw::Injected::None {
         warn!("test hook armed: {}", fault);
@@ -335,7 +315,12 @@ async fn main(spawner: Spawner) {
     if app.is_some() {
         info!("scripted application session: updates at 1 kHz once armed, stream at 2 kHz");
     }
-    let control = hw::Mps2Control::new(config.timing.tick_period_counts(), command_tx, fault, app);
+    let control = hw::Mps2Control::new(
+        config.timing.tick_period_counts(),
+        !run.host_link,
+        fault,
+        app,
+    );
     let queues = tick_ends.with_stream(stream_tx);
     faults::set_watchdog_counts(WATCHDOG_COUNTS);
     if !hw::start_tick(
