@@ -239,6 +239,17 @@ impl ContactParams {
         }
     }
 
+    /// Take `other`'s material in place: with [`Self::same_but_material`] true, `self` then equals
+    /// `other` (==) without a copy of the whole parameters.
+    #[inline(always)]
+    pub fn take_material_of(&mut self, other: &ContactParams) {
+        self.normal_stiffness = other.normal_stiffness;
+        self.normal_damping = other.normal_damping;
+        self.mu_s = other.mu_s;
+        self.mu_k = other.mu_k;
+        self.spin_stiffness = other.spin_stiffness;
+    }
+
     /// `self` with the material of `other` (see [`Self::validate_material`]).
     pub fn with_material_of(&self, other: &ContactParams) -> ContactParams {
         self.with_material(&other.material())
@@ -246,8 +257,39 @@ impl ContactParams {
 
     /// True when `self` and `other` differ at most in their material: a contact can then carry
     /// on from one to the other (same fingertip, coupling, patch, limits and tolerances).
+    ///
+    /// Compared field by field where both lie (a tick that applies new parameters asks this, and
+    /// a copy of either side costs it about 110 instructions); the destructuring is exhaustive,
+    /// so a new field must be named here as material or not.
+    #[inline(always)]
     pub fn same_but_material(&self, other: &ContactParams) -> bool {
-        self.with_material_of(other) == *other
+        let ContactParams {
+            method,
+            fingertip_radius_m,
+            normal_stiffness: _,
+            normal_damping: _,
+            tangential_stiffness,
+            tangential_damping,
+            mu_s: _,
+            mu_k: _,
+            spin_stiffness: _,
+            patch_radius_m,
+            patch_ref_force_n,
+            patch_exponent,
+            k_tau,
+            max_force_n,
+            tolerances,
+        } = self;
+        *method == other.method
+            && *fingertip_radius_m == other.fingertip_radius_m
+            && *tangential_stiffness == other.tangential_stiffness
+            && *tangential_damping == other.tangential_damping
+            && *patch_radius_m == other.patch_radius_m
+            && *patch_ref_force_n == other.patch_ref_force_n
+            && *patch_exponent == other.patch_exponent
+            && *k_tau == other.k_tau
+            && *max_force_n == other.max_force_n
+            && tolerances.same(&other.tolerances)
     }
 
     /// The state machine's view of these parameters.
@@ -291,17 +333,43 @@ mod tests {
             assert_ne!(p, d);
             assert!(p.same_but_material(&d) && d.same_but_material(&p), "{p:?}");
             assert_eq!(d.with_material_of(&p), p);
+            let mut taken = d;
+            taken.take_material_of(&p);
+            assert_eq!(taken, p);
         }
-        let other: [fn(&mut ContactParams); 4] = [
+        // Every other field, the tolerances one by one included.
+        let other: [fn(&mut ContactParams); 18] = [
+            |p| p.method = Method::Rpy,
             |p| p.fingertip_radius_m *= 1.5,
             |p| p.tangential_stiffness *= 0.5,
+            |p| p.tangential_damping += 1.0,
+            |p| p.patch_radius_m *= 0.5,
+            |p| p.patch_ref_force_n *= 2.0,
+            |p| p.patch_exponent = 0.5,
             |p| p.max_force_n = 30.0,
             |p| p.k_tau *= 0.5,
+            |p| p.tolerances.force_eps_n *= 2.0,
+            |p| p.tolerances.accel_eps *= 2.0,
+            |p| p.tolerances.normal_accel_tol *= 2.0,
+            |p| p.tolerances.gap_eps_m *= 2.0,
+            |p| p.tolerances.stick_speed *= 2.0,
+            |p| p.tolerances.hysteresis *= 0.5,
+            |p| p.tolerances.make_force_n *= 2.0,
+            |p| p.tolerances.min_slide_s *= 2.0,
+            |p| p.tolerances.min_broken_s *= 2.0,
         ];
         for change in other {
             let mut p = d;
             change(&mut p);
-            assert!(!p.same_but_material(&d), "{p:?}");
+            assert_ne!(p, d);
+            assert!(
+                !p.same_but_material(&d) && !d.same_but_material(&p),
+                "{p:?}"
+            );
+            assert_eq!(
+                p.tolerances.same(&d.tolerances),
+                p.tolerances == d.tolerances
+            );
         }
     }
 

@@ -124,6 +124,33 @@ pub struct Tolerances {
 }
 
 impl Tolerances {
+    /// `self == other`, field by field and always inline (the derived `eq` may be left out of
+    /// line, where the firmware's tick cannot call it: it runs from RAM only). Exhaustive, so a
+    /// new field must be compared here.
+    #[inline(always)]
+    pub fn same(&self, other: &Tolerances) -> bool {
+        let Tolerances {
+            force_eps_n,
+            accel_eps,
+            normal_accel_tol,
+            gap_eps_m,
+            stick_speed,
+            hysteresis,
+            make_force_n,
+            min_slide_s,
+            min_broken_s,
+        } = self;
+        *force_eps_n == other.force_eps_n
+            && *accel_eps == other.accel_eps
+            && *normal_accel_tol == other.normal_accel_tol
+            && *gap_eps_m == other.gap_eps_m
+            && *stick_speed == other.stick_speed
+            && *hysteresis == other.hysteresis
+            && *make_force_n == other.make_force_n
+            && *min_slide_s == other.min_slide_s
+            && *min_broken_s == other.min_broken_s
+    }
+
     /// The defaults of [`crate::contact::ContactParams::DEFAULT`].
     pub const DEFAULT: Tolerances = Tolerances {
         force_eps_n: 0.01,

@@ -196,7 +196,11 @@ impl<M: Math, S: Environment> Controller<M, S> {
     ) -> Result<ParamsChange, ParamError> {
         match self.contact.set_contact_params(p) {
             Ok(change) => {
-                self.config.contact = **p;
+                // A blend changed the material only: five fields, not a copy of the whole.
+                match change {
+                    ParamsChange::Blended => self.config.contact.take_material_of(p),
+                    ParamsChange::Restarted => self.config.contact = **p,
+                }
                 self.passivity.set_contact(stored_spring(p), p.max_force_n);
                 self.passivity.restart();
                 Ok(change)

@@ -286,7 +286,8 @@ impl<M: Math, P: Parts> LocalModelRenderer<M, P> {
         // The material is the checked base's, the rest was checked when the model was accepted.
         spec.fits(base)?;
         if base.same_but_material(&self.base) {
-            self.base = *base;
+            // Only the material differs: five fields, not a copy of the whole parameters.
+            self.base.take_material_of(base);
             self.active.retarget(&spec);
             if let Some(inc) = &mut self.incoming {
                 let s = with_base(&inc.spec);

@@ -452,6 +452,11 @@ fn a_material_change_while_armed_blends_and_anything_else_restarts() {
     // The hand settles on the softer spring with a small undershoot; a restart would give 0.
     assert!(lo > 0.9 * f1, "no dip: {lo} N");
     assert_eq!(p.controller().config().contact, softer);
+    assert_eq!(
+        *p.controller().contact().params(),
+        softer,
+        "the renderer's base"
+    );
 
     // The force limit is not material: the contact restarts and the force ramps in again.
     let limited = ContactParams {

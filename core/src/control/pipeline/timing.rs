@@ -49,7 +49,11 @@ impl TimingSummary {
 
 /// `sum / n`, rounded down; 0 when `n` is 0. Sums of u32 samples, so the mean fits a u32.
 fn mean(sum: u64, n: u32) -> u32 {
-    (sum / u64::from(n.max(1))) as u32
+    if n == 0 {
+        0
+    } else {
+        (sum / u64::from(n)) as u32
+    }
 }
 
 /// What one tick's timing means for the pipeline.
