@@ -427,15 +427,8 @@ fn contact_parameters_change_only_when_the_tick_accepts_them() {
     s.outcome(&host(Command::SetContactParams(p)), Ok(()));
     feed(&mut s, &mut q, &request(3, Request::GetContactParams));
     let msgs = sent(&mut s);
-    let stiffness: Vec<f32> = msgs
-        .iter()
-        .filter_map(|m| match m {
-            DeviceMsg::ContactParams { params, .. } => Some(params.normal_stiffness),
-            _ => None,
-        })
-        .collect();
     assert_eq!(
-        stiffness,
+        reported_stiffness(&msgs),
         vec![ContactParams::DEFAULT.normal_stiffness, 1234.0]
     );
     assert!(msgs.contains(&DeviceMsg::Ack {
@@ -486,17 +479,20 @@ fn an_operator_preset_changes_the_reported_parameters_only_when_the_tick_accepts
     feed(&mut s, &mut q, &request(1, Request::GetContactParams));
     s.outcome(&Applied::OperatorParams(preset), Ok(()));
     feed(&mut s, &mut q, &request(2, Request::GetContactParams));
-    let stiffness: Vec<f32> = sent(&mut s)
-        .iter()
+    assert_eq!(
+        reported_stiffness(&sent(&mut s)),
+        vec![ContactParams::DEFAULT.normal_stiffness, 5000.0]
+    );
+}
+
+/// The normal stiffness of each contact-parameter report among `msgs`, in order.
+fn reported_stiffness(msgs: &[DeviceMsg]) -> Vec<f32> {
+    msgs.iter()
         .filter_map(|m| match m {
             DeviceMsg::ContactParams { params, .. } => Some(params.normal_stiffness),
             _ => None,
         })
-        .collect();
-    assert_eq!(
-        stiffness,
-        vec![ContactParams::DEFAULT.normal_stiffness, 5000.0]
-    );
+        .collect()
 }
 
 #[test]

@@ -136,10 +136,11 @@ impl<M: Math, S: Surface, P: Parts> ContactModel<M, S, P> {
         }
         let params = **params;
         let (q0, _) = q0.normalized_checked::<M>();
+        let state_params = params.state_params();
         Ok(ContactModel {
             params,
-            state_params: params.state_params(),
-            state_derived: Derived::of(&params.state_params()),
+            state_params,
+            state_derived: Derived::of(&state_params),
             rolling: Rolling::new(surface, params.fingertip_radius_m, q0, params.method),
             spin: SpinSpring::default(),
             state: ContactState::Broken,
