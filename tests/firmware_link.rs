@@ -2,7 +2,7 @@
 //! app, `firmware/app`) compiled for the host: real frames in, the device's frames out, the
 //! command queue and the tick's outcomes played by the test.
 
-use softfinger_app::board::SampledFrom;
+use softfinger_app::board::CommandSource;
 use softfinger_app::persist::{DeviceStore, Persistence};
 use softfinger_app::tick::Applied;
 use softfinger_app::{link, stream, stream_point};
@@ -446,19 +446,19 @@ fn the_tick_reports_a_command_by_its_key_and_an_operator_preset_whole() {
     };
     let params = checked(Command::SetContactParams(preset));
     assert!(matches!(
-        Applied::of(SampledFrom::Operator, &params),
+        Applied::of(CommandSource::Operator, &params),
         Applied::OperatorParams(p) if p == preset
     ));
     assert!(matches!(
-        Applied::of(SampledFrom::Host, &params),
+        Applied::of(CommandSource::Host, &params),
         Applied::Link(CommandKey::SetContactParams)
     ));
     assert!(matches!(
-        Applied::of(SampledFrom::Operator, &CheckedCommand::Arm),
+        Applied::of(CommandSource::Operator, &CheckedCommand::Arm),
         Applied::Operator(CommandKey::Arm)
     ));
     assert!(matches!(
-        Applied::of(SampledFrom::Host, &CheckedCommand::Disarm),
+        Applied::of(CommandSource::Host, &CheckedCommand::Disarm),
         Applied::Link(CommandKey::Disarm)
     ));
 }

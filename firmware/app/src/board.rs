@@ -15,10 +15,10 @@ pub struct RawSample {
 pub use softfinger_core::control::pipeline::BridgeCommands;
 use softfinger_core::control::pipeline::CheckedCommand;
 
-/// Who gave a command that a board hands the tick with its sample
+/// Who gave a command the tick applies, from a queue or with a board's sample
 /// ([`ControlHw::sampled_command`]): the tick applies it by that source's rules.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SampledFrom {
+pub enum CommandSource {
     /// The operator (`Pipeline::apply`), as from the operator's queue.
     Operator,
     /// A host application (`Pipeline::link_apply`), as from the host link's queue.
@@ -63,7 +63,7 @@ pub trait ControlHw {
     /// queued command costs it (a 92-byte copy into a queue costs about 110 instructions, and on
     /// the STM32 that copy is the thread-mode sender's).
     #[inline(always)]
-    fn sampled_command(&self) -> Option<(SampledFrom, &CheckedCommand)> {
+    fn sampled_command(&self) -> Option<(CommandSource, &CheckedCommand)> {
         None
     }
     /// The tick applied [`ControlHw::sampled_command`]'s command: the board lets it go.

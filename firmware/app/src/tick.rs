@@ -25,7 +25,7 @@ use softfinger_core::Fast;
 
 use softfinger_protocol::RenderedTick;
 
-use crate::board::{ControlHw, SampledFrom};
+use crate::board::{CommandSource, ControlHw};
 use crate::stream::{StreamPoint, StreamSink, StreamTap};
 
 /// The pipeline the tick runs: the tick's fast math, the configuration's scene (the application's
@@ -79,13 +79,13 @@ pub enum Applied {
 impl Applied {
     /// What the tick reports of `command` from `from`.
     #[inline(always)]
-    pub fn of(from: SampledFrom, command: &CheckedCommand) -> Applied {
+    pub fn of(from: CommandSource, command: &CheckedCommand) -> Applied {
         match (from, command) {
-            (SampledFrom::Operator, CheckedCommand::SetContactParams(p)) => {
+            (CommandSource::Operator, CheckedCommand::SetContactParams(p)) => {
                 Applied::OperatorParams(**p)
             }
-            (SampledFrom::Operator, c) => Applied::Operator(c.key()),
-            (SampledFrom::Host, c) => Applied::Link(c.key()),
+            (CommandSource::Operator, c) => Applied::Operator(c.key()),
+            (CommandSource::Host, c) => Applied::Link(c.key()),
         }
     }
 }
@@ -267,38 +267,21 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
         }
         // Each applied where it waits, by reference, then dropped: a command is 92 bytes, and
         // every copy of it costs about 90 instructions.
+        let (pipeline, outcomes) = (&mut self.pipeline, &mut self.queues.outcomes);
         while let Some(command) = self.queues.commands.peek() {
-            let result = self.pipeline.apply(command);
-            let applied = Applied::of(SampledFrom::Operator, command);
-            let _ = self.queues.outcomes.enqueue(CommandOutcome {
-                command: applied,
-                result,
-            });
+            apply_and_report(pipeline, outcomes, CommandSource::Operator, command);
             let _ = self.queues.commands.dequeue();
         }
         if let Some((from, command)) = self.hw.sampled_command() {
-            let result = match from {
-                SampledFrom::Operator => self.pipeline.apply(command),
-                SampledFrom::Host => self.pipeline.link_apply(command),
-            };
-            let applied = Applied::of(from, command);
-            let _ = self.queues.outcomes.enqueue(CommandOutcome {
-                command: applied,
-                result,
-            });
+            apply_and_report(pipeline, outcomes, from, command);
             self.hw.sampled_command_done();
         }
         while let Some(command) = self.queues.link_commands.peek() {
-            let result = self.pipeline.link_apply(command);
-            let _ = self.queues.outcomes.enqueue(CommandOutcome {
-                command: Applied::of(SampledFrom::Host, command),
-                result,
-            });
+            apply_and_report(pipeline, outcomes, CommandSource::Host, command);
             let _ = self.queues.link_commands.dequeue();
         }
     }
 
-    /// The whole tick's cost, from the timer event to here.
     fn account(&mut self) {
         let now = self.hw.tick_timer_count();
         let overrun = self.hw.tick_event_pending();
@@ -312,4 +295,24 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
             self.stream.account(end, overrun);
         }
     }
+}
+
+/// Apply `command` by `from`'s rules (`Pipeline::apply` for the operator, `Pipeline::link_apply`
+/// for a host) and queue its outcome for the log and the link.
+#[inline(always)]
+fn apply_and_report(
+    pipeline: &mut TickPipeline,
+    outcomes: &mut Producer<'static, CommandOutcome>,
+    from: CommandSource,
+    command: &CheckedCommand,
+) {
+    let result = match from {
+        CommandSource::Operator => pipeline.apply(command),
+        CommandSource::Host => pipeline.link_apply(command),
+    };
+    // Outcomes are for the log only; a full queue loses the report, not the command.
+    let _ = outcomes.enqueue(CommandOutcome {
+        command: Applied::of(from, command),
+        result,
+    });
 }

@@ -18,7 +18,7 @@ use softfinger_core::control::pipeline::{BridgeCommands, CheckedCommand};
 use super::cmsdk::{FreeRunning, Irq, Watchdog, PCLK_HZ, TICK_TIMER};
 use super::defmt_sink::READER_STALLED;
 use super::link::{self, CONTROL_INJECT, CONTROL_LOG_STALL, CONTROL_STOP};
-use softfinger_app::board::{ControlHw, Indicator, RawSample, SampledFrom};
+use softfinger_app::board::{CommandSource, ControlHw, Indicator, RawSample};
 use softfinger_app::isr_cell::IsrCell;
 use softfinger_app::tick::{ControlLoop, STATUS};
 
@@ -154,6 +154,8 @@ impl ControlHw for Mps2Control {
     fn read_inputs(&mut self) -> RawSample {
         let Some(s) = link::sense(STATUS.mode.load(Ordering::Relaxed), self.prev_write_done) else {
             // The plant is gone: stop, and report a driver fault so this tick drives nothing.
+            // The sampled command needs no clearing here: `sampled_command_done` cleared the
+            // last one on the tick that applied it, and this tick is the run's last.
             STOP_REQUESTED.store(true, Ordering::Relaxed);
             return RawSample {
                 counts: [0; 6],
@@ -189,9 +191,9 @@ impl ControlHw for Mps2Control {
     }
 
     #[inline(always)]
-    fn sampled_command(&self) -> Option<(SampledFrom, &CheckedCommand)> {
+    fn sampled_command(&self) -> Option<(CommandSource, &CheckedCommand)> {
         if let Some(c) = &self.operator {
-            return Some((SampledFrom::Operator, c));
+            return Some((CommandSource::Operator, c));
         }
         if !self.app_step {
             return None;
@@ -199,7 +201,7 @@ impl ControlHw for Mps2Control {
         // None ready (the application's task starved): the update is missed, and the
         // comparison with the in-process run shows it.
         let c = self.app.as_ref()?.ready.peek()?;
-        Some((SampledFrom::Host, c))
+        Some((CommandSource::Host, c))
     }
 
     #[inline(always)]
