@@ -252,8 +252,9 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
         let _ = self.queues.stream.push(point);
     }
 
-    /// Feed the communication watchdog if a link saw a valid frame, then apply queued operator
-    /// commands (at the tick boundary: they act from the next tick).
+    /// Feed the communication watchdog if a link saw a valid frame, then apply the commands
+    /// waiting: the operator's queue, the board's sampled command, the host link's queue (at the
+    /// tick boundary: they act from the next tick).
     fn serve_commands(&mut self) {
         // Load, then clear only if set: the tick preempts every task, so no store of a task can
         // fall between the two (and the common case, nothing new, writes nothing).
@@ -282,6 +283,7 @@ impl<H: ControlHw, K: StreamSink> ControlLoop<H, K> {
         }
     }
 
+    /// The whole tick's cost, from the timer event to here.
     fn account(&mut self) {
         let now = self.hw.tick_timer_count();
         let overrun = self.hw.tick_event_pending();
